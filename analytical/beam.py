@@ -1,0 +1,153 @@
+"""3D two-node frame elements: stiffness and consistent mass in the element frame (paper Eq. 4).
+
+Local x runs along the element from node 1 to node 2. Each node carries six coordinates in the
+order (u_x, u_y, u_z, theta_x, theta_y, theta_z), so an element has 12. Bending in the x-y plane
+uses (u_y, theta_z); bending in the x-z plane uses (u_z, theta_y), where theta_y = -du_z/dx.
+
+Two theories:
+- Euler-Bernoulli: cubic Hermite bending, linear axial and torsion, consistent translational mass
+  and torsional (polar) inertia; no rotary inertia of bending, no shear deformation.
+- Timoshenko: the shear-flexible element of Przemieniecki (Theory of Matrix Structural Analysis,
+  1968) with shear parameter Phi = 12 E I / (kappa G A L^2), consistent translational and rotary
+  inertia (the latter as in Friedman & Kosmatka, Comput. Struct. 47, 1993). Phi = 0 and no rotary
+  inertia recover Euler-Bernoulli exactly.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Section:
+    """Cross-section properties (SI)."""
+
+    area: float  # A, m^2
+    second_moment_y: float  # I_y, m^4 (bending in x-z)
+    second_moment_z: float  # I_z, m^4 (bending in x-y)
+    torsion_constant: float  # J, m^4 (St Venant)
+    polar_moment: float  # I_p = I_y + I_z, m^4 (torsional inertia)
+    shear_coefficient: float  # kappa
+
+    @classmethod
+    def solid_circle(cls, diameter: float, poisson_ratio: float,
+                     shear_coefficient: float | None = None) -> "Section":
+        """A solid circular section; kappa defaults to Cowper's 6(1+nu)/(7+6nu)."""
+        r = diameter / 2.0
+        i = math.pi * r**4 / 4.0
+        kappa = (6.0 * (1.0 + poisson_ratio) / (7.0 + 6.0 * poisson_ratio)
+                 if shear_coefficient is None else shear_coefficient)
+        return cls(math.pi * r**2, i, i, 2.0 * i, 2.0 * i, kappa)
+
+
+def _bending_stiffness(ei: float, length: float, shear_param: float) -> np.ndarray:
+    """4x4 bending stiffness on (w1, slope1, w2, slope2), slope = +dw/dx."""
+    L, p = length, shear_param
+    c = ei / ((1.0 + p) * L**3)
+    return c * np.array([
+        [12.0, 6 * L, -12.0, 6 * L],
+        [6 * L, (4 + p) * L**2, -6 * L, (2 - p) * L**2],
+        [-12.0, -6 * L, 12.0, -6 * L],
+        [6 * L, (2 - p) * L**2, -6 * L, (4 + p) * L**2],
+    ])
+
+
+def _bending_mass(rho_a: float, rho_i: float, length: float, shear_param: float) -> np.ndarray:
+    """4x4 consistent bending mass on (w1, slope1, w2, slope2): translational + rotary."""
+    L, p = length, shear_param
+    t = rho_a * L / (1.0 + p) ** 2
+    a = 13 / 35 + 7 * p / 10 + p**2 / 3
+    b = (11 / 210 + 11 * p / 120 + p**2 / 24) * L
+    c = 9 / 70 + 3 * p / 10 + p**2 / 6
+    d = (13 / 420 + 3 * p / 40 + p**2 / 24) * L
+    e = (1 / 105 + p / 60 + p**2 / 120) * L**2
+    f = (1 / 140 + p / 60 + p**2 / 120) * L**2
+    translational = t * np.array([
+        [a, b, c, -d],
+        [b, e, d, -f],
+        [c, d, a, -b],
+        [-d, -f, -b, e],
+    ])
+    if rho_i == 0.0:
+        return translational
+    r = rho_i / ((1.0 + p) ** 2 * L)
+    g = (1 / 10 - p / 2) * L
+    h = (2 / 15 + p / 6 + p**2 / 3) * L**2
+    k = (1 / 30 + p / 6 - p**2 / 6) * L**2
+    rotary = r * np.array([
+        [6 / 5, g, -6 / 5, g],
+        [g, h, -g, -k],
+        [-6 / 5, -g, 6 / 5, -g],
+        [g, -k, -g, h],
+    ])
+    return translational + rotary
+
+
+# Local coordinates of each 4x4 bending block in the 12x12 element ordering.
+_PLANE_XY = np.array([1, 5, 7, 11])  # (u_y1, theta_z1, u_y2, theta_z2); theta_z = +du_y/dx
+_PLANE_XZ = np.array([2, 4, 8, 10])  # (u_z1, theta_y1, u_z2, theta_y2); theta_y = -du_z/dx
+_FLIP_XZ = np.diag([1.0, -1.0, 1.0, -1.0])  # maps (w, theta_y) to (w, dw/dx)
+
+
+def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
+                  section: Section, length: float, theory: str = "euler-bernoulli"
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Element stiffness and consistent mass, each 12x12, in the element frame.
+
+    `theory` is "euler-bernoulli" or "timoshenko".
+    """
+    if length <= 0.0:
+        raise ValueError(f"element length = {length!r} m: must be positive")
+    E, G, rho, s, L = youngs_modulus, shear_modulus, density, section, length
+    if theory == "euler-bernoulli":
+        phi_y = phi_z = 0.0
+        rotary = False
+    elif theory == "timoshenko":
+        phi_y = 12 * E * s.second_moment_y / (s.shear_coefficient * G * s.area * L**2)
+        phi_z = 12 * E * s.second_moment_z / (s.shear_coefficient * G * s.area * L**2)
+        rotary = True
+    else:
+        raise ValueError(f"beam theory = {theory!r}: expected euler-bernoulli or timoshenko")
+
+    k = np.zeros((12, 12))
+    m = np.zeros((12, 12))
+    bar = np.array([[1.0, -1.0], [-1.0, 1.0]])
+    bar_mass = np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0
+    axial = np.array([0, 6])
+    twist = np.array([3, 9])
+    k[np.ix_(axial, axial)] = E * s.area / L * bar
+    m[np.ix_(axial, axial)] = rho * s.area * L * bar_mass
+    k[np.ix_(twist, twist)] = G * s.torsion_constant / L * bar
+    m[np.ix_(twist, twist)] = rho * s.polar_moment * L * bar_mass
+
+    k[np.ix_(_PLANE_XY, _PLANE_XY)] = _bending_stiffness(E * s.second_moment_z, L, phi_y)
+    m[np.ix_(_PLANE_XY, _PLANE_XY)] = _bending_mass(
+        rho * s.area, rho * s.second_moment_z if rotary else 0.0, L, phi_y)
+    kxz = _bending_stiffness(E * s.second_moment_y, L, phi_z)
+    mxz = _bending_mass(rho * s.area, rho * s.second_moment_y if rotary else 0.0, L, phi_z)
+    k[np.ix_(_PLANE_XZ, _PLANE_XZ)] = _FLIP_XZ @ kxz @ _FLIP_XZ
+    m[np.ix_(_PLANE_XZ, _PLANE_XZ)] = _FLIP_XZ @ mxz @ _FLIP_XZ
+    return k, m
+
+
+def assemble_beam(youngs_modulus: float, shear_modulus: float, density: float,
+                  section: Section, length: float, elements: int,
+                  theory: str = "euler-bernoulli") -> tuple[np.ndarray, np.ndarray]:
+    """Stiffness and mass of a straight uniform beam of `elements` equal elements, in its frame.
+
+    Returns two 6(s+1) x 6(s+1) matrices on the nodes 0..s from one end to the other.
+    """
+    if elements < 1:
+        raise ValueError(f"elements = {elements!r}: need at least one")
+    ke, me = frame_element(youngs_modulus, shear_modulus, density, section,
+                           length / elements, theory)
+    n = 6 * (elements + 1)
+    k = np.zeros((n, n))
+    m = np.zeros((n, n))
+    for e in range(elements):
+        sl = slice(6 * e, 6 * e + 12)
+        k[sl, sl] += ke
+        m[sl, sl] += me
+    return k, m
