@@ -51,3 +51,38 @@ def leg_displacements(model: SubstructureModel, shapes: np.ndarray) -> np.ndarra
 def platform_motion(model: SubstructureModel, shapes: np.ndarray) -> np.ndarray:
     """(6, n): (Delta_p, Phi_p) of the platform centre for each mode."""
     return shapes[model.platform_slice]
+
+
+def leg_axis_displacements(model: SubstructureModel, leg_frames: np.ndarray,
+                           shapes: np.ndarray, fractions) -> np.ndarray:
+    """Translations of the leg axis at fractions t of B_i -> A_i, for each mode.
+
+    The beam field is interpolated inside each element as the element assumes it: linear
+    axial displacement, cubic Hermite transverse displacement from end translations and
+    rotations (theta_z = +dv/dx, theta_y = -dw/dx in the limb frame). Returns
+    (3, len(fractions), 3, n) in base coordinates.
+    """
+    s = model.elements
+    t = np.asarray(fractions, float)
+    if np.any((t < 0) | (t > 1)):
+        raise ValueError(f"fractions {t.tolist()}: must lie in [0, 1]")
+    nodal = leg_displacements(model, shapes)  # (3, s+1, 6, n)
+    element = np.minimum((t * s).astype(int), s - 1)
+    xi = t * s - element
+    h1, h2 = 1 - 3 * xi**2 + 2 * xi**3, xi - 2 * xi**2 + xi**3
+    h3, h4 = 3 * xi**2 - 2 * xi**3, -xi**2 + xi**3
+    out = np.empty((3, len(t), 3, shapes.shape[1]))
+    for i in range(3):
+        frame = leg_frames[i]
+        length = np.linalg.norm(model.leg_nodes[i, -1] - model.leg_nodes[i, 0]) / s
+        local_u = np.einsum("ba,kbn->kan", frame, nodal[i, :, :3, :])  # R_i^T u
+        local_r = np.einsum("ba,kbn->kan", frame, nodal[i, :, 3:, :])
+        a, b = element, element + 1
+        ax = (1 - xi)[:, None] * local_u[a, 0] + xi[:, None] * local_u[b, 0]
+        v = (h1[:, None] * local_u[a, 1] + h2[:, None] * length * local_r[a, 2]
+             + h3[:, None] * local_u[b, 1] + h4[:, None] * length * local_r[b, 2])
+        w = (h1[:, None] * local_u[a, 2] - h2[:, None] * length * local_r[a, 1]
+             + h3[:, None] * local_u[b, 2] - h4[:, None] * length * local_r[b, 1])
+        local = np.stack([ax, v, w], axis=1)  # (nt, 3, n)
+        out[i] = np.einsum("ab,kbn->kan", frame, local)
+    return out

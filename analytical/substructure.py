@@ -36,6 +36,10 @@ from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
 
 
+class SingularJointMap(ValueError):
+    """The chosen independent R-joint coordinate cannot describe the joint's rotation."""
+
+
 def skew(v: np.ndarray) -> np.ndarray:
     """[v x], the matrix of the cross product v x (.)."""
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
@@ -63,8 +67,11 @@ def r_joint_direction(axis: np.ndarray, form: str) -> np.ndarray:
     if form == "axis":
         return axis
     if form == "paper-eq18":
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.array([axis[0] / axis[1], 1.0, axis[2] / axis[1]])
+        if axis[1] == 0.0:
+            raise SingularJointMap(
+                f"R-joint axis {np.round(axis, 12).tolist()} has R_i(2,2) = 0: the paper's "
+                "Eq. (18) coordinate is singular here (use r_joint_coordinate = 'axis')")
+        return np.array([axis[0] / axis[1], 1.0, axis[2] / axis[1]])
     raise ValueError(f"r_joint_coordinate = {form!r}: expected axis or paper-eq18")
 
 

@@ -1,0 +1,43 @@
+# 3-RPS elastodynamics: analytical substructure model validated against a 3D solid FEM.
+#   make          set up (first time) and run the validation of the default scene into out/
+#   make test     set up (first time) and run the test suite
+#   make bench    timing benchmarks (medians of repeated runs) into out/bench.json
+#   make report   rebuild out/report.html and out/report.pdf from out/results.json
+#   make clean    remove outputs and caches
+
+SCENE  ?= scenes/paper.toml
+VENV   ?= .venv
+PYTHON := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+export MPLBACKEND := Agg
+export PYVISTA_OFF_SCREEN := true
+export OMP_NUM_THREADS ?= 2
+
+.DEFAULT_GOAL := run
+.PHONY: run setup test bench report clean update-baselines
+
+$(STAMP): pyproject.toml
+	python3 -m venv $(VENV)
+	$(PYTHON) -m pip install --quiet --upgrade pip
+	$(PYTHON) -m pip install --quiet -e '.[test]'
+	touch $@
+
+setup: $(STAMP)
+
+run: $(STAMP)
+	$(PYTHON) -m pipeline validate --scene $(SCENE) --out out
+
+test: $(STAMP)
+	$(PYTHON) -m pytest
+
+bench: $(STAMP)
+	$(PYTHON) -m pipeline.bench --scene $(SCENE) --out out/bench.json
+
+report: $(STAMP)
+	$(PYTHON) -m reports --results out/results.json --out out
+
+update-baselines: $(STAMP)
+	$(PYTHON) -m pipeline update-baselines --scene $(SCENE)
+
+clean:
+	rm -rf out .cache .pytest_cache .hypothesis

@@ -1,0 +1,2 @@
+"""Validation pipeline: scene loading, orchestration of both models, mode pairing, error
+tables, baselines and the command line."""

@@ -1,0 +1,190 @@
+"""Command line: `python -m pipeline {analytical,fem,validate,update-baselines} ...`.
+
+Every expected failure (bad scene value, unreachable pose, solver failure) prints one line on
+stderr naming the offending value and exits with status 2, without a traceback.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from dataclasses import replace
+from pathlib import Path
+
+from analytical.params import BEAM_THEORIES, PLATFORM_INERTIAS
+
+EXIT_BAD_INPUT = 2
+
+
+class UsageError(ValueError):
+    """A command-line value is invalid."""
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} must be >= 1")
+    return value
+
+
+def _positive_mm(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text} must be a positive size in mm")
+    return value
+
+
+def _scene_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scene", default="scenes/paper.toml", help="scene file (TOML)")
+    p.add_argument("--case", default="case1", help="case name in the scene")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line on stderr and exit status 2."""
+
+    def error(self, message: str):  # noqa: D401 - argparse hook
+        self.exit(EXIT_BAD_INPUT, f"error: {self.prog}: {message}\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="python -m pipeline", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    a = sub.add_parser("analytical", help="substructure model of one case")
+    _scene_args(a)
+    a.add_argument("--elements", type=_positive_int, help="beam elements per leg (s)")
+    a.add_argument("--beam", choices=BEAM_THEORIES)
+    a.add_argument("--platform-inertia", choices=PLATFORM_INERTIAS)
+    a.add_argument("--modes", type=_positive_int)
+
+    f = sub.add_parser("fem", help="3D solid FEM reference of one case")
+    _scene_args(f)
+    f.add_argument("--size", type=_positive_mm, help="mesh size in mm (overrides the scene)")
+    f.add_argument("--platform", choices=("rigid", "elastic"))
+    f.add_argument("--coupling", choices=("rigid", "distributing"))
+    f.add_argument("--modes", type=_positive_int)
+    f.add_argument("--vtu", help="write the mode shapes to this VTU file")
+
+    v = sub.add_parser("validate", help="run the whole validation of a scene into out/")
+    v.add_argument("--scene", default="scenes/paper.toml")
+    v.add_argument("--out", default="out")
+    v.add_argument("--cache", default=".cache")
+    v.add_argument("--profile", choices=("full", "ci"), default="full",
+                   help="full: every study; ci: the CI-sized subset")
+
+    c = sub.add_parser("check-baselines", help="compare error tables with tests/baselines")
+    c.add_argument("--results", default=None)
+
+    u = sub.add_parser("update-baselines", help="rewrite tests/baselines from a fresh CI run")
+    u.add_argument("--scene", default="scenes/paper.toml")
+    return parser
+
+
+def _emit(payload: dict, as_json: bool) -> None:
+    if as_json:
+        print(json.dumps(payload, indent=None))
+        return
+    for key, value in payload.items():
+        if key == "frequencies_hz":
+            value = ", ".join(f"{x:.2f}" for x in value)
+        print(f"{key:>18}: {value}")
+
+
+def cmd_analytical(args: argparse.Namespace) -> dict:
+    from analytical.model import analyse
+    from .scene import load_scene
+
+    scene = load_scene(args.scene)
+    case = scene.case(args.case)
+    opts = scene.analytical
+    overrides = {k: v for k, v in {"elements": args.elements, "beam": args.beam,
+                                   "platform_inertia": args.platform_inertia,
+                                   "modes": args.modes}.items() if v is not None}
+    opts = replace(opts, **overrides)
+    start = time.perf_counter()
+    result = analyse(scene.manipulator, case.pose, opts)
+    seconds = time.perf_counter() - start
+    return {
+        "case": case.name,
+        "model": "analytical",
+        "elements": opts.elements,
+        "beam": opts.beam,
+        "platform_inertia": opts.platform_inertia,
+        "frequencies_hz": [float(x) for x in result.frequencies_hz],
+        "leg_lengths_mm": [float(x) * 1e3 for x in result.geometry.leg_lengths],
+        "dofs": int(result.model.stiffness.shape[0]),
+        "seconds": seconds,
+    }
+
+
+def cmd_fem(args: argparse.Namespace) -> dict:
+    from analytical.kinematics import pose_geometry
+    from fem_reference import FemOptions, solve_pose
+    from .scene import load_scene
+
+    scene = load_scene(args.scene)
+    case = scene.case(args.case)
+    size = args.size * 1e-3 if args.size is not None else scene.fem.mesh_size
+    options = FemOptions(mesh_size=size,
+                         platform=args.platform or scene.fem.platform,
+                         coupling=args.coupling or scene.fem.coupling,
+                         modes=args.modes or scene.analytical.modes,
+                         max_dofs=scene.fem.max_dofs,
+                         cache_dir=Path(".cache") / "meshes")
+    geometry = pose_geometry(scene.manipulator, case.pose)
+    start = time.perf_counter()
+    result = solve_pose(scene.manipulator, geometry, options)
+    seconds = time.perf_counter() - start
+    if args.vtu:
+        result.write_vtu(args.vtu)
+    payload = {
+        "case": case.name,
+        "model": "fem",
+        "platform": options.platform,
+        "coupling": options.coupling,
+        "frequencies_hz": [float(x) for x in result.frequencies_hz],
+        "dofs": int(result.dofs),
+        "mesh_size_m": float(result.mesh_size),
+        "timings": {k: float(v) for k, v in result.timings.items()},
+        "seconds": seconds,
+    }
+    err = getattr(result, "estimated_error_percent", None)
+    if err is not None:
+        payload["estimated_error_percent"] = [float(e) for e in err]
+    return payload
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        if args.command == "analytical":
+            _emit(cmd_analytical(args), args.json)
+        elif args.command == "fem":
+            _emit(cmd_fem(args), args.json)
+        elif args.command == "validate":
+            from .run import validate
+            validate(args.scene, Path(args.out), Path(args.cache), args.profile)
+        elif args.command == "check-baselines":
+            from .baselines import check_command
+            return check_command(args.results)
+        elif args.command == "update-baselines":
+            from .baselines import update_command
+            return update_command(args.scene)
+    except KeyboardInterrupt:
+        print("error: interrupted; nothing partial was kept", file=sys.stderr)
+        return 130
+    except (ValueError, RuntimeError, OSError) as exc:
+        message = " ".join(str(exc).split()) or type(exc).__name__
+        print(f"error: {message}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    return 0

@@ -1,0 +1,123 @@
+"""Frame elements against closed-form beam, bar and shaft theory (analytical/beam.py)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from analytical.beam import Section, assemble_beam, frame_element
+
+E, G, RHO = 200e9, 77e9, 7820.0
+NU = E / (2 * G) - 1
+D = 0.1
+SECTION = Section.solid_circle(D, NU)
+
+
+def lowest_frequencies(k, m, fixed, count):
+    free = np.setdiff1d(np.arange(k.shape[0]), fixed)
+    w2 = scipy.linalg.eigh(k[np.ix_(free, free)], m[np.ix_(free, free)], eigvals_only=True)
+    return np.sqrt(np.abs(w2[:count])) / (2 * math.pi)
+
+
+def node_dofs(node, comps):
+    return [6 * node + c for c in comps]
+
+
+@pytest.mark.parametrize("theory", ["euler-bernoulli", "timoshenko"])
+def test_element_matrices_are_symmetric_and_free_beam_has_six_rigid_modes(theory):
+    k, m = frame_element(E, G, RHO, SECTION, 0.25, theory)
+    assert np.allclose(k, k.T, rtol=0, atol=1e-9 * abs(k).max())
+    assert np.allclose(m, m.T, rtol=0, atol=1e-12 * abs(m).max())
+    eig_k = np.linalg.eigvalsh(k)
+    assert eig_k.min() > -1e-9 * eig_k.max()  # positive semi-definite
+    assert np.sum(eig_k < 1e-9 * eig_k.max()) == 6  # exactly six rigid-body modes
+    assert np.linalg.eigvalsh(m).min() > 0  # consistent mass positive definite
+
+
+def test_rigid_motions_cost_no_strain_energy():
+    k, _ = frame_element(E, G, RHO, SECTION, 0.3, "timoshenko")
+    L = 0.3
+    # rotation about z by a small angle: u_y = theta x, theta_z = theta at both nodes
+    rot_z = np.zeros(12)
+    rot_z[[5, 11]] = 1.0
+    rot_z[7] = L
+    rot_y = np.zeros(12)
+    rot_y[[4, 10]] = 1.0
+    rot_y[8] = -L  # theta_y = -du_z/dx
+    for mode in (rot_z, rot_y):
+        assert np.linalg.norm(k @ mode) < 1e-9 * np.linalg.norm(k)
+
+
+def test_cantilever_first_bending_matches_euler_bernoulli_closed_form():
+    L = 0.55
+    k, m = assemble_beam(E, G, RHO, SECTION, L, 10, "euler-bernoulli")
+    f = lowest_frequencies(k, m, node_dofs(0, range(6)), 2)
+    beta_l = 1.8751040687
+    exact = beta_l**2 / (2 * math.pi) * math.sqrt(E * SECTION.second_moment_z
+                                                  / (RHO * SECTION.area * L**4))
+    assert f == pytest.approx([exact, exact], rel=1e-5)  # a pair: round section
+
+
+def test_simply_supported_euler_bernoulli_modes():
+    L = 1.2
+    s = 12
+    k, m = assemble_beam(E, G, RHO, SECTION, L, s, "euler-bernoulli")
+    # pinned ends; axial and twist held at both ends keep those modes above the third bending
+    fixed = node_dofs(0, [0, 1, 2, 3]) + node_dofs(s, [0, 1, 2, 3])
+    f = lowest_frequencies(k, m, fixed, 6)
+    base = math.pi / (2 * L**2) * math.sqrt(E * SECTION.second_moment_z / (RHO * SECTION.area))
+    n = np.array([1, 1, 2, 2, 3, 3])
+    exact = n**2 * base
+    # Cubic Hermite elements with consistent mass overestimate by (k h)^4 / 1440 to leading order.
+    bound = (n * math.pi / s) ** 4 / 1440
+    rel = f / exact - 1
+    assert np.all(rel > 0) and np.all(rel < 1.05 * bound + 1e-9)
+
+
+def timoshenko_simply_supported(n, L, section, beam_e=E, beam_g=G, rho=RHO):
+    """Lowest root of the Timoshenko dispersion relation for mode n of a pinned-pinned beam."""
+    kw = n * math.pi / L
+    I, A, kap = section.second_moment_z, section.area, section.shear_coefficient
+    a = rho**2 * I / (kap * beam_g)
+    b = -(rho * A + rho * I * kw**2 + rho * beam_e * I * kw**2 / (kap * beam_g))
+    c = beam_e * I * kw**4
+    w2 = (-b - math.sqrt(b * b - 4 * a * c)) / (2 * a)
+    return math.sqrt(w2) / (2 * math.pi)
+
+
+def test_thick_simply_supported_beam_matches_timoshenko_theory_not_euler_bernoulli():
+    L, s = 0.5, 20  # L/d = 5: shear and rotary inertia lower f1 by several percent
+    fixed = node_dofs(0, [0, 1, 2, 3]) + node_dofs(s, [1, 2])
+    exact = timoshenko_simply_supported(1, L, SECTION)
+    k, m = assemble_beam(E, G, RHO, SECTION, L, s, "timoshenko")
+    f_timo = lowest_frequencies(k, m, fixed, 1)[0]
+    k, m = assemble_beam(E, G, RHO, SECTION, L, s, "euler-bernoulli")
+    f_eb = lowest_frequencies(k, m, fixed, 1)[0]
+    assert f_timo == pytest.approx(exact, rel=1e-4)
+    assert f_eb / exact - 1 > 0.02  # Euler-Bernoulli is measurably stiffer here
+
+
+def test_fixed_free_axial_bar_and_torsional_shaft():
+    L, s = 0.8, 40
+    k, m = assemble_beam(E, G, RHO, SECTION, L, s, "euler-bernoulli")
+    axial = [6 * n for n in range(s + 1)]
+    twist = [6 * n + 3 for n in range(s + 1)]
+    f_axial = lowest_frequencies(k[np.ix_(axial, axial)], m[np.ix_(axial, axial)], [0], 2)
+    f_twist = lowest_frequencies(k[np.ix_(twist, twist)], m[np.ix_(twist, twist)], [0], 2)
+    c_axial, c_twist = math.sqrt(E / RHO), math.sqrt(G / RHO)  # J = I_p for a circle
+    wavenumbers = np.array([1, 3]) * math.pi / (2 * L)
+    # Linear elements with consistent mass overestimate by (k h)^2 / 24 to leading order.
+    bound = (wavenumbers * L / s) ** 2 / 24
+    for f, c in ((f_axial, c_axial), (f_twist, c_twist)):
+        exact = c * wavenumbers / (2 * math.pi)
+        rel = f / exact - 1
+        assert np.all(rel > 0) and np.all(rel < 1.05 * bound + 1e-9)
+
+
+def test_unknown_theory_and_bad_length_are_rejected():
+    with pytest.raises(ValueError, match="'bernoulli'"):
+        frame_element(E, G, RHO, SECTION, 0.1, "bernoulli")
+    with pytest.raises(ValueError, match="-0.1"):
+        frame_element(E, G, RHO, SECTION, -0.1)

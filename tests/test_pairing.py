@@ -1,0 +1,46 @@
+"""Mode pairing by shape: MAC properties, repeated pairs as subspaces, order independence."""
+from __future__ import annotations
+
+import numpy as np
+
+from pipeline.pairing import clusters, mac_matrix, pair_modes
+
+
+def test_mac_is_one_for_scaled_shapes_and_zero_for_orthogonal():
+    rng = np.random.default_rng(0)
+    a = np.linalg.qr(rng.normal(size=(30, 4)))[0]
+    mac = mac_matrix(a, -3.0 * a)
+    assert np.allclose(np.diag(mac), 1.0)
+    assert np.allclose(mac - np.diag(np.diag(mac)), 0.0, atol=1e-20)
+
+
+def test_pairs_by_shape_not_by_sorted_order():
+    rng = np.random.default_rng(1)
+    shapes = np.linalg.qr(rng.normal(size=(40, 4)))[0]
+    ref_hz = np.array([100.0, 200.0, 300.0, 400.0])
+    # the model under test swaps modes 2 and 3 in frequency order
+    model = shapes[:, [0, 2, 1, 3]]
+    model_hz = np.array([101.0, 290.0, 305.0, 402.0])
+    pairs = pair_modes(model, model_hz, shapes, ref_hz, count=4)
+    assert [(p.reference_mode, p.model_mode) for p in pairs] == [(0, 0), (1, 2), (2, 1), (3, 3)]
+    assert all(p.mac > 0.999 for p in pairs)
+
+
+def test_repeated_pair_is_compared_as_a_subspace():
+    rng = np.random.default_rng(2)
+    basis = np.linalg.qr(rng.normal(size=(40, 3)))[0]
+    ref = basis.copy()
+    c, s = np.cos(0.7), np.sin(0.7)
+    model = basis.copy()
+    model[:, :2] = basis[:, :2] @ np.array([[c, -s], [s, c]])  # any basis of the pair
+    pairs = pair_modes(model, np.array([100.0, 100.0, 150.0]), ref,
+                       np.array([99.0, 99.5, 149.0]), count=3)
+    assert [p.repeated for p in pairs] == [True, True, False]
+    assert all(p.mac > 0.999999 for p in pairs)
+    # mode by mode, MAC would have called them different
+    assert mac_matrix(model[:, :1], ref[:, :1])[0, 0] < 0.7
+
+
+def test_clusters_group_near_repeated_frequencies():
+    assert clusters(np.array([115.0, 115.1, 196.0, 650.0, 724.0, 724.5]), 0.01) == [
+        [0, 1], [2], [3], [4, 5]]
