@@ -88,7 +88,14 @@ def _bending_mass(rho_a: float, rho_i: float, length: float, shear_param: float)
 # Local coordinates of each 4x4 bending block in the 12x12 element ordering.
 _PLANE_XY = np.array([1, 5, 7, 11])  # (u_y1, theta_z1, u_y2, theta_z2); theta_z = +du_y/dx
 _PLANE_XZ = np.array([2, 4, 8, 10])  # (u_z1, theta_y1, u_z2, theta_y2); theta_y = -du_z/dx
-_FLIP_XZ = np.diag([1.0, -1.0, 1.0, -1.0])  # maps (w, theta_y) to (w, dw/dx)
+# (w, theta_y) = diag(1, -1, 1, -1) (w, dw/dx): the x-z block is D k D, i.e. k * outer(d, d)
+_FLIP_XZ = np.outer([1.0, -1.0, 1.0, -1.0], [1.0, -1.0, 1.0, -1.0])
+_IX_XY = np.ix_(_PLANE_XY, _PLANE_XY)
+_IX_XZ = np.ix_(_PLANE_XZ, _PLANE_XZ)
+_IX_AXIAL = np.ix_([0, 6], [0, 6])
+_IX_TWIST = np.ix_([3, 9], [3, 9])
+_BAR = np.array([[1.0, -1.0], [-1.0, 1.0]])
+_BAR_MASS = np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0
 
 
 def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
@@ -113,22 +120,15 @@ def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
 
     k = np.zeros((12, 12))
     m = np.zeros((12, 12))
-    bar = np.array([[1.0, -1.0], [-1.0, 1.0]])
-    bar_mass = np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0
-    axial = np.array([0, 6])
-    twist = np.array([3, 9])
-    k[np.ix_(axial, axial)] = E * s.area / L * bar
-    m[np.ix_(axial, axial)] = rho * s.area * L * bar_mass
-    k[np.ix_(twist, twist)] = G * s.torsion_constant / L * bar
-    m[np.ix_(twist, twist)] = rho * s.polar_moment * L * bar_mass
-
-    k[np.ix_(_PLANE_XY, _PLANE_XY)] = _bending_stiffness(E * s.second_moment_z, L, phi_y)
-    m[np.ix_(_PLANE_XY, _PLANE_XY)] = _bending_mass(
-        rho * s.area, rho * s.second_moment_z if rotary else 0.0, L, phi_y)
-    kxz = _bending_stiffness(E * s.second_moment_y, L, phi_z)
-    mxz = _bending_mass(rho * s.area, rho * s.second_moment_y if rotary else 0.0, L, phi_z)
-    k[np.ix_(_PLANE_XZ, _PLANE_XZ)] = _FLIP_XZ @ kxz @ _FLIP_XZ
-    m[np.ix_(_PLANE_XZ, _PLANE_XZ)] = _FLIP_XZ @ mxz @ _FLIP_XZ
+    k[_IX_AXIAL] = E * s.area / L * _BAR
+    m[_IX_AXIAL] = rho * s.area * L * _BAR_MASS
+    k[_IX_TWIST] = G * s.torsion_constant / L * _BAR
+    m[_IX_TWIST] = rho * s.polar_moment * L * _BAR_MASS
+    k[_IX_XY] = _bending_stiffness(E * s.second_moment_z, L, phi_y)
+    m[_IX_XY] = _bending_mass(rho * s.area, rho * s.second_moment_z if rotary else 0.0, L, phi_y)
+    k[_IX_XZ] = _FLIP_XZ * _bending_stiffness(E * s.second_moment_y, L, phi_z)
+    m[_IX_XZ] = _FLIP_XZ * _bending_mass(rho * s.area, rho * s.second_moment_y if rotary else 0.0,
+                                         L, phi_z)
     return k, m
 
 

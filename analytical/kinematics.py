@@ -14,6 +14,9 @@ import numpy as np
 from .params import Manipulator, Pose
 
 
+_EVEN_SPACING = np.array([0.0, 2 * math.pi / 3, 4 * math.pi / 3])
+
+
 class PoseError(ValueError):
     """The pose cannot be assembled or violates a joint or actuator limit."""
 
@@ -105,7 +108,7 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
     angles = np.asarray(m.leg_angles, float)
     layout_angle = float(angles[0])
     spacing = np.mod(angles - layout_angle, 2 * math.pi)
-    if not np.allclose(spacing, [0.0, 2 * math.pi / 3, 4 * math.pi / 3], atol=1e-9):
+    if np.abs(spacing - _EVEN_SPACING).max() > 1e-9:
         raise PoseError(
             f"leg_angles = {np.degrees(angles).round(6).tolist()} deg: the parasitic-motion "
             "closure (Eq. 2) needs legs 120 degrees apart"
@@ -129,7 +132,11 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
             f"leg directions leave the R-joint planes by {off_plane.max():.3g} (cosine): "
             "the pose violates the revolute-joint closure"
         )
-    z_axes = np.cross(x_axes, axes)
+    z_axes = np.stack([  # x_i x y_i
+        x_axes[:, 1] * axes[:, 2] - x_axes[:, 2] * axes[:, 1],
+        x_axes[:, 2] * axes[:, 0] - x_axes[:, 0] * axes[:, 2],
+        x_axes[:, 0] * axes[:, 1] - x_axes[:, 1] * axes[:, 0],
+    ], axis=1)
     frames = np.stack([x_axes, axes, z_axes], axis=2)
     normal = rot[:, 2]
     s_angles = np.arccos(np.clip(x_axes @ normal, -1.0, 1.0))

@@ -28,10 +28,10 @@ def solve_modes(model: SubstructureModel, count: int) -> ModalResult:
     if not (np.all(np.isfinite(model.stiffness)) and np.all(np.isfinite(model.mass))):
         raise ModalError("the reduced matrices hold non-finite entries (singular joint map?)")
     try:
-        eigval, eigvec = scipy.linalg.eigh(model.stiffness, model.mass)
+        eigval, eigvec = scipy.linalg.eigh(model.stiffness, model.mass,
+                                           subset_by_index=[0, count - 1], check_finite=False)
     except (np.linalg.LinAlgError, ValueError) as exc:
         raise ModalError(f"eigen solve failed: {exc}") from exc
-    eigval, eigvec = eigval[:count], eigvec[:, :count]
     if eigval[0] <= 0.0:
         raise ModalError(f"lowest eigenvalue {eigval[0]:.3e} rad^2/s^2 is not positive: "
                          "the structure is a mechanism")

@@ -92,11 +92,14 @@ def _leg_map(s: int, leg: int, axis_dir: np.ndarray, arm: np.ndarray) -> np.ndar
     return t
 
 
-def _rotate_blocks(matrix: np.ndarray, rotation: np.ndarray) -> np.ndarray:
-    """T M T^T with T = diag(R, ..., R) (Eqs. 5-6), without forming T."""
-    n = matrix.shape[0] // 3
-    blocks = matrix.reshape(n, 3, n, 3)
-    return np.einsum("ab,ibjc,dc->iajd", rotation, blocks, rotation).reshape(matrix.shape)
+def _to_limb_frame(leg_map: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """T_i^T times a map into base coordinates, T_i = diag(R_i, ..., R_i) (Eq. 6).
+
+    Gives the limb-frame nodal coordinates u_i = T_i^T U_i in terms of q, so that
+    K_i = T_i K_e T_i^T (Eq. 5) never has to be formed.
+    """
+    n = leg_map.shape[0] // 3
+    return np.einsum("ba,kbq->kaq", rotation, leg_map.reshape(n, 3, -1)).reshape(leg_map.shape)
 
 
 def assemble(manipulator: Manipulator, geometry: PoseGeometry,
@@ -116,14 +119,12 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
         k_local, m_local = assemble_beam(mat.youngs_modulus, mat.shear_modulus, mat.density,
                                          section, float(geometry.leg_lengths[i]), s,
                                          options.beam)
-        frame = geometry.leg_frames[i]
-        k_leg = _rotate_blocks(k_local, frame)  # K_i = T_i K_e T_i^T, Eq. (5)
-        m_leg = _rotate_blocks(m_local, frame)
         arm = geometry.platform_points[i] - geometry.platform_centre
         t = _leg_map(s, i, r_joint_direction(geometry.joint_axes[i],
                                              options.r_joint_coordinate), arm)
-        k_total += t.T @ k_leg @ t
-        m_total += t.T @ m_leg @ t
+        local = _to_limb_frame(t, geometry.leg_frames[i])  # u_i = T_i^T T q, Eqs. (5)-(6)
+        k_total += local.T @ k_local @ local
+        m_total += local.T @ m_local @ local
         maps.append(t)
         nodes[i] = geometry.base_points[i] + np.outer(stations, geometry.platform_points[i]
                                                       - geometry.base_points[i])
