@@ -1,0 +1,101 @@
+"""A content-keyed cache of expensive results (FEM solves, refinement studies).
+
+The key is a SHA-256 of the inputs (as canonical JSON) and of the source code of the packages
+that compute the value, so editing the physics invalidates the entry. Entries are written
+atomically; an entry that cannot be read back (truncated, corrupt, wrong schema) is discarded
+and recomputed, never trusted.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Callable
+
+from .atomic import write_bytes_atomic, write_text_atomic
+
+ROOT = Path(__file__).resolve().parents[1]
+CODE_PACKAGES = ("analytical", "meshing", "fem_reference")
+
+
+@lru_cache(maxsize=1)
+def code_fingerprint() -> str:
+    """Hash of every Python source that the cached values depend on."""
+    digest = hashlib.sha256()
+    for package in CODE_PACKAGES:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            digest.update(path.relative_to(ROOT).as_posix().encode())
+            digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def content_key(payload: Any) -> str:
+    text = json.dumps({"inputs": payload, "code": code_fingerprint()}, sort_keys=True,
+                      default=float)
+    return hashlib.sha256(text.encode()).hexdigest()[:24]
+
+
+class ResultCache:
+    """JSON values (plus optional side files) under `directory/<kind>/<key>.*`."""
+
+    def __init__(self, directory: Path | None):
+        self.directory = None if directory is None else Path(directory)
+
+    def _path(self, kind: str, key: str, suffix: str = ".json") -> Path:
+        return self.directory / kind / f"{key}{suffix}"
+
+    def get(self, kind: str, key: str, required: tuple[str, ...] = ()) -> dict | None:
+        if self.directory is None:
+            return None
+        path = self._path(kind, key)
+        try:
+            value = json.loads(path.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            return None
+        except (OSError, ValueError, UnicodeDecodeError):
+            self.discard(kind, key)
+            return None
+        if not isinstance(value, dict) or any(k not in value for k in required):
+            self.discard(kind, key)
+            return None
+        for side in value.get("_files", []):
+            if not self._path(kind, key, side).is_file():
+                self.discard(kind, key)
+                return None
+        return value
+
+    def put(self, kind: str, key: str, value: dict, files: dict[str, Path] | None = None) -> None:
+        """Store `value`; `files` maps a suffix (".vtu") to a file to keep beside it."""
+        if self.directory is None:
+            return
+        value = dict(value)
+        value["_files"] = sorted(files or {})
+        for suffix, source in (files or {}).items():
+            write_bytes_atomic(self._path(kind, key, suffix), Path(source).read_bytes())
+        write_text_atomic(self._path(kind, key), json.dumps(value))  # last: commits the entry
+
+    def side_file(self, kind: str, key: str, suffix: str) -> Path:
+        return self._path(kind, key, suffix)
+
+    def discard(self, kind: str, key: str) -> None:
+        if self.directory is None:
+            return
+        for path in self._path(kind, key).parent.glob(f"{key}.*"):
+            path.unlink(missing_ok=True)
+
+    def get_or_compute(self, kind: str, payload: Any, compute: Callable[[], tuple[dict, dict]],
+                       required: tuple[str, ...] = ()) -> tuple[dict, str, bool]:
+        """(value, key, hit). `compute` returns (value, side files)."""
+        key = content_key(payload)
+        hit = self.get(kind, key, required)
+        if hit is not None:
+            return hit, key, True
+        value, files = compute()
+        self.put(kind, key, value, files)
+        return value, key, False
+
+
+def clear(directory: Path) -> None:
+    shutil.rmtree(directory, ignore_errors=True)

@@ -1,0 +1,302 @@
+"""The validation run behind `make`: every case of a scene, both models, studies, into out/.
+
+Outputs are staged in a sibling directory and moved into `out/` only when everything has been
+computed, so an interrupted or failed run leaves the previous outputs intact and nothing
+half-written. Expensive results come from a content-keyed cache, so a second run with nothing
+changed takes seconds.
+"""
+from __future__ import annotations
+
+import datetime as dt
+import hashlib
+import json
+import math
+import os
+import platform
+import shutil
+import sys
+from dataclasses import replace
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+from analytical.kinematics import pose_geometry
+
+from . import studies, tables
+from .cache import ResultCache
+from .compare import analytical_case, error_table, fem_case
+from .scene import Case, Scene, load_scene
+
+SCHEMA_VERSION = 1
+
+
+def environment() -> dict:
+    versions = {}
+    for dist in ("numpy", "scipy", "gmsh", "scikit-fem", "meshio", "pyvista", "matplotlib",
+                 "jinja2", "weasyprint"):
+        try:
+            versions[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            versions[dist] = None
+    return {
+        "python": sys.version.split()[0],
+        "platform": platform.platform(),
+        "machine": platform.machine(),
+        "cpu_count": os.cpu_count(),
+        "date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "versions": versions,
+    }
+
+
+def scene_summary(scene: Scene, path: str) -> dict:
+    m = scene.manipulator
+    return {
+        "name": scene.name,
+        "path": path,
+        "sha256": hashlib.sha256(Path(path).read_bytes()).hexdigest(),
+        "manipulator": {
+            "base_radius_mm": m.base_radius * 1e3,
+            "platform_radius_mm": m.platform_radius * 1e3,
+            "leg_diameter_mm": m.leg_diameter * 1e3,
+            "platform_thickness_mm": m.platform_thickness * 1e3,
+            "platform_shape": m.platform_shape,
+            "leg_angles_deg": [math.degrees(a) for a in m.leg_angles],
+            "actuator_range_mm": [m.actuator_min * 1e3, m.actuator_max * 1e3],
+            "s_joint_max_deg": math.degrees(m.s_joint_max),
+            "r_joint_max_deg": math.degrees(m.r_joint_max),
+            "youngs_modulus_gpa": m.material.youngs_modulus / 1e9,
+            "shear_modulus_gpa": m.material.shear_modulus / 1e9,
+            "poisson_ratio": m.material.poisson_ratio,
+            "density_kg_m3": m.material.density,
+        },
+        "analytical": {"elements": scene.analytical.elements, "beam": scene.analytical.beam,
+                       "platform_inertia": scene.analytical.platform_inertia,
+                       "modes": scene.analytical.modes},
+        "fem": {"mesh_size_mm": scene.fem.mesh_size * 1e3,
+                "refinement_mm": [s * 1e3 for s in scene.fem.refinement],
+                "platform": scene.fem.platform, "coupling": scene.fem.coupling},
+        "calibrated": [] if scene.calibrated_height is None else [{
+            "name": "platform height z",
+            "value": f"{scene.calibrated_height * 1e3:.1f} mm",
+            "reason": " ".join(scene.calibration_reason.split()),
+        }] + ([{"name": "platform shape", "value": m.platform_shape,
+                "reason": " ".join(scene.platform_shape_reason.split())}]
+              if scene.platform_shape_reason else []),
+    }
+
+
+def pose_summary(scene: Scene, case: Case) -> dict:
+    g = pose_geometry(scene.manipulator, case.pose)
+    return {
+        "height_mm": case.pose.height * 1e3,
+        "height_origin": case.height_origin,
+        "azimuth_deg": math.degrees(case.pose.azimuth),
+        "tilt_deg": math.degrees(case.pose.tilt),
+        "centre_mm": (g.platform_centre * 1e3).tolist(),
+        "leg_lengths_mm": (g.leg_lengths * 1e3).tolist(),
+        "s_joint_angles_deg": np.degrees(g.s_joint_angles).tolist(),
+        "r_joint_angles_deg": np.degrees(g.r_joint_angles).tolist(),
+    }
+
+
+def paper_rows(case: Case) -> dict | None:
+    if case.paper_theory_hz is None and case.paper_fea_hz is None:
+        return None
+    out = {"fea_hz": case.paper_fea_hz and list(case.paper_fea_hz),
+           "theory_hz": case.paper_theory_hz and list(case.paper_theory_hz)}
+    if case.paper_fea_hz and case.paper_theory_hz:
+        out["error_percent"] = [100 * (t / f - 1) for t, f in
+                                zip(case.paper_theory_hz, case.paper_fea_hz)]
+    return out
+
+
+def _strip(d: dict) -> dict:
+    """A model result without its bulky sampled shapes."""
+    return {k: v for k, v in d.items() if k not in ("station_shapes", "vtu_cache_path")}
+
+
+def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
+             refinement: tuple[float, ...] | None, variants: bool, progress=None) -> dict:
+    """Everything the report needs about one case."""
+    count = scene.analytical.modes
+    geometry = pose_geometry(scene.manipulator, case.pose)
+    step = (lambda text: progress(f"{case.name}: {text}")) if progress else (lambda text: None)
+
+    step("FEM reference")
+    fem = fem_case(scene, geometry, cache, mesh_size)
+    fem_error = reference = None
+    refinement_study = None
+    if refinement:
+        step("FEM refinement study")
+        refinement_study = fem_refinement(scene, case, geometry, cache, refinement)
+        if refinement_study.get("extrapolated_hz"):
+            reference = np.asarray(refinement_study["extrapolated_hz"])
+            fem_error = 100 * np.abs(np.asarray(fem["frequencies_hz"][:count]) / reference - 1)
+
+    step("analytical models")
+    analytical = analytical_case(scene, case, scene.analytical)
+    pairs = error_table(analytical, fem, count, fem_error, reference)
+    entry = {
+        "name": case.name,
+        "description": case.description,
+        "pose": pose_summary(scene, case),
+        "analytical": _strip(analytical) | {"frequencies_hz": analytical["frequencies_hz"][:count]},
+        "fem": _strip(fem) | {"frequencies_hz": fem["frequencies_hz"][:count]},
+        "pairs": pairs,
+        "paper": paper_rows(case),
+        "fem_vtu": fem["vtu_cache_path"],
+        "fem_estimated_error_percent": None if fem_error is None else fem_error.tolist(),
+        "fem_reference_hz": None if reference is None else reference.tolist(),
+    }
+    if refinement_study:
+        entry["fem_refinement"] = refinement_study
+    if variants:
+        step("model variants")
+        entry["models"] = {}
+        for label, opts in studies.model_variants(scene).items():
+            a = analytical_case(scene, case, opts)
+            entry["models"][label] = _strip(a) | {
+                "frequencies_hz": a["frequencies_hz"][:count],
+                "pairs": error_table(a, fem, count, fem_error, reference)}
+        step("element convergence")
+        entry["element_convergence"] = {
+            beam: studies.element_convergence(scene, case, beam)
+            for beam in ("euler-bernoulli", "timoshenko")}
+        step("FEM joint and platform idealisations")
+        entry["fem_variants"] = {}
+        for label, kwargs in {"elastic platform": {"platform": "elastic"},
+                              "distributing coupling": {"coupling": "distributing"}}.items():
+            try:
+                v = fem_case(scene, geometry, cache, mesh_size, **kwargs)
+            except (ValueError, RuntimeError) as exc:
+                entry["fem_variants"][label] = {"error": " ".join(str(exc).split())}
+                continue
+            entry["fem_variants"][label] = _strip(v) | {
+                "frequencies_hz": v["frequencies_hz"][:count],
+                "shift_percent": [100 * (a / b - 1) for a, b in
+                                  zip(v["frequencies_hz"][:count], fem["frequencies_hz"][:count])]}
+        step("speed vs error")
+        entry["speed_vs_error"] = speed_vs_error(scene, case, fem, reference, refinement_study)
+    mac_a = np.asarray(analytical["station_shapes"])
+    mac_f = np.asarray(fem["station_shapes"])
+    from .pairing import mac_matrix
+    entry["mac_matrix"] = mac_matrix(mac_a[:, :count], mac_f[:, :count]).tolist()
+    return entry
+
+
+def fem_refinement(scene: Scene, case: Case, geometry, cache: ResultCache,
+                   sizes: tuple[float, ...]) -> dict:
+    """Solve at every size (cached) and extrapolate (Richardson, observed order)."""
+    from fem_reference.convergence import richardson
+
+    solves = [fem_case(scene, geometry, cache, size) for size in sizes]
+    count = scene.analytical.modes
+    freqs = np.array([s["frequencies_hz"][:count] for s in solves])
+    extrap = richardson(np.asarray(sizes), freqs)
+    return {
+        "sizes_m": list(sizes),
+        "dofs": [s["dofs"] for s in solves],
+        "seconds": [s["timings"].get("total", sum(s["timings"].values())) for s in solves],
+        "timings": [s["timings"] for s in solves],
+        "frequencies_hz": freqs.tolist(),
+        **extrap,
+    }
+
+
+def speed_vs_error(scene: Scene, case: Case, fem: dict, reference, refinement) -> list[dict]:
+    """Wall time per pose against the worst |error| of f1..f6, for every setting."""
+    count = scene.analytical.modes
+    ref = np.asarray(reference if reference is not None else fem["frequencies_hz"][:count])
+    out = []
+    for label, opts in studies.speed_settings(scene).items():
+        a = analytical_case(scene, case, opts)
+        rows = error_table(a, fem, count, None, ref)
+        key = "error_vs_reference_percent" if reference is not None else "error_percent"
+        out.append({"model": "analytical", "setting": label,
+                    "seconds": studies.time_model(scene, case, opts),
+                    "worst_error_percent": max(abs(r[key]) for r in rows)})
+    if refinement:
+        for size, secs, err in zip(refinement["sizes_m"], refinement["seconds"],
+                                   refinement.get("estimated_error_percent_max", [])):
+            out.append({"model": "fem", "setting": f"h = {size * 1e3:g} mm",
+                        "seconds": secs, "worst_error_percent": err})
+    return out
+
+
+def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
+             build_report: bool = True) -> dict:
+    scene = load_scene(scene_path)
+    cache = ResultCache(cache_dir)
+    console = Console(stderr=True)
+    stage = out.with_name(out.name + ".partial")
+    shutil.rmtree(stage, ignore_errors=True)
+    stage.mkdir(parents=True)
+    try:
+        case_names = list(scene.cases) if profile == "full" else ["case1", "case2"]
+        results = {
+            "schema": SCHEMA_VERSION,
+            "profile": profile,
+            "scene": scene_summary(scene, scene_path),
+            "environment": environment(),
+            "cases": [],
+            "studies": {},
+        }
+        with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
+                      console=console, transient=False, disable=not console.is_terminal
+                      and "CI" in os.environ) as bar:
+            task = bar.add_task("validation", total=len(case_names))
+            for name in case_names:
+                case = scene.case(name)
+                with_paper = case.paper_theory_hz is not None
+                results["cases"].append(run_case(
+                    scene, case, cache, scene.fem.mesh_size,
+                    scene.fem.refinement if profile == "full" else None,
+                    variants=with_paper and profile == "full",
+                    progress=lambda text: bar.update(task, description=text)))
+                bar.advance(task)
+        if "case1" in scene.cases and scene.case("case1").paper_theory_hz:
+            results["studies"]["height_calibration"] = studies.height_calibration(
+                scene, scene.case("case1"))
+        if "case2" in scene.cases and scene.case("case2").paper_theory_hz:
+            results["studies"]["case2_conventions"] = studies.case2_conventions(
+                scene, scene.case("case2"))
+        if profile == "full":
+            results["studies"]["workspace"] = studies.workspace_map(scene)
+        _write_outputs(results, stage)
+        if build_report:
+            from reports.build import build_report as render
+            render(stage / "results.json", stage)
+        _commit_stage(stage, out)
+    except BaseException:
+        shutil.rmtree(stage, ignore_errors=True)
+        raise
+    console.print(f"wrote {out}/results.json" + (", report.html, report.pdf"
+                                                  if build_report else ""))
+    return results
+
+
+def _write_outputs(results: dict, stage: Path) -> None:
+    modes = stage / "modes"
+    modes.mkdir(exist_ok=True)
+    for case in results["cases"]:
+        source = Path(case.pop("fem_vtu"))
+        if source.is_file():
+            target = modes / f"{case['name']}_fem.vtu"
+            shutil.copyfile(source, target)
+            case["fem"]["vtu"] = str(target.relative_to(stage))
+    (stage / "results.json").write_text(json.dumps(results, indent=1) + "\n")
+    tables.write_tables(results, stage)
+
+
+def _commit_stage(stage: Path, out: Path) -> None:
+    """Move the staged outputs into `out/`, file by file, each by an atomic rename."""
+    out.mkdir(parents=True, exist_ok=True)
+    for path in sorted(stage.rglob("*")):
+        if path.is_file():
+            target = out / path.relative_to(stage)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(path, target)
+    shutil.rmtree(stage, ignore_errors=True)

@@ -1,0 +1,153 @@
+"""Studies of the analytical model that the report plots (pure functions of a scene).
+
+- element convergence s = 1..10 (the paper's Fig. 3),
+- Euler-Bernoulli vs Timoshenko, true plate inertia vs Eq. (8),
+- Case 2 angle conventions: which reading of (phi, theta) best reproduces the paper's row,
+- the height calibration, recomputed from the code so the scene value can be checked.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from analytical.calibration import calibrate_height
+from analytical.kinematics import rotation_y
+from analytical.model import natural_frequencies
+from analytical.params import ModelOptions, Pose
+
+from .scene import Case, Scene
+
+ELEMENT_RANGE = tuple(range(1, 11))
+
+
+def _hz(values) -> list[float]:
+    return [float(v) for v in values]
+
+
+def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli") -> dict:
+    """Frequencies for s = 1..10 elements per leg, for one beam theory."""
+    rows = []
+    for s in ELEMENT_RANGE:
+        opts = replace(scene.analytical, elements=s, beam=beam)
+        rows.append(_hz(natural_frequencies(scene.manipulator, case.pose, opts)))
+    return {"elements": list(ELEMENT_RANGE), "beam": beam, "frequencies_hz": rows}
+
+
+def model_variants(scene: Scene) -> dict[str, ModelOptions]:
+    """The analytical settings compared throughout: the paper's and ours."""
+    base = scene.analytical
+    return {
+        "paper (EB, s=3, Eq. 8 inertia)": replace(base, elements=3, beam="euler-bernoulli",
+                                                  platform_inertia="paper-eq8"),
+        "EB, s=3, plate inertia": replace(base, elements=3, beam="euler-bernoulli",
+                                          platform_inertia="plate"),
+        "Timoshenko, s=3, plate inertia": replace(base, elements=3, beam="timoshenko",
+                                                  platform_inertia="plate"),
+        "Timoshenko, s=10, plate inertia": replace(base, elements=10, beam="timoshenko",
+                                                   platform_inertia="plate"),
+    }
+
+
+def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
+    """Every analytical setting whose time and error the speed-vs-error plot shows."""
+    out = {}
+    for beam, tag in (("euler-bernoulli", "EB"), ("timoshenko", "Timoshenko")):
+        for s in (1, 2, 3, 5, 10):
+            out[f"{tag}, s={s}"] = replace(scene.analytical, elements=s, beam=beam,
+                                           platform_inertia="plate")
+    return out
+
+
+def time_model(scene: Scene, case: Case, options: ModelOptions, runs: int = 30) -> float:
+    """Median wall time (s) of one pose: kinematics, synthesis and eigen solve."""
+    natural_frequencies(scene.manipulator, case.pose, options)
+    samples = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        natural_frequencies(scene.manipulator, case.pose, options)
+        samples.append(time.perf_counter() - start)
+    return float(np.median(samples))
+
+
+def _tilt_azimuth(rotation: np.ndarray) -> tuple[float, float]:
+    """Tilt and azimuth of the platform normal of any rotation (torsion dropped: a 3-RPS with
+    zero-torsion T&T angles cannot reach it)."""
+    normal = rotation[:, 2]
+    return math.atan2(normal[1], normal[0]), math.acos(max(-1.0, min(1.0, normal[2])))
+
+
+def case2_conventions(scene: Scene, case: Case) -> list[dict]:
+    """Plausible readings of the paper's (phi = 10 deg, theta = -12 deg) for the tilted case.
+
+    Each reading maps the printed numbers to our Eq. (1) parameters; none is fitted.
+    """
+    phi, theta = case.pose.azimuth, case.pose.tilt
+    rx = lambda a: np.array([[1, 0, 0], [0, math.cos(a), -math.sin(a)],
+                             [0, math.sin(a), math.cos(a)]])
+    readings = {
+        "Eq. (1) as printed: phi = azimuth, theta = tilt": (phi, theta),
+        "theta sign flipped": (phi, -theta),
+        "roles swapped: phi = tilt, theta = azimuth": (theta, phi),
+        "Section 2 wording: theta about x, then phi about y (R = Rx Ry)":
+            _tilt_azimuth(rx(theta) @ rotation_y(phi)),
+        "phi about y, then theta about x (R = Ry Rx)": _tilt_azimuth(rotation_y(phi) @ rx(theta)),
+        "phi measured from the base y-axis": (phi + math.pi / 2, theta),
+    }
+    target = np.asarray(case.paper_theory_hz)
+    out = []
+    for name, (azimuth, tilt) in readings.items():
+        pose = Pose(case.pose.height, azimuth, tilt)
+        entry = {"reading": name, "azimuth_deg": math.degrees(azimuth),
+                 "tilt_deg": math.degrees(tilt)}
+        try:
+            f = natural_frequencies(scene.manipulator, pose,
+                                    replace(scene.analytical, modes=len(target)))
+        except ValueError as exc:
+            entry.update(frequencies_hz=None, deviation_percent=None, worst_percent=None,
+                         note=str(exc))
+        else:
+            dev = 100 * (f / target - 1)
+            entry.update(frequencies_hz=_hz(f), deviation_percent=_hz(dev),
+                         worst_percent=float(np.abs(dev).max()))
+        out.append(entry)
+    return out
+
+
+def height_calibration(scene: Scene, case: Case) -> dict:
+    """Recompute the Case 1 calibration and say how the scene's value compares."""
+    opts = replace(scene.analytical, elements=3, beam="euler-bernoulli", platform_inertia="plate")
+    cal = calibrate_height(scene.manipulator, case.pose, case.paper_theory_hz, opts)
+    return {
+        "computed_height_mm": cal.height * 1e3,
+        "scene_height_mm": None if scene.calibrated_height is None
+        else scene.calibrated_height * 1e3,
+        "worst_deviation_percent": 100 * cal.worst_deviation,
+        "deviation_percent": _hz(100 * cal.deviations),
+        "settings": "Euler-Bernoulli, s = 3, disk plate inertia",
+    }
+
+
+def workspace_map(scene: Scene, layers: int = 8, rings: int = 6, azimuths: int = 36,
+                  modes: int = 3) -> dict:
+    """The first `modes` frequencies over the regular workspace (the paper's Fig. 6)."""
+    from analytical.workspace import frequency_map
+
+    m = scene.manipulator
+    lean = m.base_radius - m.platform_radius
+    z_low = math.sqrt(max(m.actuator_min**2 - lean**2, 0.0)) + 0.05 * m.actuator_max
+    z_high = math.sqrt(m.actuator_max**2 - lean**2) - 0.05 * m.actuator_max
+    heights = np.linspace(z_low, z_high, layers)
+    fmap = frequency_map(m, replace(scene.analytical, modes=modes), heights, rings, azimuths)
+    return {
+        "heights_mm": (fmap.heights * 1e3).tolist(),
+        "regular_tilt_deg": np.degrees(fmap.radii).tolist(),
+        "tilts_deg": np.degrees(fmap.tilts).tolist(),
+        "azimuths_deg": np.degrees(fmap.azimuths).tolist(),
+        "frequencies_hz": np.where(np.isnan(fmap.frequencies_hz), None,
+                                   fmap.frequencies_hz).tolist(),
+        "settings": f"{scene.analytical.beam}, s = {scene.analytical.elements}, "
+                    f"{scene.analytical.platform_inertia} inertia",
+    }

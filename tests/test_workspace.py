@@ -1,0 +1,42 @@
+"""Workspace maps: the paper's observations (Fig. 6) as properties of the model."""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from analytical.model import natural_frequencies
+from analytical.params import Pose
+from analytical.workspace import frequency_map, max_tilt, reachable, regular_radius
+
+
+def test_frequencies_have_the_threefold_symmetry_of_the_mechanism(scene):
+    opts = replace(scene.analytical, modes=6)
+    for phi in (0.1, 0.7, 2.0):
+        f = [natural_frequencies(scene.manipulator, Pose(0.6, phi + k * 2 * math.pi / 3, 0.2),
+                                 opts) for k in range(3)]
+        assert np.allclose(f[0], f[1], rtol=1e-9) and np.allclose(f[0], f[2], rtol=1e-9)
+
+
+def test_frequencies_fall_as_the_platform_rises(scene):
+    fmap = frequency_map(scene.manipulator, replace(scene.analytical, modes=3),
+                         [0.35, 0.55, 0.75], rings=3, azimuths=6)
+    level = fmap.frequencies_hz[:, 0, 0, :]
+    assert np.all(np.diff(level, axis=0) < 0)
+    assert np.all(np.isfinite(fmap.frequencies_hz))
+
+
+def test_regular_radius_is_reachable_everywhere_and_tight(scene):
+    m = scene.manipulator
+    z = 0.55
+    radius = regular_radius(m, z, azimuths=36)
+    assert 0 < radius < math.radians(89)
+    for phi in np.linspace(0, 2 * math.pi, 36, endpoint=False):
+        assert reachable(m, Pose(z, phi, radius * 0.999))
+    widest = [max_tilt(m, z, phi) for phi in np.linspace(0, 2 * math.pi, 36, endpoint=False)]
+    assert min(widest) == radius
+
+
+def test_unreachable_height_has_an_empty_layer(scene):
+    assert regular_radius(scene.manipulator, 1.5) == 0.0
