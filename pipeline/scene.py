@@ -27,6 +27,7 @@ class SceneError(ValueError):
 class FemSettings:
     mesh_size: float  # m
     refinement: tuple[float, ...]  # m, coarse to fine
+    ci_mesh_size: float  # m, the mesh of the CI regression baselines
     platform: str = "rigid"
     coupling: str = "rigid"
     max_dofs: int = 600_000
@@ -219,6 +220,7 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     fem = FemSettings(
         mesh_size=size,
         refinement=tuple(r * MM for r in refinement),
+        ci_mesh_size=fem_t.number("ci_mesh_size_mm", 30.0) * MM,
         platform=fem_t.choice("platform", FEM_PLATFORMS, "rigid"),
         coupling=fem_t.choice("coupling", FEM_COUPLINGS, "rigid"),
         max_dofs=fem_t.integer("max_dofs", 600_000, minimum=100),

@@ -1,0 +1,114 @@
+"""Golden baselines of the Case 1 and Case 2 error tables at a CI-sized mesh.
+
+`make test` recomputes both tables (analytical model of the scene against the FEM at the
+baseline's mesh size) and compares them with tests/baselines/error_tables.json. Updating the
+baseline is one explicit command (`make update-baselines`), never automatic.
+
+Tolerances, and why:
+- analytical frequencies are dense linear algebra on ~50 coordinates: reproducible to ~1e-10;
+- FEM frequencies on the same mesh are reproducible to solver round-off (~1e-9 relative); the
+  mesh itself is deterministic for a pinned gmsh version and pinned options;
+- so an error percentage that moves by more than ERROR_TOLERANCE_PP (0.02 percentage points,
+  i.e. 2e-4 relative in a frequency, ten times below the smallest physical effect the report
+  discusses) means the physics or the discretisation changed;
+- MAC and subspace cos^2 move by more than MAC_TOLERANCE (0.005) only if a mode shape changed.
+"""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from analytical.kinematics import pose_geometry
+
+from .atomic import write_json_atomic
+from .cache import ResultCache
+from .compare import analytical_case, error_table, fem_case
+from .scene import load_scene
+
+ROOT = Path(__file__).resolve().parents[1]
+BASELINE = ROOT / "tests" / "baselines" / "error_tables.json"
+CASES = ("case1", "case2")
+ERROR_TOLERANCE_PP = 0.02
+MAC_TOLERANCE = 0.005
+FREQUENCY_TOLERANCE = 2e-4  # relative, on each model's own frequencies
+
+
+def compute_tables(scene_path: str | Path, mesh_size: float, cache_dir: Path | None = None
+                   ) -> dict:
+    scene = load_scene(scene_path)
+    cache = ResultCache(cache_dir)
+    out = {}
+    for name in CASES:
+        case = scene.case(name)
+        geometry = pose_geometry(scene.manipulator, case.pose)
+        fem = fem_case(scene, geometry, cache, mesh_size)
+        analytical = analytical_case(scene, case, scene.analytical)
+        out[name] = [{k: row[k] for k in ("fem_mode", "analytical_mode", "f_fem_hz",
+                                          "f_analytical_hz", "error_percent", "mac")}
+                     for row in error_table(analytical, fem, scene.analytical.modes)]
+    return out
+
+
+def load_baseline(path: Path = BASELINE) -> dict:
+    try:
+        return json.loads(path.read_text())
+    except FileNotFoundError:
+        raise ValueError(f"no baseline at {path}: run `make update-baselines`") from None
+
+
+def compare(baseline: dict, current: dict) -> list[str]:
+    """Readable lines for every value that moved beyond its tolerance (empty: all fine)."""
+    problems = []
+    header = f"{'case':6} {'mode':>4} {'quantity':>16} {'baseline':>10} {'now':>10} {'tol':>8}"
+    for name, rows in baseline["cases"].items():
+        now_rows = current.get(name)
+        if now_rows is None or len(now_rows) != len(rows):
+            problems.append(f"{name}: table has {0 if now_rows is None else len(now_rows)} "
+                            f"rows, baseline {len(rows)}")
+            continue
+        for old, new in zip(rows, now_rows):
+            checks = [
+                ("error_percent", abs(new["error_percent"] - old["error_percent"]),
+                 ERROR_TOLERANCE_PP),
+                ("mac", abs(new["mac"] - old["mac"]), MAC_TOLERANCE),
+                ("f_fem_hz", abs(new["f_fem_hz"] / old["f_fem_hz"] - 1), FREQUENCY_TOLERANCE),
+                ("f_analytical_hz", abs(new["f_analytical_hz"] / old["f_analytical_hz"] - 1),
+                 FREQUENCY_TOLERANCE),
+            ]
+            if new["analytical_mode"] != old["analytical_mode"]:
+                problems.append(f"{name:6} {old['fem_mode']:>4} {'paired mode':>16} "
+                                f"{old['analytical_mode']:>10} {new['analytical_mode']:>10}")
+            for quantity, moved, tol in checks:
+                if moved > tol:
+                    problems.append(f"{name:6} {old['fem_mode']:>4} {quantity:>16} "
+                                    f"{old[quantity]:>10.4f} {new[quantity]:>10.4f} {tol:>8g}")
+    return [header] + problems if problems else []
+
+
+def update_command(scene_path: str) -> int:
+    scene = load_scene(scene_path)
+    size = scene.fem.ci_mesh_size
+    tables = compute_tables(scene_path, size)
+    write_json_atomic(BASELINE, {
+        "scene": str(scene_path),
+        "mesh_size_m": size,
+        "analytical": {"elements": scene.analytical.elements, "beam": scene.analytical.beam,
+                       "platform_inertia": scene.analytical.platform_inertia},
+        "tolerances": {"error_percent_pp": ERROR_TOLERANCE_PP, "mac": MAC_TOLERANCE,
+                       "frequency_relative": FREQUENCY_TOLERANCE},
+        "cases": tables,
+    })
+    print(f"wrote {BASELINE.relative_to(ROOT)}")
+    return 0
+
+
+def check_command(results: str | None = None) -> int:
+    baseline = load_baseline()
+    current = compute_tables(baseline["scene"], baseline["mesh_size_m"])
+    lines = compare(baseline, current)
+    if lines:
+        print("error tables moved beyond tolerance:", *lines, sep="\n", file=sys.stderr)
+        return 1
+    print("error tables match the baseline")
+    return 0

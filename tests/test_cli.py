@@ -1,0 +1,68 @@
+"""The command line contract (DESIGN.md) and its behaviour on bad input."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from tests.conftest import PAPER_SCENE, ROOT
+
+
+def run(*args, cwd=ROOT):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, "-m", "pipeline", *args], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_analytical_json_contract():
+    proc = run("analytical", "--scene", str(PAPER_SCENE), "--case", "case1", "--elements", "3",
+               "--json")
+    assert proc.returncode == 0, proc.stderr
+    payload = json.loads(proc.stdout)
+    f = payload["frequencies_hz"]
+    assert len(f) == 6 and f == sorted(f) and payload["seconds"] > 0
+    assert payload["elements"] == 3 and payload["beam"] == "euler-bernoulli"
+
+
+def test_timoshenko_and_mode_count_options():
+    proc = run("analytical", "--case", "case2", "--beam", "timoshenko", "--modes", "9", "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert len(json.loads(proc.stdout)["frequencies_hz"]) == 9
+
+
+def scene_with(tmp_path, old, new):
+    text = PAPER_SCENE.read_text()
+    assert old in text
+    path = tmp_path / "scene.toml"
+    path.write_text(text.replace(old, new))
+    return path
+
+
+@pytest.mark.parametrize("args, needle", [
+    (("--case", "case9"), "case 'case9'"),
+    (("--elements", "0"), "0 must be >= 1"),
+    (("--beam", "bernoulli"), "'bernoulli'"),
+])
+def test_bad_arguments_exit_2_with_one_line(args, needle):
+    proc = run("analytical", *args)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0] and "Traceback" not in proc.stderr
+
+
+@pytest.mark.parametrize("old, new, needle", [
+    ("leg_diameter_mm = 100.0", "leg_diameter_mm = -100.0", "leg_diameter_mm = -100.0"),
+    ('height_mm = 490.0', 'height_mm = 1200.0', "outside the actuator range"),
+    ("tilt_deg = -12.0\n", "tilt_deg = -70.0\n", "exceeds"),
+])
+def test_bad_scenes_exit_2_with_one_line(tmp_path, old, new, needle):
+    path = scene_with(tmp_path, old, new)
+    case = "case1_literal" if "height" in old else "case2"
+    proc = run("analytical", "--scene", str(path), "--case", case)
+    assert proc.returncode == 2, proc.stdout
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0], proc.stderr
