@@ -14,7 +14,7 @@ export PYVISTA_OFF_SCREEN := true
 export OMP_NUM_THREADS ?= 2
 
 .DEFAULT_GOAL := run
-.PHONY: run setup test bench report clean update-baselines
+.PHONY: run setup test bench report readme clean update-baselines
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -35,6 +35,9 @@ bench: $(STAMP)
 
 report: $(STAMP)
 	$(PYTHON) -m reports --results out/results.json --out out
+
+readme: $(STAMP)
+	$(PYTHON) -m pipeline readme --results out/results.json
 
 update-baselines: $(STAMP)
 	$(PYTHON) -m pipeline update-baselines --scene $(SCENE)

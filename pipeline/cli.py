@@ -84,6 +84,9 @@ def build_parser() -> argparse.ArgumentParser:
     c = sub.add_parser("check-baselines", help="compare error tables with tests/baselines")
     c.add_argument("--results", default=None)
 
+    r = sub.add_parser("readme", help="refresh README.md's results block from results.json")
+    r.add_argument("--results", default="out/results.json")
+
     u = sub.add_parser("update-baselines", help="rewrite tests/baselines from a fresh CI run")
     u.add_argument("--scene", default="scenes/paper.toml")
     return parser
@@ -177,6 +180,10 @@ def main(argv: list[str] | None = None) -> int:
         elif args.command == "check-baselines":
             from .baselines import check_command
             return check_command(args.results)
+        elif args.command == "readme":
+            from .tables import update_readme
+            results = json.loads(Path(args.results).read_text(encoding="utf-8"))
+            update_readme(Path("README.md"), results)
         elif args.command == "update-baselines":
             from .baselines import update_command
             return update_command(args.scene)
