@@ -110,6 +110,18 @@ def paper_rows(case: Case) -> dict | None:
     if case.paper_fea_hz and case.paper_theory_hz:
         out["error_percent"] = [100 * (t / f - 1) for t, f in
                                 zip(case.paper_theory_hz, case.paper_fea_hz)]
+    if case.paper_error_percent:
+        out["printed_error_percent"] = list(case.paper_error_percent)
+        notes = []
+        for k, (printed, ours) in enumerate(zip(case.paper_error_percent,
+                                                out.get("error_percent", []))):
+            # printed values carry two decimals; inputs carry two decimals in Hz
+            if abs(printed - ours) > 0.015:
+                notes.append(f"f{k + 1}: printed {printed:.2f} %, (theory/FEA - 1) gives "
+                             f"{ours:.2f} %")
+        if notes:
+            out["printed_error_note"] = ("The paper's printed errors do not all follow from "
+                                         "its own frequencies: " + "; ".join(notes) + ".")
     return out
 
 

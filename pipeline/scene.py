@@ -41,6 +41,7 @@ class Case:
     height_origin: str  # "calibrated" or "scene"
     paper_fea_hz: tuple[float, ...] | None = None
     paper_theory_hz: tuple[float, ...] | None = None
+    paper_error_percent: tuple[float, ...] | None = None  # as printed in the paper
 
 
 @dataclass(frozen=True)
@@ -263,6 +264,7 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
             height_origin=origin,
             paper_fea_hz=c.numbers("paper_fea_hz", _ABSENT),
             paper_theory_hz=c.numbers("paper_theory_hz", _ABSENT),
+            paper_error_percent=c.numbers("paper_error_percent", _ABSENT),
         )
         c.done()
     cases_t.done()
