@@ -210,8 +210,8 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     ana.done()
 
     fem_t = top.table("fem", {})
-    size = fem_t.number("mesh_size_mm", 20.0) * MM
-    refinement = fem_t.numbers("refinement_mm", [40.0, 28.0, 20.0, 14.0])
+    size = fem_t.number("mesh_size_mm", 32.0) * MM
+    refinement = fem_t.numbers("refinement_mm", [40.0, 32.0, 25.0, 20.0])
     if len(refinement) < 3:
         raise SceneError(f"{where}.fem.refinement_mm = {list(refinement)!r}: "
                          "Richardson extrapolation needs at least three sizes")
@@ -221,7 +221,7 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     fem = FemSettings(
         mesh_size=size,
         refinement=tuple(r * MM for r in refinement),
-        ci_mesh_size=fem_t.number("ci_mesh_size_mm", 30.0) * MM,
+        ci_mesh_size=fem_t.number("ci_mesh_size_mm", 40.0) * MM,
         platform=fem_t.choice("platform", FEM_PLATFORMS, "rigid"),
         coupling=fem_t.choice("coupling", FEM_COUPLINGS, "rigid"),
         max_dofs=fem_t.integer("max_dofs", 600_000, minimum=100),

@@ -1,0 +1,35 @@
+"""3D solid finite-element reference of the 3-RPS manipulator: scikit-fem quadratic
+tetrahedra on gmsh meshes of the legs (and optionally the platform), joints as exactly
+eliminated multipoint constraints (paper Eqs. 10, 14-17), sparse shift-invert eigen solve,
+and the discretisation error from mesh refinement with Richardson extrapolation.
+
+    from fem_reference import FemOptions, FemResult, solve_pose, refinement_study, FemError
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .convergence import RefinementStudy, richardson
+from .model import FemError, FemOptions, FemResult, estimate_raw_dofs, solve_pose, with_size
+
+__all__ = ["FemError", "FemOptions", "FemResult", "RefinementStudy", "estimate_raw_dofs",
+           "refinement_study", "richardson", "solve_pose"]
+
+
+def refinement_study(manipulator, geometry, sizes, options: FemOptions) -> RefinementStudy:
+    """Solve the pose at every size (coarse -> fine, m) and extrapolate every frequency.
+
+    Raises FemError for fewer than three sizes or sizes that do not strictly decrease.
+    """
+    from .convergence import study_from_results
+    from meshing.bodies import pose_assembly
+
+    sizes = [float(s) for s in sizes]
+    if len(sizes) < 3:
+        raise FemError(f"sizes = {sizes!r}: Richardson extrapolation needs at least three sizes")
+    if any(b >= a for a, b in zip(sizes, sizes[1:])):
+        raise FemError(f"sizes = {sizes!r}: sizes must strictly decrease (coarse -> fine)")
+    results = [solve_pose(manipulator, geometry, with_size(options, h)) for h in sizes]
+    volume = pose_assembly(manipulator, geometry,
+                           elastic_platform=options.platform == "elastic").volume
+    return study_from_results(results, volume)

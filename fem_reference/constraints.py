@@ -1,0 +1,304 @@
+"""Joint multipoint constraints of the 3-RPS solid model, eliminated exactly: u = T q.
+
+No penalty and no Lagrange multiplier: every constrained dof is written as a linear function of
+independent coordinates q, and the reduced matrices are T^T K T and T^T M T (as the paper's
+Q^T K_r Q, Eqs. 20-22). Each leg end face is tied to a reference point at its joint centre (the
+face centre): B_i for the base face, A_i for the top face.
+
+Joints (paper Section 3.2):
+- R joint at B_i (Eqs. 14-17): the reference point does not translate, Delta_Bi = 0, and only
+  its rotation about the joint axis a_i is free, Phi_Bi = a_i phi_i: one coordinate phi_i per
+  leg (the regular choice; the paper's Eq. (18) ratio form is singular for some layouts).
+- S joint at A_i (Eq. 10): the leg-top reference point translates with the platform,
+  Delta_Ai = Delta_p + Phi_p x (A_i - o) (rigid platform), and its rotation psi_i is free.
+
+Face coupling (how the face nodes follow the reference point):
+- "rigid" (RBE2-like, default): every face node moves rigidly with the reference point,
+  u_k = u_ref + theta_ref x (x_k - x_ref). All face dofs are eliminated; q holds phi_i (1 per
+  leg), psi_i (3 per leg) and the platform's 6 coordinates besides the free nodes.
+- "distributing" (RBE3-like): the reference point moves as the face does on average, the face
+  itself stays free to warp. "On average" is the L2 projection of the face displacement onto
+  rigid motions about the reference point x_ref,
+      a = [t; theta] = G^-1 int_face Phi(r)^T u dA,   Phi(r) = [I, -[r x]],  r = x - x_ref,
+      G = int_face Phi^T Phi dA,
+  a linear map of the face's nodal displacements (weights int N_k dA and int N_k r dA, exact
+  on the curved triangle6 faces). The joint then constrains this average: at B_i, t = 0 and the
+  two rotation components normal to a_i vanish (5 equations; phi_i = a_i . theta is a result,
+  not a coordinate); at A_i, t = platform translation at A_i (3 equations; the rotation is free
+  and needs no coordinate). Each constraint set C u_face = D q_joint is solved for as many face
+  dofs as it has equations (5 or 3), chosen by QR with column pivoting on C so the eliminated
+  block is as well conditioned as possible: u_dep = C_dep^-1 (D q_joint - C_ind u_ind). This is
+  an exact elimination, like RBE3's dependent reference point but turned around (the face dofs
+  are dependent because the reference point's translation is prescribed by the joint).
+  The eliminated dofs couple to the whole face, so T^T K T gets a dense block per face.
+
+Elastic platform: the S joint ties the leg-top reference translation to the volume average
+displacement of the plate within a radius d/2 (the leg radius) of A_i - a distributing patch,
+chosen so that no artificial rigid spot is added to the plate; the reference rotation stays free.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as la
+import scipy.sparse as sp
+from skfem.quadrature import get_quadrature
+from skfem.refdom import RefTri
+
+from .discretisation import Discretisation
+
+COUPLINGS = ("rigid", "distributing")
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """[v x] for one vector (3,) or a stack (..., 3) -> (..., 3, 3)."""
+    v = np.asarray(v, float)
+    out = np.zeros(v.shape + (3,))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
+
+
+# ---------------------------------------------------------------- face averages (RBE3 weights)
+
+def _tri6_shape(xi: np.ndarray, eta: np.ndarray):
+    """Quadratic triangle shape functions (meshio order) and their reference derivatives."""
+    l0 = 1.0 - xi - eta
+    n = np.stack([l0 * (2 * l0 - 1), xi * (2 * xi - 1), eta * (2 * eta - 1),
+                  4 * l0 * xi, 4 * xi * eta, 4 * eta * l0])
+    dxi = np.stack([-(4 * l0 - 1), 4 * xi - 1, 0 * xi, 4 * (l0 - xi), 4 * eta, -4 * eta])
+    deta = np.stack([-(4 * l0 - 1), 0 * xi, 4 * eta - 1, -4 * xi, 4 * xi, 4 * (l0 - eta)])
+    return n, dxi, deta
+
+
+@dataclass(frozen=True)
+class FaceProjection:
+    """Rigid-motion L2 projection of one face's displacement about a reference point."""
+
+    nodes: np.ndarray  # (n_f,) scalar nodes
+    matrix: np.ndarray  # (6, 3 n_f): a = matrix @ u_face (node-major x, y, z)
+    area: float
+
+
+def face_projection(disc: Discretisation, name: str, ref: np.ndarray) -> FaceProjection:
+    """a = [t; theta] = G^-1 int Phi^T u dA over the (curved, isoparametric) triangle6 face."""
+    tri = disc.face_triangles[name]
+    nodes = disc.face_nodes[name]
+    local = np.searchsorted(nodes, tri)  # (nt, 6) positions in `nodes`
+    x = disc.node_xyz[tri] - np.asarray(ref, float)  # (nt, 6, 3), relative to x_ref
+    qp, qw = get_quadrature(RefTri, 4)
+    n, dxi, deta = _tri6_shape(qp[0], qp[1])  # (6, nq)
+    pos = np.einsum("tkc,kq->tqc", x, n)
+    j1, j2 = np.einsum("tkc,kq->tqc", x, dxi), np.einsum("tkc,kq->tqc", x, deta)
+    da = np.linalg.norm(np.cross(j1, j2), axis=-1) * qw[None, :]  # (nt, nq)
+    area = float(da.sum())
+    s = np.einsum("tq,tqc->c", da, pos)
+    ss = np.einsum("tq,tqc,tqd->cd", da, pos, pos)
+    g = np.zeros((6, 6))
+    g[:3, :3] = area * np.eye(3)
+    g[:3, 3:] = -skew(s)
+    g[3:, :3] = skew(s)
+    g[3:, 3:] = np.trace(ss) * np.eye(3) - ss
+    w = np.zeros(len(nodes))
+    m = np.zeros((len(nodes), 3))
+    np.add.at(w, local, np.einsum("tq,kq->tk", da, n))
+    np.add.at(m, local, np.einsum("tq,kq,tqc->tkc", da, n, pos))
+    b = np.zeros((6, len(nodes), 3))
+    b[:3] = w[None, :, None] * np.eye(3)[:, None, :]
+    b[3:] = skew(m).transpose(1, 0, 2)  # [m_k x] u_k
+    return FaceProjection(nodes, la.solve(g, b.reshape(6, -1), assume_a="pos"), area)
+
+
+# ---------------------------------------------------------------- the constraint map
+
+
+@dataclass
+class ConstraintMap:
+    """u = T q, and where the named joint coordinates sit in q."""
+
+    T: sp.csr_matrix  # (n_raw, n_q)
+    n_raw: int
+    retained: np.ndarray  # raw dofs kept as their own coordinate, in column order
+    columns: dict[str, np.ndarray] = field(default_factory=dict)  # e.g. "phi", "psi", "platform"
+    projections: dict[str, FaceProjection] = field(default_factory=dict)  # face -> projection
+    references: dict[str, np.ndarray] = field(default_factory=dict)  # face -> reference point
+
+    @property
+    def n_free(self) -> int:
+        return int(self.T.shape[1])
+
+    def reference_motion(self, face: str, u: np.ndarray) -> np.ndarray:
+        """(6, ...) rigid motion [t; theta] of the face's reference point for raw fields u
+        (n_raw,) or (n_raw, k): the face's rigid-motion projection (exact for rigid coupling)."""
+        p = self.projections[face]
+        dofs = (3 * p.nodes[:, None] + np.arange(3)).ravel()
+        return p.matrix @ u[dofs]
+
+
+class _Builder:
+    """Collects T in COO form: rows are raw dofs, columns free coordinates."""
+
+    def __init__(self, n_raw: int):
+        self.n_raw = n_raw
+        self.rows, self.cols, self.vals = [], [], []
+        self.dependent = np.zeros(n_raw, bool)
+        self.n_extra = 0
+        self.extra = {}
+
+    def add_extra(self, name: str, count: int) -> np.ndarray:
+        idx = np.arange(self.n_extra, self.n_extra + count)
+        self.n_extra += count
+        self.extra[name] = idx
+        return idx
+
+    def entries(self, rows, cols, vals, extra: bool):
+        """Record T[rows, cols] = vals; cols index extra coordinates (extra=True) or raw dofs."""
+        rows, cols, vals = (np.asarray(a).ravel() for a in (rows, cols, vals))
+        self.rows.append(rows)
+        self.cols.append(np.where(extra, -1 - cols, cols))  # negative: extra coordinate
+        self.vals.append(vals)
+
+    def finish(self) -> tuple[sp.csr_matrix, np.ndarray, dict]:
+        retained = np.flatnonzero(~self.dependent)
+        col_of_raw = np.full(self.n_raw, -1, np.int64)
+        col_of_raw[retained] = np.arange(len(retained))
+        rows = [retained]
+        cols = [np.arange(len(retained))]
+        vals = [np.ones(len(retained))]
+        for r, c, v in zip(self.rows, self.cols, self.vals):
+            is_extra = c < 0
+            mapped = np.where(is_extra, len(retained) + (-1 - c), col_of_raw[np.maximum(c, 0)])
+            if np.any(mapped < 0):
+                raise AssertionError("a constraint refers to an eliminated dof")
+            rows.append(r)
+            cols.append(mapped)
+            vals.append(v)
+        t = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                          shape=(self.n_raw, len(retained) + self.n_extra))
+        t.sum_duplicates()
+        t.eliminate_zeros()
+        columns = {k: len(retained) + v for k, v in self.extra.items()}
+        return t, retained, columns
+
+
+def _rigid_face(builder: _Builder, nodes: np.ndarray, xyz: np.ndarray, ref: np.ndarray,
+                translation_cols: np.ndarray | None, translation_vals: np.ndarray | None,
+                translation_extra: bool, rotation_cols: np.ndarray, rotation_map: np.ndarray):
+    """Face nodes follow the reference point rigidly: u_k = t + theta x r_k (RBE2).
+
+    t = translation_vals @ q[translation_cols] (3 x n_t), theta = rotation_map @ q[rotation_cols]
+    (3 x n_r), all vectorised over the face's nodes.
+    """
+    r = xyz[nodes] - ref  # (n_f, 3)
+    rot = -skew(r) @ rotation_map  # (n_f, 3, n_r): theta x r = -[r x] theta
+    dofs = 3 * nodes[:, None] + np.arange(3)  # (n_f, 3)
+    builder.dependent[dofs.ravel()] = True
+    nr = len(rotation_cols)
+    builder.entries(np.repeat(dofs[:, :, None], nr, axis=2),
+                    np.broadcast_to(rotation_cols, rot.shape), rot, extra=True)
+    if translation_cols is not None:
+        nt = len(translation_cols)
+        builder.entries(np.repeat(dofs[:, :, None], nt, axis=2),
+                        np.broadcast_to(translation_cols, (len(nodes), 3, nt)),
+                        np.broadcast_to(translation_vals, (len(nodes), 3, nt)),
+                        extra=translation_extra)
+
+
+def _eliminate(builder: _Builder, face_dofs: np.ndarray, c: np.ndarray,
+               rhs_cols: np.ndarray | None, rhs: np.ndarray | None, rhs_extra: bool):
+    """Solve C u_face = D q for len(C) face dofs chosen by pivoted QR; record them in T."""
+    _, _, piv = la.qr(c, mode="economic", pivoting=True)
+    m = c.shape[0]
+    dep, ind = np.sort(piv[:m]), np.sort(piv[m:])
+    cd_inv = la.inv(c[:, dep])
+    builder.dependent[face_dofs[dep]] = True
+    coeff = -cd_inv @ c[:, ind]  # (m, n_ind)
+    builder.entries(np.repeat(face_dofs[dep][:, None], len(ind), 1),
+                    np.broadcast_to(face_dofs[ind], coeff.shape), coeff, extra=False)
+    if rhs_cols is not None:
+        g = cd_inv @ rhs  # (m, n_rhs)
+        builder.entries(np.repeat(face_dofs[dep][:, None], len(rhs_cols), 1),
+                        np.broadcast_to(rhs_cols, g.shape), g, extra=rhs_extra)
+
+
+def patch_weights(disc: Discretisation, body: str, centre: np.ndarray, radius: float):
+    """Nodes and weights of the volume average of a body's displacement within `radius` of
+    `centre`: u_avg = sum_k w_k u_k, w_k = int_patch N_k dV / V_patch."""
+    b = disc.basis
+    ib = disc.bodies.index(body)
+    x = disc.node_xyz[b.element_dofs[:4]].mean(axis=0)  # vertex centroids (ne, 3)
+    inside = (disc.tet_body == ib) & (np.linalg.norm(x - centre, axis=1) <= radius)
+    if not inside.any():
+        raise ValueError(f"no {body} element within {radius:g} m of {np.round(centre, 6)}")
+    values = np.stack([np.asarray(phi[0]) for phi in b.basis])  # (10, ne, nq)
+    local = np.einsum("aeq,eq->ae", values[:, inside], b.dx[inside])
+    nodes, inv = np.unique(b.element_dofs[:, inside], return_inverse=True)
+    w = np.bincount(inv.ravel(), local.ravel(), minlength=len(nodes))
+    return nodes, w / w.sum()
+
+
+def build_constraints(disc: Discretisation, geometry, coupling: str = "rigid",
+                      platform: str = "rigid", patch_radius: float | None = None
+                      ) -> ConstraintMap:
+    """T for the 3-RPS joints on the meshed legs (and plate), see the module docstring.
+
+    `geometry` is an `analytical.kinematics.PoseGeometry`. With platform="rigid" the last six
+    coordinates are the platform's (Delta_p, Phi_p) at o, Eq. (7).
+    """
+    if coupling not in COUPLINGS:
+        raise ValueError(f"coupling = {coupling!r}: expected one of {', '.join(COUPLINGS)}")
+    n_raw = disc.n_dofs
+    bld = _Builder(n_raw)
+    xyz = disc.node_xyz
+    o = np.asarray(geometry.platform_centre, float)
+    projections, references = {}, {}
+    n_legs = len(geometry.base_points)
+    if coupling == "rigid":
+        phi = bld.add_extra("phi", n_legs)
+        psi = bld.add_extra("psi", 3 * n_legs).reshape(n_legs, 3)
+    plat = bld.add_extra("platform", 6) if platform == "rigid" else None
+    for i in range(n_legs):
+        b_i = np.asarray(geometry.base_points[i], float)
+        a_i = np.asarray(geometry.platform_points[i], float)
+        axis = np.asarray(geometry.joint_axes[i], float)
+        base, top = f"leg{i + 1}_base", f"leg{i + 1}_top"
+        for face, ref in ((base, b_i), (top, a_i)):
+            projections[face] = face_projection(disc, face, ref)
+            references[face] = ref
+        # platform translation at A_i as (columns, 3 x n values, extra?)  -- Eq. (10)
+        if platform == "rigid":
+            t_cols, t_vals, t_extra = plat, np.hstack([np.eye(3), -skew(a_i - o)]), True
+        else:
+            radius = patch_radius if patch_radius is not None else _leg_radius(disc, i)
+            pn, pw = patch_weights(disc, "platform", a_i, radius)
+            t_cols = (3 * pn[None, :] + np.arange(3)[:, None]).ravel()  # component-major
+            t_vals = np.zeros((3, 3 * len(pn)))
+            for c in range(3):
+                t_vals[c, c * len(pn):(c + 1) * len(pn)] = pw
+            t_extra = False
+        if coupling == "rigid":
+            # R joint, Eqs. (16)-(17): Delta_B = 0, Phi_B = a_i phi_i
+            _rigid_face(bld, disc.face_nodes[base], xyz, b_i, None, None, True,
+                        phi[i:i + 1], axis[:, None])
+            # S joint, Eq. (10): Delta_A = platform motion at A_i, rotation psi_i free
+            _rigid_face(bld, disc.face_nodes[top], xyz, a_i, t_cols, t_vals, t_extra,
+                        psi[i], np.eye(3))
+        else:
+            pb = projections[base]
+            normal_rot = la.null_space(axis[None, :]).T  # (2, 3): rotations normal to a_i
+            c_base = np.vstack([pb.matrix[:3], normal_rot @ pb.matrix[3:]])
+            fd = (3 * pb.nodes[:, None] + np.arange(3)).ravel()
+            _eliminate(bld, fd, c_base, None, None, False)
+            pt = projections[top]
+            fd = (3 * pt.nodes[:, None] + np.arange(3)).ravel()
+            _eliminate(bld, fd, pt.matrix[:3], t_cols, t_vals, t_extra)
+    t, retained, columns = bld.finish()
+    return ConstraintMap(t, n_raw, retained, columns, projections, references)
+
+
+def _leg_radius(disc: Discretisation, i: int) -> float:
+    p = disc.face_nodes[f"leg{i + 1}_base"]
+    x = disc.node_xyz[p]
+    return float(np.linalg.norm(x - x.mean(axis=0), axis=1).max())

@@ -1,0 +1,256 @@
+"""One pose of the 3-RPS manipulator as a 3D solid: mesh, assemble, constrain, solve.
+
+solve_pose(manipulator, geometry, options) -> FemResult. Steps (timed):
+  mesh      bodies of the pose -> gmsh 10-node tetrahedra (or the mesh cache)
+  assemble  scikit-fem P2 stiffness and consistent mass, joint constraint map T (u = T q),
+            reduced K_q = T^T K T, M_q = T^T M T (+ the rigid platform's 6x6 mass at o, Eqs. 7-9)
+  solve     shift-invert Lanczos for the lowest modes
+Every failure on bad input is a FemError with one line naming the offending value; nothing is
+written (cache entries and VTU files are atomic).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+import math
+import os
+import time
+
+import numpy as np
+import scipy.sparse as sp
+
+from analytical.platform import platform_mass_matrix
+from meshing.bodies import Assembly, GeometryError, pose_assembly
+from meshing.cache import cached_mesh
+from meshing.geometry import GmshFailure, MeshSettings
+
+from .assembly import stiffness_and_mass
+from .constraints import COUPLINGS, ConstraintMap, build_constraints, skew
+from .discretisation import Discretisation, discretise
+from .eigen import EigenError, Modes, lowest_modes
+from .export import write_modes_vtu
+from . import probes
+
+PLATFORMS = ("rigid", "elastic")
+# Measured on the paper's legs (gmsh, pinned options): P2 nodes ~ 5.8 V/h^3 + 3.5 A/h^2
+NODES_PER_VOLUME = 5.8
+NODES_PER_AREA = 3.5
+
+
+class FemError(ValueError):
+    """Bad input or a failed FEM step; the message is one line naming the offending value."""
+
+
+@dataclass(frozen=True)
+class FemOptions:
+    mesh_size: float  # global element size h, m
+    platform: str = "rigid"  # "rigid": 6 dofs at o with the plate's inertia; "elastic": meshed
+    coupling: str = "rigid"  # joint-face coupling: "rigid" (RBE2) or "distributing" (RBE3)
+    modes: int = 6
+    max_dofs: int = 600_000
+    cache_dir: str | os.PathLike | None = None  # None: <repo>/.cache/meshes
+    use_cache: bool = True
+    rim_factor: float = 0.5  # element size at the joint-face rims, relative to mesh_size
+    rim_zone: float = 0.015  # m, graded zone around the rims (0: no refinement)
+    backend: str = "splu"
+
+    def __post_init__(self):
+        def bad(name, value, why):
+            raise FemError(f"{name} = {value!r}: {why}")
+        h = self.mesh_size
+        if isinstance(h, bool) or not isinstance(h, (int, float)) or not math.isfinite(h) \
+                or h <= 0:
+            bad("mesh_size", h, "must be a finite positive length in m")
+        if self.platform not in PLATFORMS:
+            bad("platform", self.platform, f"expected one of {', '.join(PLATFORMS)}")
+        if self.coupling not in COUPLINGS:
+            bad("coupling", self.coupling, f"expected one of {', '.join(COUPLINGS)}")
+        if isinstance(self.modes, bool) or not isinstance(self.modes, int) or self.modes < 1:
+            bad("modes", self.modes, "need an integer >= 1")
+        if isinstance(self.max_dofs, bool) or not isinstance(self.max_dofs, int) \
+                or self.max_dofs < 100:
+            bad("max_dofs", self.max_dofs, "need an integer >= 100")
+        if not (isinstance(self.rim_factor, (int, float)) and 0 < self.rim_factor <= 1):
+            bad("rim_factor", self.rim_factor, "must lie in (0, 1]")
+        if not (isinstance(self.rim_zone, (int, float)) and math.isfinite(self.rim_zone)
+                and self.rim_zone >= 0):
+            bad("rim_zone", self.rim_zone, "must be a finite length >= 0 m")
+
+    @property
+    def mesh_settings(self) -> MeshSettings:
+        return MeshSettings(float(self.mesh_size), float(self.rim_factor), float(self.rim_zone))
+
+
+@dataclass
+class FemResult:
+    frequencies_hz: np.ndarray  # (modes,) ascending
+    dofs: int  # free dofs after the joint constraints are eliminated
+    raw_dofs: int  # dofs of the unconstrained bodies
+    mesh_size: float  # m
+    timings: dict  # seconds: mesh, assemble, solve, total
+    clusters: list  # groups of (near-)repeated modes, 0-based indices
+    cache_hit: bool
+    mesh_digest: str
+    n_elements: int
+    options: FemOptions
+    geometry: object = field(repr=False)  # analytical.kinematics.PoseGeometry
+    disc: Discretisation = field(repr=False)
+    constraints: ConstraintMap = field(repr=False)
+    modes_q: np.ndarray = field(repr=False)  # (n_free, modes), M-orthonormal
+    modes_raw: np.ndarray = field(repr=False)  # (raw_dofs, modes) = T modes_q
+    mass_matrix: object = field(default=None, repr=False)  # raw consistent mass (CSR)
+
+    def leg_axis_displacements(self, fractions) -> np.ndarray:
+        """Translation of the leg axis points B_i + t (A_i - B_i), t in `fractions`, per mode:
+        (3 legs, len(fractions), 3, n_modes), base coordinates. Inside the leg the P2 field is
+        interpolated; at t = 0 and t = 1 (the joint centres) the reference points' motion is
+        used (B_i fixed; A_i moving with the platform)."""
+        t = np.atleast_1d(np.asarray(fractions, float))
+        if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
+            raise FemError(f"fractions = {np.asarray(fractions).tolist()!r}: need values in "
+                           "[0, 1]")
+        g = self.geometry
+        out = np.zeros((len(g.base_points), len(t), 3, self.modes_raw.shape[1]))
+        for i, (b, a) in enumerate(zip(g.base_points, g.platform_points)):
+            inner = (t > 1e-9) & (t < 1 - 1e-9)
+            if inner.any():
+                pts = b + t[inner, None] * (a - b)
+                out[i, inner] = probes.evaluate(self.disc, f"leg{i + 1}", pts, self.modes_raw)
+            for end, face in ((0.0, f"leg{i + 1}_base"), (1.0, f"leg{i + 1}_top")):
+                sel = np.abs(t - end) <= 1e-9
+                if sel.any():
+                    out[i, sel] = self.constraints.reference_motion(face, self.modes_raw)[:3]
+        return out
+
+    @property
+    def platform_motion(self) -> np.ndarray:
+        """(6, n_modes): translation of o and rotation of the platform. Rigid platform: its six
+        coordinates; elastic: the mass-weighted best-fit rigid motion of the plate about o."""
+        cols = self.constraints.columns.get("platform")
+        if cols is not None:
+            return self.modes_q[cols].copy()
+        nodes = self.disc.body_nodes("platform")
+        r = self.disc.node_xyz[nodes] - np.asarray(self.geometry.platform_centre, float)
+        phi = np.zeros((len(nodes), 3, 6))
+        phi[:, :, :3] = np.eye(3)
+        phi[:, :, 3:] = -skew(r)
+        phi = phi.reshape(-1, 6)
+        dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
+        mpp = self.mass_matrix[dofs][:, dofs]
+        mphi = mpp @ phi
+        return np.linalg.solve(phi.T @ mphi, mphi.T @ self.modes_raw[dofs])
+
+    def write_vtu(self, path) -> None:
+        write_modes_vtu(path, self.disc, self.modes_raw, self.frequencies_hz)
+
+    def to_dict(self) -> dict:
+        return {
+            "frequencies_hz": [float(f) for f in self.frequencies_hz],
+            "dofs": self.dofs,
+            "raw_dofs": self.raw_dofs,
+            "mesh_size_m": self.mesh_size,
+            "elements": self.n_elements,
+            "timings": dict(self.timings),
+            "clusters": self.clusters,
+            "cache_hit": self.cache_hit,
+            "mesh_digest": self.mesh_digest,
+            "platform": self.options.platform,
+            "coupling": self.options.coupling,
+            "rim_factor": self.options.rim_factor,
+            "rim_zone_m": self.options.rim_zone,
+        }
+
+
+def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
+    """Raw dof count of the P2 mesh, estimated from volume and surface before meshing."""
+    h = settings.size
+    nodes = NODES_PER_VOLUME * assembly.volume / h**3 + NODES_PER_AREA * assembly.area / h**2
+    if settings.rim_factor < 1 and settings.rim_zone > 0:
+        # each joint-face rim: a quarter torus of radius rim_zone, mean size ~ (1 + f) h / 2
+        zone = sum(2 * (math.pi * min(settings.rim_zone, c.radius) ** 2 / 4)
+                   * 2 * math.pi * c.radius for c in assembly.cylinders)
+        h_zone = 0.5 * (1 + settings.rim_factor) * h
+        nodes += NODES_PER_VOLUME * zone * (1 / h_zone**3 - 1 / h**3)
+    return int(3 * nodes)
+
+
+def solve_pose(manipulator, geometry, options: FemOptions) -> FemResult:
+    """Natural frequencies and modes of the 3D solid model of one pose."""
+    if not isinstance(options, FemOptions):
+        raise FemError(f"options = {options!r}: expected FemOptions")
+    t0 = time.perf_counter()
+    elastic = options.platform == "elastic"
+    try:
+        assembly = pose_assembly(manipulator, geometry, elastic_platform=elastic)
+    except GeometryError as exc:
+        raise FemError(str(exc)) from None
+    settings = options.mesh_settings
+    diameter = 2 * assembly.cylinders[0].radius
+    if settings.size > diameter:
+        raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
+                       f"{diameter:g} m (needs at least one element across a leg)")
+    estimate = estimate_raw_dofs(assembly, settings)
+    if estimate > options.max_dofs:
+        raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
+                       f"max_dofs = {options.max_dofs}")
+    try:
+        solid, hit = cached_mesh(assembly, settings, options.cache_dir, options.use_cache)
+    except GmshFailure as exc:
+        raise FemError(f"mesh_size = {settings.size:g} m: gmsh failed ({exc})") from None
+    t_mesh = time.perf_counter()
+
+    disc = discretise(solid)
+    if disc.n_dofs > options.max_dofs:
+        raise FemError(f"mesh_size = {settings.size:g} m: {disc.n_dofs} dofs, above max_dofs = "
+                       f"{options.max_dofs}")
+    k, m = stiffness_and_mass(disc, manipulator.material)
+    cmap = build_constraints(disc, geometry, options.coupling, options.platform)
+    t_ = cmap.T
+    kq = (t_.T @ k @ t_).tocsr()
+    mq = (t_.T @ m @ t_).tocsr()
+    if not elastic:
+        cols = cmap.columns["platform"]
+        mp = sp.coo_matrix(platform_mass_matrix(manipulator, np.asarray(geometry.rotation)))
+        mq = mq + sp.csr_matrix((mp.data, (cols[mp.row], cols[mp.col])), shape=mq.shape)
+    kq = 0.5 * (kq + kq.T)  # symmetric to round-off
+    mq = 0.5 * (mq + mq.T)
+    t_asm = time.perf_counter()
+
+    try:
+        modes = lowest_modes(kq, mq, options.modes, backend=options.backend)
+    except EigenError as exc:
+        raise FemError(f"mesh_size = {settings.size:g} m: eigensolver failed ({exc})") from None
+    vq = _normalise_signs(modes.vectors)
+    v_raw = t_ @ vq
+    t_end = time.perf_counter()
+    result = FemResult(
+        frequencies_hz=modes.frequencies_hz,
+        dofs=int(kq.shape[0]),
+        raw_dofs=disc.n_dofs,
+        mesh_size=float(settings.size),
+        timings={"mesh": t_mesh - t0, "assemble": t_asm - t_mesh, "solve": t_end - t_asm,
+                 "total": t_end - t0},
+        clusters=[list(map(int, c)) for c in modes.clusters],
+        cache_hit=hit,
+        mesh_digest=solid.digest(),
+        n_elements=int(len(solid.tets)),
+        options=options,
+        geometry=geometry,
+        disc=disc,
+        constraints=cmap,
+        modes_q=vq,
+        modes_raw=v_raw,
+        mass_matrix=m,
+    )
+    return result
+
+
+def _normalise_signs(v: np.ndarray) -> np.ndarray:
+    """Deterministic sign: the largest-magnitude entry of every mode is positive."""
+    idx = np.argmax(np.abs(v), axis=0)
+    s = np.sign(v[idx, np.arange(v.shape[1])])
+    s[s == 0] = 1
+    return v * s
+
+
+def with_size(options: FemOptions, size: float) -> FemOptions:
+    return replace(options, mesh_size=float(size))

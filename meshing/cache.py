@@ -1,0 +1,113 @@
+"""On-disk mesh cache keyed by the geometry content and the mesh settings.
+
+Key: SHA-256 of the canonical JSON of the bodies (rounded to 1e-12 m), the mesh settings, the
+pinned gmsh options, the gmsh version and the cache format version. An entry is two files:
+`<key>.vtu` (the mesh, written by meshio) and `<key>.json` (digest of the mesh arrays and
+metadata), each written to a temporary file in the same directory and moved into place with
+os.replace, the JSON last: an entry without a valid JSON, or whose mesh does not read back to the
+recorded digest, is treated as corrupt, removed and rebuilt - never a crash, never a stale mesh.
+"""
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import json
+import os
+from pathlib import Path
+import tempfile
+
+import meshio
+
+from .bodies import Assembly
+from .geometry import PINNED_OPTIONS, MeshSettings, build_mesh, gmsh_version
+from .mesh import MeshFormatError, SolidMesh
+
+FORMAT_VERSION = 1
+DEFAULT_DIR = Path(__file__).resolve().parents[1] / ".cache" / "meshes"
+
+
+def cache_key(assembly: Assembly, settings: MeshSettings) -> str:
+    content = {
+        "format": FORMAT_VERSION,
+        "gmsh": gmsh_version(),
+        "options": PINNED_OPTIONS,
+        "assembly": assembly.canonical(),
+        "settings": settings.canonical(),
+    }
+    return hashlib.sha256(json.dumps(content, sort_keys=True).encode()).hexdigest()
+
+
+def _atomic_write(path: Path, write) -> None:
+    """Call write(tmp_path) on a temporary file beside `path`, then move it into place."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    os.close(fd)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+class MeshCache:
+    def __init__(self, directory: str | os.PathLike | None = None):
+        self.directory = Path(directory) if directory is not None else DEFAULT_DIR
+
+    def paths(self, key: str) -> tuple[Path, Path]:
+        return self.directory / f"{key}.vtu", self.directory / f"{key}.json"
+
+    def load(self, key: str) -> SolidMesh | None:
+        """The cached mesh, or None if absent or corrupt (a corrupt entry is removed)."""
+        mesh_path, meta_path = self.paths(key)
+        if not meta_path.exists():
+            return None
+        try:
+            meta = json.loads(meta_path.read_text(encoding="utf-8"))
+            with contextlib.redirect_stderr(io.StringIO()), \
+                    contextlib.redirect_stdout(io.StringIO()):
+                raw = meshio.read(mesh_path, file_format="vtu")  # may sys.exit on bad XML
+            mesh = SolidMesh.from_meshio(raw, groups=meta["groups"], info=meta.get("info", {}))
+            if meta.get("digest") != mesh.digest():
+                raise MeshFormatError("digest mismatch")
+            return mesh
+        except (Exception, SystemExit):  # unreadable or inconsistent entry: drop, rebuild
+            self.remove(key)
+            return None
+
+    def store(self, key: str, mesh: SolidMesh) -> None:
+        self.directory.mkdir(parents=True, exist_ok=True)
+        mesh_path, meta_path = self.paths(key)
+        m = mesh.to_meshio()
+        _atomic_write(mesh_path, lambda p: meshio.write(p, m, file_format="vtu",
+                                                        binary=True, compression="zlib"))
+        meta = {"key": key, "digest": mesh.digest(), "n_nodes": mesh.n_nodes,
+                "n_tets": int(len(mesh.tets)), "groups": mesh.groups(), "info": mesh.info}
+        _atomic_write(meta_path, lambda p: Path(p).write_text(json.dumps(meta, indent=1),
+                                                              encoding="utf-8"))
+
+    def remove(self, key: str) -> None:
+        for p in self.paths(key):
+            try:
+                p.unlink()
+            except OSError:
+                pass
+
+
+def cached_mesh(assembly: Assembly, settings: MeshSettings,
+                cache_dir: str | os.PathLike | None = None,
+                use_cache: bool = True) -> tuple[SolidMesh, bool]:
+    """(mesh, cache_hit): from the cache if a valid entry exists, else built and stored."""
+    key = cache_key(assembly, settings)
+    cache = MeshCache(cache_dir)
+    if use_cache:
+        mesh = cache.load(key)
+        if mesh is not None:
+            return mesh, True
+    mesh = build_mesh(assembly, settings)
+    if use_cache:
+        cache.store(key, mesh)
+    return mesh, False

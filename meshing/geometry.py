@@ -1,0 +1,222 @@
+"""gmsh (OpenCASCADE) script: the bodies of one pose -> second-order tetrahedral mesh.
+
+Each leg is its own solid cylinder B_i -> A_i, the (optional) elastic platform its own plate;
+nothing is fused, so the bodies share no node and are joined only by the FEM's joint
+constraints. Elements are 10-node tetrahedra with curved (geometry-following) mid-edge nodes.
+
+Size control: a global size h everywhere; optionally a finer size `rim_factor * h` within
+`rim_zone` of the rims of the joint faces (the edges of rigidly coupled faces, where the stress is
+singular). Every option that gmsh would otherwise read from its defaults or the environment is
+pinned below, with one thread, so the same input gives the same mesh, node for node.
+
+gmsh is a process-wide singleton and neither thread-safe nor reentrant: calls are serialised by a
+lock, and gmsh is always finalised, also on error.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, asdict
+import threading
+
+import numpy as np
+
+from .bodies import Assembly, Cylinder, Plate
+from .mesh import SolidMesh
+
+
+class GmshFailure(RuntimeError):
+    """gmsh could not build a valid mesh for these bodies and settings."""
+
+
+@dataclass(frozen=True)
+class MeshSettings:
+    size: float  # global element size h, m
+    rim_factor: float = 1.0  # size near joint-face rims = rim_factor * h (1: no refinement)
+    rim_zone: float = 0.0  # distance from the rims over which the size grows back to h, m
+
+    def canonical(self) -> dict:
+        d = asdict(self)
+        return {k: round(float(v), 12) for k, v in d.items()}
+
+
+# Pinned gmsh options (name -> value). Algorithm 6 = Frontal-Delaunay (2D), 1 = Delaunay (3D).
+PINNED_OPTIONS = {
+    "General.Terminal": 0,
+    "General.Verbosity": 0,
+    "General.NumThreads": 1,
+    "Geometry.OCCParallel": 0,
+    "Geometry.Tolerance": 1e-8,
+    "Mesh.MaxNumThreads1D": 1,
+    "Mesh.MaxNumThreads2D": 1,
+    "Mesh.MaxNumThreads3D": 1,
+    "Mesh.RandomSeed": 1,
+    "Mesh.RandomFactor": 1e-9,
+    "Mesh.RandomFactor3D": 1e-12,
+    "Mesh.Algorithm": 6,
+    "Mesh.Algorithm3D": 1,
+    "Mesh.Optimize": 1,
+    "Mesh.OptimizeNetgen": 0,
+    "Mesh.OptimizeThreshold": 0.3,
+    "Mesh.Smoothing": 1,
+    "Mesh.ElementOrder": 2,
+    "Mesh.SecondOrderLinear": 0,
+    "Mesh.HighOrderOptimize": 0,
+    "Mesh.MeshSizeFromPoints": 0,
+    "Mesh.MeshSizeFromCurvature": 0,
+    "Mesh.MeshSizeExtendFromBoundary": 0,
+    "Mesh.MeshSizeFactor": 1.0,
+    "Mesh.MinimumCircleNodes": 7,
+    "Mesh.MinimumCurveNodes": 3,
+    "Mesh.RecombineAll": 0,
+    "Mesh.SubdivisionAlgorithm": 0,
+    "Mesh.Binary": 0,
+}
+
+_GMSH_LOCK = threading.Lock()
+GMSH_TETRA10_TO_MESHIO = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]  # gmsh edge 8 is 23, 9 is 13
+
+
+def gmsh_version() -> str:
+    import gmsh
+    return str(gmsh.__version__)
+
+
+def _face_tags(occ_dim_tags, cylinder: Cylinder, model) -> tuple[int, int]:
+    """The planar end faces of an OCC cylinder: (face at start, face at end)."""
+    faces = [t for d, t in model.getBoundary(occ_dim_tags, oriented=False) if d == 2]
+    start, end = np.asarray(cylinder.start), np.asarray(cylinder.end)
+    found = {}
+    for tag in faces:
+        c = np.asarray(model.occ.getCenterOfMass(2, tag))
+        for label, p in (("start", start), ("end", end)):
+            if np.linalg.norm(c - p) < 1e-6 * max(1.0, cylinder.length):
+                found[label] = tag
+    if set(found) != {"start", "end"}:
+        raise GmshFailure(f"{cylinder.name}: end faces not found among OCC faces {faces}")
+    return found["start"], found["end"]
+
+
+def _add_plate(plate: Plate, occ) -> int:
+    n = np.asarray(plate.normal, float)
+    bottom = np.asarray(plate.centre) - 0.5 * plate.thickness * n
+    if plate.shape == "disk":
+        return occ.addCylinder(*bottom, *(plate.thickness * n), plate.radius)
+    pts = [occ.addPoint(*(np.asarray(c) - 0.5 * plate.thickness * n)) for c in plate.corners]
+    lines = [occ.addLine(pts[k], pts[(k + 1) % 3]) for k in range(3)]
+    surface = occ.addPlaneSurface([occ.addCurveLoop(lines)])
+    out = occ.extrude([(2, surface)], *(plate.thickness * n))
+    return next(t for d, t in out if d == 3)
+
+
+def build_mesh(assembly: Assembly, settings: MeshSettings) -> SolidMesh:
+    """Mesh the bodies with 10-node tetrahedra; physical groups per body and joint face.
+
+    Raises GmshFailure when gmsh fails or returns an empty or inverted mesh.
+    """
+    import gmsh
+
+    with _GMSH_LOCK:
+        if gmsh.isInitialized():
+            raise GmshFailure("gmsh is already initialised in this process (not reentrant)")
+        gmsh.initialize(readConfigFiles=False)
+        try:
+            for name, value in PINNED_OPTIONS.items():
+                gmsh.option.setNumber(name, value)
+            return _build(gmsh, assembly, settings)
+        except GmshFailure:
+            raise
+        except Exception as exc:  # gmsh raises plain Exception with its last error
+            raise GmshFailure(str(exc).splitlines()[0] if str(exc) else type(exc).__name__) \
+                from None
+        finally:
+            gmsh.finalize()
+
+
+def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
+    model, occ = gmsh.model, gmsh.model.occ
+    model.add("pose")
+    h = float(settings.size)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", h)
+    gmsh.option.setNumber("Mesh.MeshSizeMin", h * min(1.0, settings.rim_factor))
+
+    volumes = []  # (name, tag)
+    for cyl in assembly.cylinders:
+        axis = np.subtract(cyl.end, cyl.start)
+        volumes.append((cyl.name, occ.addCylinder(*cyl.start, *axis, cyl.radius)))
+    if assembly.plate is not None:
+        volumes.append((assembly.plate.name, _add_plate(assembly.plate, occ)))
+    occ.synchronize()
+
+    faces = {}  # name -> surface tag
+    for cyl, (_, vtag) in zip(assembly.cylinders, volumes):
+        base, top = _face_tags([(3, vtag)], cyl, model)
+        faces[f"{cyl.name}_base"], faces[f"{cyl.name}_top"] = base, top
+    for k, (name, vtag) in enumerate(volumes):
+        model.setPhysicalName(3, model.addPhysicalGroup(3, [vtag], k + 1), name)
+    face_names = sorted(faces)
+    for k, name in enumerate(face_names):
+        model.setPhysicalName(2, model.addPhysicalGroup(2, [faces[name]], len(volumes) + 1 + k),
+                              name)
+
+    if settings.rim_factor < 1.0 and settings.rim_zone > 0.0:
+        rims = sorted({t for f in faces.values()
+                       for d, t in model.getBoundary([(2, f)], oriented=False) if d == 1})
+        dist = model.mesh.field.add("Distance")
+        model.mesh.field.setNumbers(dist, "CurvesList", rims)
+        model.mesh.field.setNumber(dist, "Sampling", 200)
+        thr = model.mesh.field.add("Threshold")
+        model.mesh.field.setNumber(thr, "InField", dist)
+        model.mesh.field.setNumber(thr, "SizeMin", h * settings.rim_factor)
+        model.mesh.field.setNumber(thr, "SizeMax", h)
+        model.mesh.field.setNumber(thr, "DistMin", 0.0)
+        model.mesh.field.setNumber(thr, "DistMax", settings.rim_zone)
+        model.mesh.field.setAsBackgroundMesh(thr)
+
+    model.mesh.generate(3)
+
+    node_tags, coords, _ = model.mesh.getNodes()
+    if len(node_tags) == 0:
+        raise GmshFailure("gmsh produced no nodes")
+    order = np.argsort(node_tags)
+    node_tags = np.asarray(node_tags, np.int64)[order]
+    points = np.asarray(coords, float).reshape(-1, 3)[order]
+    index = np.full(int(node_tags.max()) + 1, -1, np.int64)
+    index[node_tags] = np.arange(len(node_tags))
+
+    tets, tet_body, elem_tags = [], [], []
+    for k, (name, vtag) in enumerate(volumes):
+        types, etags, enodes = model.mesh.getElements(3, vtag)
+        blocks = [(np.asarray(t_, np.int64), np.asarray(n_, np.int64))
+                  for ty, t_, n_ in zip(types, etags, enodes) if ty == 11]
+        if not blocks or sum(len(b[0]) for b in blocks) == 0:
+            raise GmshFailure(f"gmsh produced no 10-node tetrahedra in {name}")
+        for t_, n_ in blocks:
+            conn = index[n_.reshape(-1, 10)][:, GMSH_TETRA10_TO_MESHIO]
+            tets.append(conn)
+            tet_body.append(np.full(len(conn), k, np.int32))
+            elem_tags.append(t_)
+    tets = np.concatenate(tets)
+    all_tags = np.concatenate(elem_tags)
+    quality = np.asarray(model.mesh.getElementQualities(all_tags.tolist(), "minSJ"))
+    if quality.size and quality.min() <= 0.0:
+        raise GmshFailure(f"{int((quality <= 0).sum())} inverted curved tetrahedra "
+                          f"(min scaled Jacobian {quality.min():.3g})")
+
+    face_conn = {}
+    for name in face_names:
+        types, _, enodes = model.mesh.getElements(2, faces[name])
+        tri = [np.asarray(n_, np.int64).reshape(-1, 6) for ty, n_ in zip(types, enodes) if ty == 9]
+        if not tri:
+            raise GmshFailure(f"gmsh produced no triangle6 on {name}")
+        face_conn[name] = index[np.concatenate(tri)]
+    if (tets < 0).any() or any((f < 0).any() for f in face_conn.values()):
+        raise GmshFailure("element refers to an unknown node")
+
+    # keep only used nodes (OCC may leave geometry points unattached)
+    used = np.unique(np.concatenate([tets.ravel()] + [f.ravel() for f in face_conn.values()]))
+    remap = np.full(len(points), -1, np.int64)
+    remap[used] = np.arange(len(used))
+    info = {"gmsh": gmsh_version(), "settings": settings.canonical(),
+            "min_scaled_jacobian": float(quality.min()) if quality.size else None}
+    return SolidMesh(points[used], remap[tets], np.concatenate(tet_body),
+                     tuple(n for n, _ in volumes),
+                     {n: remap[f] for n, f in face_conn.items()}, info)

@@ -1,0 +1,199 @@
+"""fem_reference.solve_pose on the paper's manipulator: no zero mode, Case 1 pairs, determinism,
+results API, VTU export, refinement study, and clear FemError on bad input."""
+from __future__ import annotations
+
+from dataclasses import replace
+import json
+
+import meshio
+import numpy as np
+import pytest
+
+from analytical.kinematics import pose_geometry
+from fem_reference import FemError, FemOptions, refinement_study, solve_pose
+import fem_reference.model as fem_model
+from fem_reference.eigen import EigenError
+
+SIZE = 0.04  # coarse: ~7000 dofs, ~0.5 s a pose
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory):
+    return tmp_path_factory.mktemp("meshes")
+
+
+@pytest.fixture(scope="module")
+def case1(scene):
+    return pose_geometry(scene.manipulator, scene.case("case1").pose)
+
+
+@pytest.fixture(scope="module")
+def case1_result(manipulator, case1, cache):
+    return solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=cache))
+
+
+def test_case1_frequencies_near_the_beam_model(case1_result):
+    f = case1_result.frequencies_hz
+    assert f.shape == (6,) and np.all(np.diff(f) >= 0)
+    assert f[0] > 50.0  # no zero (mechanism) mode: the structure is locked by the joints
+    beam = np.array([115.3, 115.3, 196.5, 650.1, 724.5, 724.5])  # analytical, issue #3
+    assert np.all(np.abs(f / beam - 1) < 0.05)
+
+
+def test_case1_shows_its_repeated_pairs(case1_result):
+    """Case 1 is symmetric under the 120-degree turn, so f1 = f2 and f5 = f6 exactly for the
+    continuum; the meshes of the three legs differ (unstructured, each leg meshed in its own
+    orientation), which splits the pairs by ~1e-4 at this size (measured 6e-5 and 2e-5; the
+    split falls with the mesh). 5e-4 is that asymmetry with margin, far below the 70 % and
+    11 % gaps to the neighbouring modes."""
+    f = case1_result.frequencies_hz
+    assert f[1] / f[0] - 1 < 5e-4
+    assert f[5] / f[4] - 1 < 5e-4
+    assert f[2] / f[1] - 1 > 0.3 and f[4] / f[3] - 1 > 0.05
+    assert [0, 1] in case1_result.clusters and [4, 5] in case1_result.clusters
+
+
+def test_case2_breaks_the_pairs(manipulator, scene, cache):
+    geom = pose_geometry(manipulator, scene.case("case2").pose)
+    f = solve_pose(manipulator, geom, FemOptions(SIZE, cache_dir=cache)).frequencies_hz
+    assert f[1] / f[0] - 1 > 0.03 and f[5] / f[4] - 1 > 0.02
+
+
+def test_two_runs_give_identical_frequencies(manipulator, case1, tmp_path):
+    a = solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=tmp_path, use_cache=False))
+    b = solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=tmp_path, use_cache=False))
+    assert a.mesh_digest == b.mesh_digest
+    assert np.array_equal(a.frequencies_hz, b.frequencies_hz)
+    assert not list(tmp_path.iterdir())  # use_cache=False writes nothing
+
+
+def test_cached_mesh_gives_the_same_model(manipulator, case1, case1_result, cache):
+    again = solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=cache))
+    assert again.cache_hit and again.mesh_digest == case1_result.mesh_digest
+    assert np.array_equal(again.frequencies_hz, case1_result.frequencies_hz)
+
+
+def test_result_api(case1_result, case1):
+    r = case1_result
+    assert r.dofs < r.raw_dofs and r.mesh_size == SIZE
+    assert set(r.timings) == {"mesh", "assemble", "solve", "total"}
+    assert r.timings["total"] >= r.timings["solve"] > 0
+    t = np.array([0.0, 0.3, 0.7, 1.0])
+    legs = r.leg_axis_displacements(t)
+    assert legs.shape == (3, 4, 3, 6)
+    np.testing.assert_allclose(legs[:, 0], 0.0, atol=1e-12)  # B_i is fixed (R joint)
+    pm = r.platform_motion
+    assert pm.shape == (6, 6)
+    arms = case1.platform_points - case1.platform_centre
+    top = pm[None, :3] + np.cross(pm[3:].T[None], arms[:, None]).transpose(0, 2, 1)
+    np.testing.assert_allclose(legs[:, -1], top, atol=1e-12)  # A_i moves with the platform
+    # interior probes are continuous with the ends: nearly the same value just inside
+    near = r.leg_axis_displacements([0.999])[:, 0]
+    assert np.abs(near - legs[:, -1]).max() < 0.02 * np.abs(legs).max()
+    json.dumps(r.to_dict())
+    with pytest.raises(FemError, match="fractions"):
+        r.leg_axis_displacements([1.5])
+
+
+def test_write_vtu(case1_result, tmp_path):
+    path = tmp_path / "out" / "modes.vtu"
+    case1_result.write_vtu(path)
+    m = meshio.read(path)
+    np.testing.assert_allclose(m.field_data["frequencies_hz"], case1_result.frequencies_hz)
+    assert [k for k in m.point_data] == [f"mode_{k}" for k in range(1, 7)]
+    assert m.point_data["mode_1"].shape == (case1_result.raw_dofs // 3, 3)
+    assert [p.name for p in path.parent.iterdir()] == ["modes.vtu"]
+
+
+@pytest.mark.parametrize("platform,coupling", [("rigid", "distributing"), ("elastic", "rigid")])
+def test_other_platform_and_coupling_options(manipulator, case1, case1_result, cache,
+                                             platform, coupling):
+    r = solve_pose(manipulator, case1, FemOptions(SIZE, platform=platform, coupling=coupling,
+                                                  cache_dir=cache))
+    f, ref = r.frequencies_hz, case1_result.frequencies_hz
+    assert np.all(f > 50)
+    # both options are softer: a distributing face does not stiffen the leg ends; an elastic
+    # plate adds its own flexibility (and its own bending modes, from ~440 Hz)
+    assert np.all(f[:3] < ref[:3]) and np.all(f[:3] > 0.9 * ref[:3])
+    assert f[1] / f[0] - 1 < 1e-3
+    assert r.platform_motion.shape == (6, 6)
+
+
+def test_refinement_study_reports_orders_and_errors(manipulator, case1, cache):
+    study = refinement_study(manipulator, case1, [0.045, 0.04, 0.035],
+                             FemOptions(0.04, cache_dir=cache))
+    d = json.loads(json.dumps(study.to_dict()))
+    assert len(d["frequencies_hz"]) == 3 and len(d["observed_order"]) == 6
+    err = np.array(d["relative_error"])
+    assert err.shape == (3, 6) and np.all(err >= 0)
+    for k, status in enumerate(d["status"]):
+        assert status in ("ok", "non-monotone", "order out of range", "converged")
+        if status == "ok":
+            assert d["observed_order"][k] > 0
+        else:
+            assert d["observed_order"][k] is None
+    assert d["max_relative_error"][-1] < 0.01
+
+
+def test_richardson_handles_exact_and_non_monotone_sequences():
+    from fem_reference import richardson
+    h = np.array([0.04, 0.028, 0.02])
+    f = 100.0 + 3.0 * h**2
+    mode = richardson(h, f)
+    assert mode.status == "ok" and mode.order == pytest.approx(2.0, rel=1e-6)
+    assert mode.extrapolated_hz == pytest.approx(100.0, rel=1e-12)
+    wobbly = richardson(h, np.array([100.3, 100.1, 100.2]))
+    assert wobbly.status == "non-monotone" and wobbly.order is None
+    assert wobbly.relative_error[-1] == pytest.approx(0.1 / 100.2)
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"mesh_size": -0.02}, "mesh_size = -0.02"),
+    ({"mesh_size": float("nan")}, "mesh_size = nan"),
+    ({"mesh_size": 0.02, "modes": 0}, "modes = 0"),
+    ({"mesh_size": 0.02, "coupling": "glue"}, "coupling = 'glue'"),
+    ({"mesh_size": 0.02, "platform": "soft"}, "platform = 'soft'"),
+    ({"mesh_size": 0.02, "rim_factor": 0.0}, "rim_factor = 0.0"),
+])
+def test_bad_options_raise_fem_error(kwargs, message):
+    with pytest.raises(FemError, match=message.replace("(", r"\(")):
+        FemOptions(**kwargs)
+
+
+def test_bad_sizes_and_geometry_raise_fem_error(manipulator, case1, cache):
+    with pytest.raises(FemError, match=r"mesh_size = 0.5 m: coarser than the leg diameter"):
+        solve_pose(manipulator, case1, FemOptions(0.5, cache_dir=cache))
+    with pytest.raises(FemError, match=r"mesh_size = 0.05 m: gmsh failed \(\d+ inverted"):
+        solve_pose(manipulator, case1, FemOptions(0.05, cache_dir=cache))  # real gmsh failure
+    with pytest.raises(FemError, match=r"mesh_size = 0.002 m: about \d+ dofs expected, above "
+                                       r"max_dofs = 600000"):
+        solve_pose(manipulator, case1, FemOptions(0.002, cache_dir=cache))
+    with pytest.raises(FemError, match="max_dofs = 5000"):
+        solve_pose(manipulator, case1, FemOptions(SIZE, max_dofs=5000, cache_dir=cache))
+    zero = replace(case1, platform_points=case1.base_points.copy())
+    with pytest.raises(FemError, match="leg 1 length = 0"):
+        solve_pose(manipulator, zero, FemOptions(SIZE, cache_dir=cache))
+    crossing = replace(case1, base_points=case1.base_points[[1, 0, 2]])
+    with pytest.raises(FemError, match="legs 1 and 2"):
+        solve_pose(manipulator, crossing, FemOptions(SIZE, cache_dir=cache))
+    assert not list(cache.glob(".*"))  # nothing half-written
+
+
+def test_eigensolver_failure_is_a_fem_error(manipulator, case1, cache, monkeypatch):
+    def fail(*args, **kwargs):
+        raise EigenError("ARPACK did not converge: 3 of 8 eigenpairs found")
+    monkeypatch.setattr(fem_model, "lowest_modes", fail)
+    with pytest.raises(FemError, match="eigensolver failed .ARPACK did not converge"):
+        solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=cache))
+
+
+def test_gmsh_failure_is_a_fem_error(manipulator, case1, tmp_path, monkeypatch):
+    import meshing.cache
+    from meshing.geometry import GmshFailure
+
+    def fail(*args, **kwargs):
+        raise GmshFailure("12 inverted curved tetrahedra (min scaled Jacobian -0.1)")
+    monkeypatch.setattr(meshing.cache, "build_mesh", fail)
+    with pytest.raises(FemError, match="mesh_size = 0.04 m: gmsh failed"):
+        solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=tmp_path))
+    assert not list(tmp_path.iterdir())
