@@ -37,17 +37,23 @@ def locate(disc: Discretisation, body: str, points: np.ndarray, candidates: int 
     edofs = disc.basis.element_dofs[:, elems].T  # (ne_b, 10)
     verts = disc.node_xyz[edofs[:, :4]]  # (ne_b, 4, 3)
     tree = cKDTree(verts.mean(axis=1))
-    k = min(candidates, len(elems))
-    _, cand = tree.query(points, k=k)
-    cand = np.atleast_2d(cand).reshape(len(points), k)
     cells = np.empty(len(points), np.int64)
     ref = np.empty((len(points), 3))
-    for p, (x, cs) in enumerate(zip(points, cand)):  # few points: loop over points is cheap
-        v = verts[cs]
-        jac = (v[:, 1:] - v[:, :1]).transpose(0, 2, 1)  # (k, 3, 3)
-        lam = np.linalg.solve(jac, (x - v[:, 0])[:, :, None])[:, :, 0]
-        bary = np.column_stack([1 - lam.sum(1), lam])
-        best = int(np.argmax(bary.min(axis=1)))
+    for p, x in enumerate(points):  # few points: loop over points is cheap
+        # nearest centroids first; widen the search where small elements crowd a large one
+        # (the rim refinement next to a joint face)
+        k = min(candidates, len(elems))
+        while True:
+            _, cs = tree.query(x, k=k)
+            cs = np.atleast_1d(cs)
+            v = verts[cs]
+            jac = (v[:, 1:] - v[:, :1]).transpose(0, 2, 1)  # (k, 3, 3)
+            lam = np.linalg.solve(jac, (x - v[:, 0])[:, :, None])[:, :, 0]
+            bary = np.column_stack([1 - lam.sum(1), lam])
+            best = int(np.argmax(bary.min(axis=1)))
+            if bary[best].min() >= -1e-2 or k == len(elems):
+                break
+            k = min(4 * k, len(elems))
         if bary[best].min() < -1e-2:
             raise ValueError(f"point {np.round(x, 6).tolist()} is not inside {body}")
         cells[p], ref[p] = cs[best], lam[best]

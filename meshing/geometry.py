@@ -107,11 +107,28 @@ def _add_plate(plate: Plate, occ) -> int:
     return next(t for d, t in out if d == 3)
 
 
+# Second attempt when the first mesh has folded curved tetrahedra (seen at coarse sizes with
+# rim refinement): Netgen's optimiser reshapes the linear mesh before it is curved. Measured on
+# the paper's four poses at 32-45 mm: it removes every fold, costs ~0.1 s and ~10 % more nodes.
+FALLBACK_OPTIONS = {"Mesh.OptimizeNetgen": 1}
+
+
 def build_mesh(assembly: Assembly, settings: MeshSettings) -> SolidMesh:
     """Mesh the bodies with 10-node tetrahedra; physical groups per body and joint face.
 
-    Raises GmshFailure when gmsh fails or returns an empty or inverted mesh.
+    A mesh with inverted curved tetrahedra is rebuilt once with FALLBACK_OPTIONS (the same
+    input always takes the same path, so meshes stay deterministic). Raises GmshFailure when
+    gmsh fails or returns an empty or inverted mesh.
     """
+    try:
+        return _build_with(assembly, settings, {})
+    except GmshFailure as exc:
+        if "inverted" not in str(exc):
+            raise
+        return _build_with(assembly, settings, FALLBACK_OPTIONS)
+
+
+def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> SolidMesh:
     import gmsh
 
     with _GMSH_LOCK:
@@ -119,7 +136,7 @@ def build_mesh(assembly: Assembly, settings: MeshSettings) -> SolidMesh:
             raise GmshFailure("gmsh is already initialised in this process (not reentrant)")
         gmsh.initialize(readConfigFiles=False)
         try:
-            for name, value in PINNED_OPTIONS.items():
+            for name, value in {**PINNED_OPTIONS, **extra}.items():
                 gmsh.option.setNumber(name, value)
             return _build(gmsh, assembly, settings)
         except GmshFailure:

@@ -80,6 +80,7 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--cache", default=".cache")
     v.add_argument("--profile", choices=("full", "ci"), default="full",
                    help="full: every study; ci: the CI-sized subset")
+    v.add_argument("--no-report", action="store_true", help="skip the HTML/PDF report")
 
     c = sub.add_parser("check-baselines", help="compare error tables with tests/baselines")
     c.add_argument("--results", default=None)
@@ -176,7 +177,8 @@ def main(argv: list[str] | None = None) -> int:
             _emit(cmd_fem(args), args.json)
         elif args.command == "validate":
             from .run import validate
-            validate(args.scene, Path(args.out), Path(args.cache), args.profile)
+            validate(args.scene, Path(args.out), Path(args.cache), args.profile,
+                     build_report=not args.no_report)
         elif args.command == "check-baselines":
             from .baselines import check_command
             return check_command(args.results)

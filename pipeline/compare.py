@@ -64,6 +64,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
         value = {
             "frequencies_hz": [float(f) for f in result.frequencies_hz],
             "dofs": int(result.dofs),
+            "raw_dofs": int(result.raw_dofs),
             "mesh_size_m": float(result.mesh_size),
             "platform": options.platform,
             "coupling": options.coupling,

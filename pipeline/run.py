@@ -144,8 +144,11 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
     if refinement:
         step("FEM refinement study")
         refinement_study = fem_refinement(scene, case, geometry, cache, refinement)
-        if refinement_study.get("extrapolated_hz"):
-            reference = np.asarray(refinement_study["extrapolated_hz"])
+        reference = np.asarray(refinement_study["extrapolated_hz"])
+        if mesh_size in refinement_study["sizes_m"]:
+            k = refinement_study["sizes_m"].index(mesh_size)
+            fem_error = np.asarray(refinement_study["estimated_error_percent"][k])
+        else:
             fem_error = 100 * np.abs(np.asarray(fem["frequencies_hz"][:count]) / reference - 1)
 
     step("analytical models")
@@ -201,21 +204,28 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
 
 def fem_refinement(scene: Scene, case: Case, geometry, cache: ResultCache,
                    sizes: tuple[float, ...]) -> dict:
-    """Solve at every size (cached) and extrapolate (Richardson, observed order)."""
-    from fem_reference.convergence import richardson
+    """Solve at every size (each through the cache) and extrapolate every frequency
+    (Richardson with the observed order, fem_reference.convergence)."""
+    from fem_reference.convergence import RefinementStudy, richardson
+    from meshing.bodies import pose_assembly
 
     solves = [fem_case(scene, geometry, cache, size) for size in sizes]
     count = scene.analytical.modes
     freqs = np.array([s["frequencies_hz"][:count] for s in solves])
-    extrap = richardson(np.asarray(sizes), freqs)
-    return {
-        "sizes_m": list(sizes),
-        "dofs": [s["dofs"] for s in solves],
-        "seconds": [s["timings"].get("total", sum(s["timings"].values())) for s in solves],
-        "timings": [s["timings"] for s in solves],
-        "frequencies_hz": freqs.tolist(),
-        **extrap,
-    }
+    volume = pose_assembly(scene.manipulator, geometry,
+                           elastic_platform=scene.fem.platform == "elastic").volume
+    raw = np.array([s["raw_dofs"] for s in solves], float)
+    h_eff = (volume / (raw / 3.0)) ** (1.0 / 3.0)
+    study = RefinementStudy(
+        sizes=list(sizes), effective_sizes=h_eff.tolist(), frequencies_hz=freqs.tolist(),
+        dofs=[s["dofs"] for s in solves], raw_dofs=[int(r) for r in raw],
+        timings=[s["timings"] for s in solves],
+        modes=[richardson(h_eff, freqs[:, k]) for k in range(count)])
+    out = study.to_dict()
+    out["seconds"] = [t.get("total", sum(t.values())) for t in out["timings"]]
+    out["estimated_error_percent"] = (100 * study.relative_errors).tolist()
+    out["estimated_error_percent_max"] = [100 * study.max_error(k) for k in range(len(sizes))]
+    return out
 
 
 def speed_vs_error(scene: Scene, case: Case, fem: dict, reference, refinement) -> list[dict]:

@@ -163,8 +163,9 @@ def test_bad_options_raise_fem_error(kwargs, message):
 def test_bad_sizes_and_geometry_raise_fem_error(manipulator, case1, cache):
     with pytest.raises(FemError, match=r"mesh_size = 0.5 m: coarser than the leg diameter"):
         solve_pose(manipulator, case1, FemOptions(0.5, cache_dir=cache))
-    with pytest.raises(FemError, match=r"mesh_size = 0.05 m: gmsh failed \(\d+ inverted"):
-        solve_pose(manipulator, case1, FemOptions(0.05, cache_dir=cache))  # real gmsh failure
+    # folded even after the Netgen fallback: a real gmsh failure, refused
+    with pytest.raises(FemError, match=r"mesh_size = 0.095 m: gmsh failed \(\d+ inverted"):
+        solve_pose(manipulator, case1, FemOptions(0.095, cache_dir=cache))
     with pytest.raises(FemError, match=r"mesh_size = 0.002 m: about \d+ dofs expected, above "
                                        r"max_dofs = 600000"):
         solve_pose(manipulator, case1, FemOptions(0.002, cache_dir=cache))
@@ -197,3 +198,19 @@ def test_gmsh_failure_is_a_fem_error(manipulator, case1, tmp_path, monkeypatch):
     with pytest.raises(FemError, match="mesh_size = 0.04 m: gmsh failed"):
         solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=tmp_path))
     assert not list(tmp_path.iterdir())
+
+
+def test_folded_first_mesh_is_rebuilt_with_the_netgen_fallback(scene):
+    """case1_literal at 40 mm folds a curved tetrahedron on the first try (measured)."""
+    from analytical.kinematics import pose_geometry
+    from meshing.bodies import pose_assembly
+    from meshing.geometry import FALLBACK_OPTIONS, GmshFailure, _build_with, build_mesh
+
+    geom = pose_geometry(scene.manipulator, scene.case("case1_literal").pose)
+    asm = pose_assembly(scene.manipulator, geom)
+    settings = FemOptions(0.04).mesh_settings
+    with pytest.raises(GmshFailure, match="inverted"):
+        _build_with(asm, settings, {})
+    mesh = build_mesh(asm, settings)
+    again = _build_with(asm, settings, FALLBACK_OPTIONS)
+    assert mesh.n_nodes == again.n_nodes and (mesh.points == again.points).all()
