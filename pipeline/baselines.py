@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import json
 import sys
+from dataclasses import replace
+import tempfile
 from pathlib import Path
 
 from analytical.kinematics import pose_geometry
@@ -34,9 +36,17 @@ MAC_TOLERANCE = 0.005
 FREQUENCY_TOLERANCE = 2e-4  # relative, on each model's own frequencies
 
 
-def compute_tables(scene_path: str | Path, mesh_size: float, cache_dir: Path | None = None
-                   ) -> dict:
+def compute_tables(scene_path: str | Path, mesh_size: float, cache_dir: Path | None = None,
+                   **analytical_overrides) -> dict:
+    """Both cases' tables; with no `cache_dir`, computed afresh in a temporary one.
+
+    `analytical_overrides` (elements, beam, ...) replace the scene's analytical settings.
+    """
+    if cache_dir is None:
+        with tempfile.TemporaryDirectory(prefix="baseline-") as tmp:
+            return compute_tables(scene_path, mesh_size, Path(tmp), **analytical_overrides)
     scene = load_scene(scene_path)
+    scene = replace(scene, analytical=replace(scene.analytical, **analytical_overrides))
     cache = ResultCache(cache_dir)
     out = {}
     for name in CASES:

@@ -40,15 +40,14 @@ def content_key(payload: Any) -> str:
 class ResultCache:
     """JSON values (plus optional side files) under `directory/<kind>/<key>.*`."""
 
-    def __init__(self, directory: Path | None):
-        self.directory = None if directory is None else Path(directory)
+
+    def __init__(self, directory: Path):
+        self.directory = Path(directory)
 
     def _path(self, kind: str, key: str, suffix: str = ".json") -> Path:
         return self.directory / kind / f"{key}{suffix}"
 
     def get(self, kind: str, key: str, required: tuple[str, ...] = ()) -> dict | None:
-        if self.directory is None:
-            return None
         path = self._path(kind, key)
         try:
             value = json.loads(path.read_text(encoding="utf-8"))
@@ -68,8 +67,6 @@ class ResultCache:
 
     def put(self, kind: str, key: str, value: dict, files: dict[str, Path] | None = None) -> None:
         """Store `value`; `files` maps a suffix (".vtu") to a file to keep beside it."""
-        if self.directory is None:
-            return
         value = dict(value)
         value["_files"] = sorted(files or {})
         for suffix, source in (files or {}).items():
@@ -80,8 +77,6 @@ class ResultCache:
         return self._path(kind, key, suffix)
 
     def discard(self, kind: str, key: str) -> None:
-        if self.directory is None:
-            return
         for path in self._path(kind, key).parent.glob(f"{key}.*"):
             path.unlink(missing_ok=True)
 

@@ -1,6 +1,7 @@
 """One case, both models: solve, sample shapes on shared points, pair, and tabulate errors."""
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -49,8 +50,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
                          coupling=coupling or scene.fem.coupling,
                          modes=scene.analytical.modes + EXTRA_MODES,
                          max_dofs=scene.fem.max_dofs,
-                         cache_dir=None if cache.directory is None
-                         else cache.directory / "meshes")
+                         cache_dir=cache.directory / "meshes")
     payload = {"manipulator": repr(scene.manipulator), "geometry": _geometry_payload(geometry),
                "mesh_size": mesh_size, "platform": options.platform,
                "coupling": options.coupling, "modes": options.modes}
@@ -58,7 +58,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
     def compute():
         result = solve_pose(scene.manipulator, geometry, options)
         shapes = result.leg_axis_displacements(STATIONS)
-        vtu = Path(cache.directory or ".") / "tmp" / f"mode-{time.time_ns()}.vtu"
+        vtu = cache.directory / "tmp" / f"mode-{os.getpid()}-{time.time_ns()}.vtu"
         vtu.parent.mkdir(parents=True, exist_ok=True)
         result.write_vtu(vtu)
         value = {
@@ -77,7 +77,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
         value, key, hit = cache.get_or_compute(
             "fem", payload, compute, required=("frequencies_hz", "station_shapes", "timings"))
     finally:
-        for leftover in (Path(cache.directory or ".") / "tmp").glob("mode-*.vtu"):
+        for leftover in (cache.directory / "tmp").glob(f"mode-{os.getpid()}-*.vtu"):
             leftover.unlink(missing_ok=True)
     value = dict(value)
     value["cache_hit"] = hit

@@ -1,0 +1,37 @@
+"""The plain-language verdict is written from the numbers of results.json."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from reports.verdict import case_verdict, headline
+
+RESULTS = json.loads((Path(__file__).resolve().parent / "fixtures" /
+                      "report_results.json").read_text())
+
+
+def test_verdict_quotes_the_worst_errors_and_the_fem_error():
+    case = RESULTS["cases"][0]
+    text = " ".join(case_verdict(case))
+    low = max(abs(p["error_percent"]) for p in case["pairs"] if p["fem_mode"] <= 3)
+    high = max(abs(p["error_percent"]) for p in case["pairs"] if p["fem_mode"] > 3)
+    fem = max(case["fem_estimated_error_percent"])
+    for value in (low, high, fem):
+        assert f"{value:.2f} %" in text
+    assert f"{min(p['mac'] for p in case['pairs']):.3f}" in text
+    assert "paper's own theory-vs-ANSYS errors" in text
+
+
+def test_verdict_without_refinement_or_paper_says_so():
+    case = dict(RESULTS["cases"][0], fem_estimated_error_percent=None, paper=None)
+    text = " ".join(case_verdict(case))
+    assert "not estimated" in text and "paper" not in text
+
+
+def test_verdict_grades_follow_the_numbers():
+    case = json.loads(json.dumps(RESULTS["cases"][0]))
+    for p in case["pairs"]:
+        p["error_percent"] = -7.5 if p["fem_mode"] > 3 else 0.4
+    text = " ".join(case_verdict(case))
+    assert "agree closely" in text and "disagree, differing by up to 7.50 %" in text
+    assert "Over case1" in headline(RESULTS)
