@@ -73,6 +73,9 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--coupling", choices=("rigid", "distributing"))
     f.add_argument("--modes", type=_positive_int)
     f.add_argument("--vtu", help="write the mode shapes to this VTU file")
+    f.add_argument("--estimate-error", action="store_true",
+                   help="also run the scene's refinement sequence (cached) and report the "
+                        "estimated discretisation error of this size")
 
     v = sub.add_parser("validate", help="run the whole validation of a scene into out/")
     v.add_argument("--scene", default="scenes/paper.toml")
@@ -161,9 +164,17 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         "timings": {k: float(v) for k, v in result.timings.items()},
         "seconds": seconds,
     }
-    err = getattr(result, "estimated_error_percent", None)
-    if err is not None:
-        payload["estimated_error_percent"] = [float(e) for e in err]
+    if args.estimate_error:
+        from .cache import ResultCache
+        from .run import fem_refinement
+        sizes = tuple(sorted(set(scene.fem.refinement) | {size}, reverse=True))
+        study = fem_refinement(replace(scene, fem=replace(scene.fem, platform=options.platform,
+                                                          coupling=options.coupling)),
+                               case, geometry, ResultCache(Path(".cache")), sizes)
+        k = study["sizes_m"].index(size)
+        payload["estimated_error_percent"] = study["estimated_error_percent"][k]
+        payload["extrapolated_hz"] = study["extrapolated_hz"]
+        payload["observed_order"] = study["observed_order"]
     return payload
 
 

@@ -66,3 +66,22 @@ def test_bad_scenes_exit_2_with_one_line(tmp_path, old, new, needle):
     assert proc.returncode == 2, proc.stdout
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and needle in lines[0], proc.stderr
+
+
+def test_fem_json_contract(tmp_path):
+    proc = run("fem", "--scene", str(PAPER_SCENE), "--case", "case1", "--size", "40", "--json",
+               "--vtu", str(tmp_path / "modes.vtu"))
+    assert proc.returncode == 0, proc.stderr
+    payload = json.loads(proc.stdout)
+    f = payload["frequencies_hz"]
+    assert len(f) == 6 and f == sorted(f)
+    assert payload["mesh_size_m"] == 0.04 and payload["dofs"] > 1000
+    assert set(payload["timings"]) >= {"mesh", "assemble", "solve"}
+    assert (tmp_path / "modes.vtu").stat().st_size > 0
+
+
+def test_fem_refuses_a_size_beyond_the_leg_diameter():
+    proc = run("fem", "--case", "case1", "--size", "500")
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "0.5 m" in lines[0]
