@@ -19,6 +19,7 @@ from analytical.kinematics import pose_geometry
 from analytical.model import analyse
 
 from .atomic import write_json_atomic
+from .compare import EXTRA_MODES
 from .scene import load_scene
 
 
@@ -50,11 +51,12 @@ def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
     geometry = pose_geometry(scene.manipulator, case.pose)
     out = {}
     for size in sizes:
-        # a fresh cache directory per run so that meshing is timed too
+        # no mesh cache, so that meshing is timed too; as many modes as the pipeline asks
         def once(size=size):
             opts = FemOptions(mesh_size=size, platform=scene.fem.platform,
-                              coupling=scene.fem.coupling, modes=scene.analytical.modes,
-                              max_dofs=scene.fem.max_dofs, cache_dir=None)
+                              coupling=scene.fem.coupling,
+                              modes=scene.analytical.modes + EXTRA_MODES,
+                              max_dofs=scene.fem.max_dofs, use_cache=False)
             return solve_pose(scene.manipulator, geometry, opts)
 
         samples, timings, dofs = [], [], 0
@@ -120,8 +122,9 @@ def _estimated_errors(results_path: Path, case_name: str) -> dict | None:
     """The refinement study's estimated error per size, if a validation run left one."""
     try:
         results = json.loads(results_path.read_text())
-        study = results["studies"]["fem_refinement"][case_name]
-    except (OSError, KeyError, ValueError):
+        case = next(c for c in results["cases"] if c["name"] == case_name)
+        study = case["fem_refinement"]
+    except (OSError, KeyError, ValueError, StopIteration):
         return None
     return {f"{s * 1e3:g}mm": e for s, e in zip(study["sizes_m"],
                                                  study["estimated_error_percent_max"])}
