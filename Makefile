@@ -11,7 +11,7 @@ PYTHON := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 export MPLBACKEND := Agg
 export PYVISTA_OFF_SCREEN := true
-export OMP_NUM_THREADS ?= 2
+export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
 .PHONY: run setup test bench report readme clean update-baselines

@@ -36,6 +36,7 @@ def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> dict:
         "platform_inertia": options.platform_inertia,
         "frequencies_hz": [float(f) for f in res.frequencies_hz],
         "seconds": seconds,
+        "timings": {"total": seconds},
         "dofs": int(res.model.stiffness.shape[0]),
         "station_shapes": shapes.reshape(-1, shapes.shape[-1]).tolist(),
     }
