@@ -27,7 +27,7 @@ from analytical.kinematics import pose_geometry
 
 from . import studies, tables
 from .cache import ResultCache
-from .compare import analytical_case, error_table, fem_case
+from .compare import STATIONS, analytical_case, error_table, fem_case
 from .scene import Case, Scene, load_scene
 
 SCHEMA_VERSION = 1
@@ -96,6 +96,8 @@ def pose_summary(scene: Scene, case: Case) -> dict:
         "azimuth_deg": math.degrees(case.pose.azimuth),
         "tilt_deg": math.degrees(case.pose.tilt),
         "centre_mm": (g.platform_centre * 1e3).tolist(),
+        "base_points_mm": (g.base_points * 1e3).tolist(),
+        "platform_points_mm": (g.platform_points * 1e3).tolist(),
         "leg_lengths_mm": (g.leg_lengths * 1e3).tolist(),
         "s_joint_angles_deg": np.degrees(g.s_joint_angles).tolist(),
         "r_joint_angles_deg": np.degrees(g.r_joint_angles).tolist(),
@@ -158,7 +160,13 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
         "name": case.name,
         "description": case.description,
         "pose": pose_summary(scene, case),
-        "analytical": _strip(analytical) | {"frequencies_hz": analytical["frequencies_hz"][:count]},
+        "analytical": _strip(analytical) | {
+            "frequencies_hz": analytical["frequencies_hz"][:count],
+            # translations of each leg axis at `leg_axis_stations` (fractions B_i -> A_i):
+            # [leg][station][x, y, z][mode], base coordinates, mass-normalised modes
+            "leg_axis_stations": STATIONS.tolist(),
+            "leg_axis_shapes": np.asarray(analytical["station_shapes"])[:, :count].reshape(
+                3, len(STATIONS), 3, count).tolist()},
         "fem": _strip(fem) | {"frequencies_hz": fem["frequencies_hz"][:count]},
         "pairs": pairs,
         "paper": paper_rows(case),
