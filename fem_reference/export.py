@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-import tempfile
 
 import meshio
 import numpy as np
+
+from meshing.cache import atomic_write
 
 from .discretisation import Discretisation
 
@@ -37,18 +38,12 @@ def write_modes_vtu(path: str | os.PathLike, disc: Discretisation, modes: np.nda
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     mesh = modes_to_meshio(disc, modes, frequencies_hz)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".vtu")
-    os.close(fd)
-    try:
+
+    def write(tmp):
         meshio.write(tmp, mesh, file_format="vtu", binary=True, compression="zlib")
         _insert_field_data(Path(tmp), mesh.field_data)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+
+    atomic_write(path, write)
     return path
 
 

@@ -38,7 +38,7 @@ def cache_key(assembly: Assembly, settings: MeshSettings) -> str:
     return hashlib.sha256(json.dumps(content, sort_keys=True).encode()).hexdigest()
 
 
-def _atomic_write(path: Path, write) -> None:
+def atomic_write(path: Path, write) -> None:
     """Call write(tmp_path) on a temporary file beside `path`, then move it into place."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
     os.close(fd)
@@ -82,11 +82,11 @@ class MeshCache:
         self.directory.mkdir(parents=True, exist_ok=True)
         mesh_path, meta_path = self.paths(key)
         m = mesh.to_meshio()
-        _atomic_write(mesh_path, lambda p: meshio.write(p, m, file_format="vtu",
+        atomic_write(mesh_path, lambda p: meshio.write(p, m, file_format="vtu",
                                                         binary=True, compression="zlib"))
         meta = {"key": key, "digest": mesh.digest(), "n_nodes": mesh.n_nodes,
                 "n_tets": int(len(mesh.tets)), "groups": mesh.groups(), "info": mesh.info}
-        _atomic_write(meta_path, lambda p: Path(p).write_text(json.dumps(meta, indent=1),
+        atomic_write(meta_path, lambda p: Path(p).write_text(json.dumps(meta, indent=1),
                                                               encoding="utf-8"))
 
     def remove(self, key: str) -> None:
