@@ -40,3 +40,21 @@ def test_regular_radius_is_reachable_everywhere_and_tight(scene):
 
 def test_unreachable_height_has_an_empty_layer(scene):
     assert regular_radius(scene.manipulator, 1.5) == 0.0
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+from analytical.kinematics import PoseError  # noqa: E402
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.floats(0.2, 1.0), st.floats(-math.pi, math.pi), st.floats(-1.2, 1.2))
+def test_every_reachable_pose_has_finite_positive_ascending_frequencies(scene, z, phi, theta):
+    """Numerical stability over the whole workspace, joint-limit edges included."""
+    pose = Pose(z, phi, theta)
+    try:
+        f = natural_frequencies(scene.manipulator, pose, replace(scene.analytical, modes=8))
+    except PoseError:
+        assert not reachable(scene.manipulator, pose)
+        return
+    assert np.all(np.isfinite(f)) and f[0] > 0 and np.all(np.diff(f) >= 0)
