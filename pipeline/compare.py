@@ -80,7 +80,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
     finally:
         for leftover in (cache.directory / "tmp").glob(f"mode-{os.getpid()}-*.vtu"):
             leftover.unlink(missing_ok=True)
-    value = dict(value)
+    value = {k: v for k, v in value.items() if k != "_files"}
     value["cache_hit"] = hit
     value["vtu_cache_path"] = str(cache.side_file("fem", key, ".vtu"))
     return value

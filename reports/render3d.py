@@ -1,0 +1,203 @@
+"""Off-screen pyvista pictures of the FEM mode shapes, read from the VTU the pipeline exports.
+
+The VTU holds the solid (legs and platform) with one point-data displacement vector per mode
+(`mode_1`, `mode_2`, ... or any 3-component array whose name carries the mode number) and the
+frequencies in field data. Each picture shows the deformed solid (scaled for visibility, coloured
+by displacement magnitude) over the undeformed outline.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+
+VIEW = (22.0, -60.0)  # elevation, azimuth (deg): the same view as the beam pictures
+WINDOW = (620, 560)
+_MODE_NAME = re.compile(r"mode\D{0,3}(\d+)", re.I)
+
+
+class RenderError(RuntimeError):
+    """A mode-shape picture could not be made (message is one line)."""
+
+
+def _quiet_vtk():
+    import vtk
+
+    vtk.vtkObject.GlobalWarningDisplayOff()
+    try:
+        vtk.vtkLogger.SetStderrVerbosity(vtk.vtkLogger.VERBOSITY_OFF)
+    except AttributeError:
+        pass
+    return vtk
+
+
+def mode_arrays(mesh) -> dict[int, str]:
+    """{mode number (1-based): point-data array name} of the 3-component mode fields."""
+    found = {}
+    for name in mesh.point_data.keys():
+        arr = mesh.point_data[name]
+        match = _MODE_NAME.search(name)
+        if match and arr.ndim == 2 and arr.shape[1] == 3:
+            found[int(match.group(1))] = name
+    if found and min(found) == 0:  # zero-based names
+        found = {k + 1: v for k, v in found.items()}
+    return dict(sorted(found.items()))
+
+
+def file_frequencies(mesh) -> list[float] | None:
+    for name in mesh.field_data.keys():
+        if "freq" in name.lower():
+            return [float(x) for x in np.ravel(mesh.field_data[name])]
+    return None
+
+
+def read_modes(path: Path):
+    """(mesh, {mode: array name}, frequencies or None); RenderError if unreadable."""
+    if not Path(path).is_file():
+        raise RenderError(f"{path}: FEM mode file not found")
+    _quiet_vtk()
+    import pyvista as pv
+
+    try:
+        mesh = pv.read(str(path))
+    except Exception as exc:  # noqa: BLE001  (vtk/meshio raise anything)
+        raise RenderError(f"{path}: cannot read FEM mode file ({exc})") from None
+    modes = mode_arrays(mesh)
+    if not modes:
+        raise RenderError(f"{path}: no 3-component 'mode_<k>' point arrays "
+                          f"(found {list(mesh.point_data.keys())})")
+    return mesh, modes, file_frequencies(mesh)
+
+
+def render_modes(path: Path, modes: list[int], labels: dict[int, str], out: dict[int, Path],
+                 scale_fraction: float = 0.1, platform=None) -> list[float] | None:
+    """One PNG per requested mode: deformed (scaled) over the undeformed surface.
+
+    platform: optional (A (3, 3) S-joint centres, radius, thickness) in m. When the file has no
+    platform solid (a rigid platform is not meshed), the platform is drawn as a disk moved by
+    the rigid motion that best fits the leg-end translations at the S-joints.
+    Returns the frequencies stored in the file (None if it has none).
+    """
+    os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
+    mesh, arrays, file_hz = read_modes(path)
+    import pyvista as pv
+
+    pv.OFF_SCREEN = True
+    missing = [k for k in modes if k not in arrays]
+    if missing:
+        raise RenderError(f"{path}: no displacement field for mode(s) {missing}")
+    try:
+        surface = mesh.extract_surface(nonlinear_subdivision=1, algorithm="dataset_surface")
+        size = float(max(np.ptp(surface.points, axis=0)))
+        outline = surface.extract_feature_edges(feature_angle=35, boundary_edges=True,
+                                                non_manifold_edges=False,
+                                                manifold_edges=False)
+        disk, near = None, None
+        if platform is not None and not _covers_platform(surface, platform):
+            disk, near = _platform_disk(surface, platform)
+        plotter = pv.Plotter(off_screen=True, window_size=WINDOW)
+        try:
+            for k in modes:
+                u = np.asarray(surface.point_data[arrays[k]], float)
+                amp = float(np.linalg.norm(u, axis=1).max())
+                scale = scale_fraction * size / amp if amp > 0 else 0.0
+                deformed = surface.copy()
+                deformed.points = surface.points + scale * u
+                deformed.point_data["|u|"] = np.linalg.norm(u, axis=1) / max(amp, 1e-300)
+                plotter.clear_actors()
+                plotter.set_background("white")
+                plotter.add_mesh(surface, color="#bbbbbb", opacity=0.18, lighting=False)
+                plotter.add_mesh(outline, color="#888888", line_width=1)
+                plotter.add_mesh(deformed, scalars="|u|", cmap="viridis", clim=(0, 1),
+                                 show_scalar_bar=False, smooth_shading=True)
+                if disk is not None:
+                    moved = disk.copy()
+                    t, w = _rigid_fit(platform[0], np.array([u[ix].mean(axis=0)
+                                                             for ix in near]),
+                                      platform[0].mean(axis=0))
+                    moved.points = disk.points + scale * (
+                        t + np.cross(w, disk.points - platform[0].mean(axis=0)))
+                    plotter.add_mesh(disk, color="#bbbbbb", opacity=0.18, lighting=False)
+                    plotter.add_mesh(moved, color="#8a8fa0", smooth_shading=True)
+                _camera(plotter, surface)
+                image = plotter.screenshot(return_img=True)
+                _save_labelled(image, labels.get(k, f"mode {k}"), out[k])
+        finally:
+            plotter.close()
+    except RenderError:
+        raise
+    except Exception as exc:  # noqa: BLE001
+        raise RenderError(f"{path}: off-screen rendering failed ({type(exc).__name__}: "
+                          f"{' '.join(str(exc).split())})") from None
+    for k in modes:
+        if not out[k].is_file() or out[k].stat().st_size == 0:
+            raise RenderError(f"{out[k]}: off-screen rendering produced no picture")
+    return file_hz
+
+
+def _covers_platform(surface, platform) -> bool:
+    """Is the platform meshed (solid material at its centre)?"""
+    centre = platform[0].mean(axis=0)
+    return float(np.linalg.norm(surface.points - centre, axis=1).min()) < 0.25 * platform[1]
+
+
+def _platform_disk(surface, platform):
+    """The rigid platform as a pyvista disk and the surface points at each S-joint."""
+    import pyvista as pv
+
+    points, radius, thickness = platform
+    centre = points.mean(axis=0)
+    normal = np.cross(points[1] - points[0], points[2] - points[0])
+    normal /= np.linalg.norm(normal)
+    disk = pv.Cylinder(center=centre + 0.5 * thickness * normal, direction=normal,
+                       radius=radius, height=thickness, resolution=60).triangulate()
+    near = []
+    for a in points:
+        d = np.linalg.norm(surface.points - a, axis=1)
+        near.append(np.flatnonzero(d <= max(d.min() * 1.5, d.min() + 0.02)))
+    return disk, near
+
+
+def _rigid_fit(points: np.ndarray, disp: np.ndarray, centre: np.ndarray):
+    """Least-squares small rigid motion u(x) = t + w x (x - c) through the given points."""
+    rows = []
+    for p in points:
+        r = p - centre
+        rows.append(np.hstack([np.eye(3), np.array([[0, r[2], -r[1]], [-r[2], 0, r[0]],
+                                                    [r[1], -r[0], 0]])]))
+    sol = np.linalg.lstsq(np.vstack(rows), np.asarray(disp).ravel(), rcond=None)[0]
+    return sol[:3], sol[3:]
+
+
+def _save_labelled(image: np.ndarray, label: str, path: Path, margin: int = 8) -> None:
+    """Crop the white border, put the label above the picture, write the PNG."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    ink = np.any(image[..., :3] < 245, axis=2)
+    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
+    if len(rows) == 0:
+        raise RenderError(f"{path}: off-screen rendering produced an empty picture")
+    r0, r1 = max(rows[0] - margin, 0), min(rows[-1] + margin + 1, image.shape[0])
+    c0, c1 = max(cols[0] - margin, 0), min(cols[-1] + margin + 1, image.shape[1])
+    picture = Image.fromarray(np.ascontiguousarray(image[r0:r1, c0:c1, :3]))
+    font = ImageFont.load_default(size=30)
+    head = 42
+    canvas = Image.new("RGB", (max(picture.width, 300), picture.height + head), "white")
+    canvas.paste(picture, ((canvas.width - picture.width) // 2, head))
+    ImageDraw.Draw(canvas).text((6, 4), label, fill="black", font=font)
+    tmp = path.with_name(path.name + ".tmp.png")
+    canvas.save(tmp)
+    os.replace(tmp, path)
+
+
+def _camera(plotter, surface) -> None:
+    elev, azim = (math.radians(a) for a in VIEW)
+    direction = np.array([math.cos(elev) * math.cos(azim), math.cos(elev) * math.sin(azim),
+                          math.sin(elev)])
+    centre = np.asarray(surface.center)
+    plotter.camera_position = [tuple(centre + 5 * direction), tuple(centre), (0, 0, 1)]
+    plotter.reset_camera()
+    plotter.camera.zoom(1.25)
