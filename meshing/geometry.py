@@ -15,6 +15,7 @@ lock, and gmsh is always finalised, also on error.
 from __future__ import annotations
 
 from dataclasses import dataclass, asdict
+import signal
 import threading
 
 import numpy as np
@@ -134,7 +135,11 @@ def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> Soli
     with _GMSH_LOCK:
         if gmsh.isInitialized():
             raise GmshFailure("gmsh is already initialised in this process (not reentrant)")
-        gmsh.initialize(readConfigFiles=False)
+        # gmsh's library installs its own SIGTERM handler (measured: a `kill` after a mesh
+        # ended the process without Python's cleanup); put the caller's handler back after.
+        on_main_thread = threading.current_thread() is threading.main_thread()
+        previous = signal.getsignal(signal.SIGTERM) if on_main_thread else None
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
         try:
             for name, value in {**PINNED_OPTIONS, **extra}.items():
                 gmsh.option.setNumber(name, value)
@@ -146,6 +151,8 @@ def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> Soli
                 from None
         finally:
             gmsh.finalize()
+            if on_main_thread and previous is not None:
+                signal.signal(signal.SIGTERM, previous)
 
 
 def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:

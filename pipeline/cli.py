@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import signal
 import sys
 import time
 from dataclasses import replace
@@ -178,7 +179,13 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     return payload
 
 
+def _terminate(signum, frame):
+    """SIGTERM (kill) unwinds like Ctrl-C, so staged outputs are removed on the way out."""
+    raise KeyboardInterrupt
+
+
 def main(argv: list[str] | None = None) -> int:
+    signal.signal(signal.SIGTERM, _terminate)
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

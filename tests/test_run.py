@@ -1,0 +1,47 @@
+"""The validation run: staged outputs, nothing half-written when a run is interrupted."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+import pipeline.run as run
+from tests.conftest import PAPER_SCENE
+
+
+def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "results.json").write_text('{"previous": true}')
+    calls = []
+    real = run.run_case
+
+    def interrupt_on_second(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(run, "run_case", interrupt_on_second)
+    with pytest.raises(KeyboardInterrupt):
+        run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci", build_report=False)
+    assert json.loads((out / "results.json").read_text()) == {"previous": True}
+    assert not (tmp_path / "out.partial").exists()
+    assert sorted(p.name for p in out.iterdir()) == ["results.json"]
+
+
+def test_ci_profile_run_writes_the_contract(tmp_path):
+    out = tmp_path / "out"
+    results = run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci",
+                           build_report=False)
+    on_disk = json.loads((out / "results.json").read_text())
+    assert [c["name"] for c in on_disk["cases"]] == ["case1", "case2"]
+    for case in on_disk["cases"]:
+        for model in ("analytical", "fem"):
+            f = case[model]["frequencies_hz"]
+            assert len(f) == 6 and f == sorted(f) and case[model]["timings"]
+        assert {"analytical_mode", "fem_mode", "mac", "error_percent"} <= set(case["pairs"][0])
+        assert len(case["paper"]["theory_hz"]) == 6
+    assert (out / "tables" / "case1.csv").read_text().startswith("mode,paper_fea_hz")
+    assert (out / "modes" / "case2_fem.vtu").stat().st_size > 0
+    assert results["cases"][0]["pose"]["height_origin"] == "calibrated"
