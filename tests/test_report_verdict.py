@@ -35,3 +35,14 @@ def test_verdict_grades_follow_the_numbers():
     text = " ".join(case_verdict(case))
     assert "agree closely" in text and "disagree, differing by up to 7.50 %" in text
     assert "Over case1" in headline(RESULTS)
+
+
+def test_best_model_sentence_names_the_most_accurate_variant():
+    from reports.verdict import best_model
+    pair = lambda mode, err: {"fem_mode": mode, "error_percent": err}
+    case = {"models": {
+        "coarse": {"pairs": [pair(1, 0.5), pair(4, 4.0)]},
+        "fine": {"pairs": [pair(1, -0.6), pair(4, 0.2)]},
+    }}
+    assert best_model(case) == ("fine", 0.6, 0.2)
+    assert best_model({"models": {}}) is None
