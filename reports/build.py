@@ -466,7 +466,7 @@ def _mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path, rend
     pairs = sorted(case["pairs"], key=lambda p: p["fem_mode"])
     fem_hz = case["fem"]["frequencies_hz"]
     out = {"pairs": [], "fem_note": None, "beam_note": None}
-    base, platform = joint_points(results, case)
+    base, platform = joint_points(case)
     size = max(float(max(base.max(0) - base.min(0))), float(platform[:, 2].max()))
     vtu = case["fem"].get("vtu")
     fem_paths = {}

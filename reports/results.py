@@ -77,41 +77,17 @@ def escape(token) -> str:
     return str(token).replace("~", "~0").replace("/", "~1")
 
 
-def joint_points(results: dict, case: dict) -> tuple[np.ndarray, np.ndarray]:
-    """(B, A): R-joint centres on the base and S-joint centres on the platform, (3, 3) in m.
-
-    Taken from pose.base_points_mm / pose.platform_points_mm when present; otherwise placed
-    from the scene's radii and leg angles with Eq. (1), R = Rz(phi) Ry(theta) Rz(-phi), about
-    the platform centre the pose summary gives.
+def joint_points(case: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(B, A): R-joint centres on the base and S-joint centres on the platform, (3, 3) in m,
+    as the pipeline's inverse kinematics placed them (pose.base_points_mm, platform_points_mm).
     """
     pose = case["pose"]
-    if pose.get("base_points_mm") and pose.get("platform_points_mm"):
+    try:
         return (np.asarray(pose["base_points_mm"], float) * 1e-3,
                 np.asarray(pose["platform_points_mm"], float) * 1e-3)
-    m = results["scene"]["manipulator"]
-    angles = np.radians(m.get("leg_angles_deg", [0.0, 120.0, 240.0]))
-    ring = np.stack([np.cos(angles), np.sin(angles), np.zeros(3)], axis=1)
-    base = ring * m["base_radius_mm"] * 1e-3
-    phi, theta = math.radians(pose["azimuth_deg"]), math.radians(pose["tilt_deg"])
-    rotation = _rz(phi) @ _ry(theta) @ _rz(-phi)
-    centre = np.asarray(pose["centre_mm"], float) * 1e-3
-    platform = centre + (ring * m["platform_radius_mm"] * 1e-3) @ rotation.T
-    return base, platform
-
-
-def platform_normal(base: np.ndarray, platform: np.ndarray) -> np.ndarray:
-    n = np.cross(platform[1] - platform[0], platform[2] - platform[0])
-    return n / np.linalg.norm(n)
-
-
-def _rz(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def _ry(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+    except KeyError as exc:
+        raise ValueError(f"case {case.get('name')!r}: results lack pose.{exc.args[0]} "
+                         "(rerun `make` with the current pipeline)") from None
 
 
 def leg_axis_shapes(case: dict):
