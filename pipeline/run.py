@@ -23,7 +23,7 @@ import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from analytical.kinematics import pose_geometry
+from analytical.kinematics import PoseError, pose_geometry
 
 from . import studies, tables
 from .cache import ResultCache
@@ -261,13 +261,18 @@ def speed_vs_error(scene: Scene, case: Case, fem: dict, reference, refinement) -
 def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
              build_report: bool = True) -> dict:
     scene = load_scene(scene_path)
+    case_names = list(scene.cases) if profile == "full" else ["case1", "case2"]
+    for name in case_names:  # every pose checked before any expensive work starts
+        try:
+            pose_geometry(scene.manipulator, scene.case(name).pose)
+        except PoseError as exc:
+            raise PoseError(f"case {name}: {exc}") from None
     cache = ResultCache(cache_dir)
     console = Console(stderr=True)
     stage = out.with_name(out.name + ".partial")
     shutil.rmtree(stage, ignore_errors=True)
     stage.mkdir(parents=True)
     try:
-        case_names = list(scene.cases) if profile == "full" else ["case1", "case2"]
         results = {
             "schema": SCHEMA_VERSION,
             "profile": profile,

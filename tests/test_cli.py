@@ -85,3 +85,13 @@ def test_fem_refuses_a_size_beyond_the_leg_diameter():
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "0.5 m" in lines[0]
+
+
+def test_validate_refuses_an_unreachable_case_before_any_work(tmp_path):
+    path = scene_with(tmp_path, 'height_mm = 490.0', 'height_mm = 1200.0')
+    out = tmp_path / "out"
+    proc = run("validate", "--scene", str(path), "--out", str(out), "--cache",
+               str(tmp_path / "cache"))
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines()[-1].startswith("error: case case1_literal: leg 1")
+    assert not out.exists() and not (tmp_path / "cache").exists()
