@@ -19,7 +19,7 @@ from analytical.kinematics import pose_geometry
 from analytical.model import analyse
 
 from .atomic import write_json_atomic
-from .compare import EXTRA_MODES
+from .compare import fem_options
 from .scene import load_scene
 
 
@@ -45,7 +45,7 @@ def bench_analytical(scene, case_name: str, runs: int) -> dict:
 
 
 def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
-    from fem_reference import FemOptions, solve_pose
+    from fem_reference import solve_pose
 
     case = scene.case(case_name)
     geometry = pose_geometry(scene.manipulator, case.pose)
@@ -53,10 +53,7 @@ def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
     for size in sizes:
         # no mesh cache, so that meshing is timed too; as many modes as the pipeline asks
         def once(size=size):
-            opts = FemOptions(mesh_size=size, platform=scene.fem.platform,
-                              coupling=scene.fem.coupling,
-                              modes=scene.analytical.modes + EXTRA_MODES,
-                              max_dofs=scene.fem.max_dofs, use_cache=False)
+            opts = fem_options(scene, size, use_cache=False)
             return solve_pose(scene.manipulator, geometry, opts)
 
         samples, timings, dofs = [], [], 0

@@ -136,18 +136,16 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
 
 def cmd_fem(args: argparse.Namespace) -> dict:
     from analytical.kinematics import pose_geometry
-    from fem_reference import FemOptions, solve_pose
+    from fem_reference import solve_pose
+    from .compare import fem_options
     from .scene import load_scene
 
     scene = load_scene(args.scene)
     case = scene.case(args.case)
     size = args.size * 1e-3 if args.size is not None else scene.fem.mesh_size
-    options = FemOptions(mesh_size=size,
-                         platform=args.platform or scene.fem.platform,
-                         coupling=args.coupling or scene.fem.coupling,
-                         modes=args.modes or scene.analytical.modes,
-                         max_dofs=scene.fem.max_dofs,
-                         cache_dir=Path(".cache") / "meshes")
+    options = fem_options(scene, size, platform=args.platform, coupling=args.coupling,
+                          modes=args.modes or scene.analytical.modes,
+                          cache_dir=Path(".cache") / "meshes")
     geometry = pose_geometry(scene.manipulator, case.pose)
     start = time.perf_counter()
     result = solve_pose(scene.manipulator, geometry, options)

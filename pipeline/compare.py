@@ -42,19 +42,29 @@ def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> dict:
     }
 
 
+def fem_options(scene: Scene, mesh_size: float, **overrides):
+    """The FEM settings a scene asks for at one mesh size; `overrides` replace any field."""
+    from fem_reference import FemOptions
+
+    settings = dict(mesh_size=mesh_size, platform=scene.fem.platform,
+                    coupling=scene.fem.coupling, modes=scene.analytical.modes + EXTRA_MODES,
+                    max_dofs=scene.fem.max_dofs, rim_factor=scene.fem.rim_factor,
+                    rim_zone=scene.fem.rim_zone)
+    settings.update({k: v for k, v in overrides.items() if v is not None})
+    return FemOptions(**settings)
+
+
 def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size: float,
              platform: str | None = None, coupling: str | None = None) -> dict:
     """The FEM reference of one pose at one mesh size, through the result cache."""
-    from fem_reference import FemOptions, solve_pose
+    from fem_reference import solve_pose
 
-    options = FemOptions(mesh_size=mesh_size, platform=platform or scene.fem.platform,
-                         coupling=coupling or scene.fem.coupling,
-                         modes=scene.analytical.modes + EXTRA_MODES,
-                         max_dofs=scene.fem.max_dofs,
-                         cache_dir=cache.directory / "meshes")
+    options = fem_options(scene, mesh_size, platform=platform, coupling=coupling,
+                          cache_dir=cache.directory / "meshes")
     payload = {"manipulator": repr(scene.manipulator), "geometry": _geometry_payload(geometry),
                "mesh_size": mesh_size, "platform": options.platform,
-               "coupling": options.coupling, "modes": options.modes}
+               "coupling": options.coupling, "modes": options.modes,
+               "rim_factor": options.rim_factor, "rim_zone": options.rim_zone}
 
     def compute():
         result = solve_pose(scene.manipulator, geometry, options)

@@ -31,6 +31,8 @@ class FemSettings:
     platform: str = "rigid"
     coupling: str = "rigid"
     max_dofs: int = 600_000
+    rim_factor: float = 0.5  # element size near joint-face rims, as a fraction of mesh_size
+    rim_zone: float = 0.015  # m, distance over which the size grows back to mesh_size
 
 
 @dataclass(frozen=True)
@@ -225,6 +227,8 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         platform=fem_t.choice("platform", FEM_PLATFORMS, "rigid"),
         coupling=fem_t.choice("coupling", FEM_COUPLINGS, "rigid"),
         max_dofs=fem_t.integer("max_dofs", 600_000, minimum=100),
+        rim_factor=fem_t.number("rim_factor", 0.5, maximum=1.0),
+        rim_zone=fem_t.number("rim_zone_mm", 15.0, positive=False, minimum=0.0) * MM,
     )
     fem_t.done()
 

@@ -50,6 +50,7 @@ def mutated(path, value):
     (("analytical", "beam"), "rayleigh", "beam = 'rayleigh'"),
     (("fem", "refinement_mm"), [20.0, 28.0, 14.0], "must strictly decrease"),
     (("fem", "refinement_mm"), [20.0, 14.0], "at least three sizes"),
+    (("fem", "rim_factor"), 1.5, "rim_factor = 1.5"),
     (("calibration", "height", "reason"), "", "needs its reason"),
     (("cases", "case1", "tilt_deg"), 120.0, "tilt_deg = 120.0"),
     (("cases", "case1", "paper_fea_hz"), [1.0, "x"], "paper_fea_hz"),
