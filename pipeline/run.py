@@ -183,6 +183,7 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
             a = analytical_case(scene, case, opts)
             entry["models"][label] = _strip(a) | {
                 "frequencies_hz": a["frequencies_hz"][:count],
+                "median_seconds": studies.time_model(scene, case, opts),
                 "pairs": error_table(a, fem, count, fem_error, reference)}
         step("element convergence")
         entry["element_convergence"] = {
