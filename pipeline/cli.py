@@ -43,10 +43,43 @@ def _positive_mm(text: str) -> float:
     return value
 
 
+def _finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text} is not finite")
+    return value
+
+
 def _scene_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scene", default="scenes/paper.toml", help="scene file (TOML)")
     p.add_argument("--case", default="case1", help="case name in the scene")
+    p.add_argument("--height", type=_finite, metavar="MM",
+                   help="platform height z in mm (overrides the case's pose)")
+    p.add_argument("--azimuth", type=_finite, metavar="DEG", help="tilt azimuth phi in degrees")
+    p.add_argument("--tilt", type=_finite, metavar="DEG", help="tilt theta in degrees")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def _case(scene, args):
+    """The named case, its pose overridden by --height/--azimuth/--tilt (mm, deg at the edge)."""
+    case = scene.case(args.case)
+    pose = case.pose
+    if args.height is not None:
+        pose = replace(pose, height=args.height * 1e-3)
+    if args.azimuth is not None:
+        pose = replace(pose, azimuth=math.radians(args.azimuth))
+    if args.tilt is not None:
+        pose = replace(pose, tilt=math.radians(args.tilt))
+    return replace(case, pose=pose)
+
+
+def _pose_payload(pose) -> dict:
+    return {"height_mm": round(pose.height * 1e3, 9),
+            "azimuth_deg": round(math.degrees(pose.azimuth), 9),
+            "tilt_deg": round(math.degrees(pose.tilt), 9)}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -77,6 +110,14 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--estimate-error", action="store_true",
                    help="also run the scene's refinement sequence (cached) and report the "
                         "estimated discretisation error of this size")
+
+    w = sub.add_parser("workspace", help="f1..fN over the regular workspace (Fig. 6)")
+    w.add_argument("--scene", default="scenes/paper.toml")
+    w.add_argument("--layers", type=_positive_int, default=8, help="height layers")
+    w.add_argument("--rings", type=_positive_int, default=6, help="tilt rings per layer")
+    w.add_argument("--azimuths", type=_positive_int, default=36, help="azimuths per ring")
+    w.add_argument("--modes", type=_positive_int, default=3)
+    w.add_argument("--json", action="store_true")
 
     v = sub.add_parser("validate", help="run the whole validation of a scene into out/")
     v.add_argument("--scene", default="scenes/paper.toml")
@@ -112,7 +153,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
     from .scene import load_scene
 
     scene = load_scene(args.scene)
-    case = scene.case(args.case)
+    case = _case(scene, args)
     opts = scene.analytical
     overrides = {k: v for k, v in {"elements": args.elements, "beam": args.beam,
                                    "platform_inertia": args.platform_inertia,
@@ -123,6 +164,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
     seconds = time.perf_counter() - start
     return {
         "case": case.name,
+        "pose": _pose_payload(case.pose),
         "model": "analytical",
         "elements": opts.elements,
         "beam": opts.beam,
@@ -141,7 +183,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     from .scene import load_scene
 
     scene = load_scene(args.scene)
-    case = scene.case(args.case)
+    case = _case(scene, args)
     size = args.size * 1e-3 if args.size is not None else scene.fem.mesh_size
     options = fem_options(scene, size, platform=args.platform, coupling=args.coupling,
                           modes=args.modes or scene.analytical.modes,
@@ -154,6 +196,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         result.write_vtu(args.vtu)
     payload = {
         "case": case.name,
+        "pose": _pose_payload(case.pose),
         "model": "fem",
         "platform": options.platform,
         "coupling": options.coupling,
@@ -182,6 +225,15 @@ def _terminate(signum, frame):
     raise KeyboardInterrupt
 
 
+def _print_workspace(fmap: dict) -> None:
+    print(f"{'z (mm)':>8} {'tilt_r (deg)':>12}  lowest f_k over the layer (Hz)")
+    for z, r, layer in zip(fmap["heights_mm"], fmap["regular_tilt_deg"], fmap["frequencies_hz"]):
+        values = [f for ring in layer for az in ring for f in [az] if az and az[0] is not None]
+        lows = [min(v[k] for v in values) for k in range(len(values[0]))] if values else []
+        print(f"{z:8.1f} {r:12.2f}  " + ", ".join(f"{f:.2f}" for f in lows))
+    print(f"{fmap['seconds']:.2f} s, {fmap['settings']}")
+
+
 def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, _terminate)
     parser = build_parser()
@@ -191,6 +243,17 @@ def main(argv: list[str] | None = None) -> int:
             _emit(cmd_analytical(args), args.json)
         elif args.command == "fem":
             _emit(cmd_fem(args), args.json)
+        elif args.command == "workspace":
+            from .scene import load_scene
+            from .studies import workspace_map
+            start = time.perf_counter()
+            fmap = workspace_map(load_scene(args.scene), args.layers, args.rings,
+                                 args.azimuths, args.modes)
+            fmap["seconds"] = time.perf_counter() - start
+            if args.json:
+                print(json.dumps(fmap))
+            else:
+                _print_workspace(fmap)
         elif args.command == "validate":
             from .run import validate
             validate(args.scene, Path(args.out), Path(args.cache), args.profile,

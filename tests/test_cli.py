@@ -95,3 +95,23 @@ def test_validate_refuses_an_unreachable_case_before_any_work(tmp_path):
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines()[-1].startswith("error: case case1_literal: leg 1")
     assert not out.exists() and not (tmp_path / "cache").exists()
+
+
+def test_any_pose_can_be_asked_in_millimetres_and_degrees():
+    proc = run("analytical", "--case", "case1", "--height", "700", "--azimuth", "30",
+               "--tilt", "10", "--json")
+    assert proc.returncode == 0, proc.stderr
+    payload = json.loads(proc.stdout)
+    assert payload["pose"] == {"height_mm": 700.0, "azimuth_deg": 30.0, "tilt_deg": 10.0}
+    higher = json.loads(run("analytical", "--case", "case1", "--height", "900", "--azimuth",
+                            "30", "--tilt", "10", "--json").stdout)
+    assert all(h < f for h, f in zip(higher["frequencies_hz"], payload["frequencies_hz"]))
+    proc = run("analytical", "--height", "1700")
+    assert proc.returncode == 2 and "1702.939 mm is outside" in proc.stderr
+
+
+def test_workspace_map_command():
+    proc = run("workspace", "--layers", "3", "--rings", "2", "--azimuths", "6", "--json")
+    assert proc.returncode == 0, proc.stderr
+    payload = json.loads(proc.stdout)
+    assert len(payload["heights_mm"]) == 3 and len(payload["frequencies_hz"][0][1]) == 6
