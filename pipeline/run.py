@@ -28,6 +28,7 @@ from analytical.kinematics import PoseError, pose_geometry
 from . import studies, tables
 from .cache import ResultCache
 from .compare import STATIONS, analytical_case, error_table, fem_case
+from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
 
 SCHEMA_VERSION = 1
@@ -177,39 +178,48 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
     if refinement_study:
         entry["fem_refinement"] = refinement_study
     if variants:
-        step("model variants")
-        entry["models"] = {}
-        for label, opts in studies.model_variants(scene).items():
-            a = analytical_case(scene, case, opts)
-            entry["models"][label] = _strip(a) | {
-                "frequencies_hz": a["frequencies_hz"][:count],
-                "median_seconds": studies.time_model(scene, case, opts),
-                "pairs": error_table(a, fem, count, fem_error, reference)}
-        step("element convergence")
-        entry["element_convergence"] = {
-            beam: studies.element_convergence(scene, case, beam)
-            for beam in ("euler-bernoulli", "timoshenko")}
-        step("FEM joint and platform idealisations")
-        entry["fem_variants"] = {}
-        for label, kwargs in {"elastic platform": {"platform": "elastic"},
-                              "distributing coupling": {"coupling": "distributing"}}.items():
-            try:
-                v = fem_case(scene, geometry, cache, mesh_size, **kwargs)
-            except (ValueError, RuntimeError) as exc:
-                entry["fem_variants"][label] = {"error": " ".join(str(exc).split())}
-                continue
-            # paired by shape with the default FEM: an elastic plate adds modes of its own
-            shifted = error_table(v, fem, count)
-            entry["fem_variants"][label] = _strip(v) | {
-                "frequencies_hz": v["frequencies_hz"][:count],
-                "pairs": shifted,
-                "shift_percent": [r["error_percent"] for r in shifted]}
-        step("speed vs error")
-        entry["speed_vs_error"] = speed_vs_error(scene, case, fem, reference, refinement_study)
+        entry.update(variant_studies(scene, case, geometry, cache, mesh_size, fem, fem_error,
+                                     reference, refinement_study, step))
     mac_a = np.asarray(analytical["station_shapes"])
     mac_f = np.asarray(fem["station_shapes"])
-    from .pairing import mac_matrix
     entry["mac_matrix"] = mac_matrix(mac_a[:, :count], mac_f[:, :count]).tolist()
+    return entry
+
+
+def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh_size: float,
+                    fem: dict, fem_error, reference, refinement_study, step) -> dict:
+    """Model variants, element convergence, FEM idealisations, speed vs error of one case."""
+    count = scene.analytical.modes
+    entry: dict = {}
+    step("model variants")
+    entry["models"] = {}
+    for label, opts in studies.model_variants(scene).items():
+        a = analytical_case(scene, case, opts)
+        entry["models"][label] = _strip(a) | {
+            "frequencies_hz": a["frequencies_hz"][:count],
+            "median_seconds": studies.time_model(scene, case, opts),
+            "pairs": error_table(a, fem, count, fem_error, reference)}
+    step("element convergence")
+    entry["element_convergence"] = {
+        beam: studies.element_convergence(scene, case, beam)
+        for beam in ("euler-bernoulli", "timoshenko")}
+    step("FEM joint and platform idealisations")
+    entry["fem_variants"] = {}
+    for label, kwargs in {"elastic platform": {"platform": "elastic"},
+                          "distributing coupling": {"coupling": "distributing"}}.items():
+        try:
+            v = fem_case(scene, geometry, cache, mesh_size, **kwargs)
+        except (ValueError, RuntimeError) as exc:
+            entry["fem_variants"][label] = {"error": " ".join(str(exc).split())}
+            continue
+        # paired by shape with the default FEM: an elastic plate adds modes of its own
+        shifted = error_table(v, fem, count)
+        entry["fem_variants"][label] = _strip(v) | {
+            "frequencies_hz": v["frequencies_hz"][:count],
+            "pairs": shifted,
+            "shift_percent": [r["error_percent"] for r in shifted]}
+    step("speed vs error")
+    entry["speed_vs_error"] = speed_vs_error(scene, case, fem, reference, refinement_study)
     return entry
 
 
