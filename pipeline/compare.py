@@ -64,7 +64,8 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
     payload = {"manipulator": repr(scene.manipulator), "geometry": _geometry_payload(geometry),
                "mesh_size": mesh_size, "platform": options.platform,
                "coupling": options.coupling, "modes": options.modes,
-               "rim_factor": options.rim_factor, "rim_zone": options.rim_zone}
+               "rim_factor": options.rim_factor, "rim_zone": options.rim_zone,
+               "stations": STATIONS.tolist()}
 
     def compute():
         result = solve_pose(scene.manipulator, geometry, options)
