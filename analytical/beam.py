@@ -108,12 +108,13 @@ def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
     if length <= 0.0:
         raise ValueError(f"element length = {length!r} m: must be positive")
     E, G, rho, s, L = youngs_modulus, shear_modulus, density, section, length
+    # shear parameter of each bending plane: x-y bends on I_z, x-z bends on I_y
     if theory == "euler-bernoulli":
-        phi_y = phi_z = 0.0
+        phi_xy = phi_xz = 0.0
         rotary = False
     elif theory == "timoshenko":
-        phi_y = 12 * E * s.second_moment_y / (s.shear_coefficient * G * s.area * L**2)
-        phi_z = 12 * E * s.second_moment_z / (s.shear_coefficient * G * s.area * L**2)
+        phi_xy = 12 * E * s.second_moment_z / (s.shear_coefficient * G * s.area * L**2)
+        phi_xz = 12 * E * s.second_moment_y / (s.shear_coefficient * G * s.area * L**2)
         rotary = True
     else:
         raise ValueError(f"beam theory = {theory!r}: expected euler-bernoulli or timoshenko")
@@ -124,11 +125,11 @@ def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
     m[_IX_AXIAL] = rho * s.area * L * _BAR_MASS
     k[_IX_TWIST] = G * s.torsion_constant / L * _BAR
     m[_IX_TWIST] = rho * s.polar_moment * L * _BAR_MASS
-    k[_IX_XY] = _bending_stiffness(E * s.second_moment_z, L, phi_y)
-    m[_IX_XY] = _bending_mass(rho * s.area, rho * s.second_moment_z if rotary else 0.0, L, phi_y)
-    k[_IX_XZ] = _FLIP_XZ * _bending_stiffness(E * s.second_moment_y, L, phi_z)
+    k[_IX_XY] = _bending_stiffness(E * s.second_moment_z, L, phi_xy)
+    m[_IX_XY] = _bending_mass(rho * s.area, rho * s.second_moment_z if rotary else 0.0, L, phi_xy)
+    k[_IX_XZ] = _FLIP_XZ * _bending_stiffness(E * s.second_moment_y, L, phi_xz)
     m[_IX_XZ] = _FLIP_XZ * _bending_mass(rho * s.area, rho * s.second_moment_y if rotary else 0.0,
-                                         L, phi_z)
+                                         L, phi_xz)
     return k, m
 
 

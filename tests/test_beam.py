@@ -121,3 +121,21 @@ def test_unknown_theory_and_bad_length_are_rejected():
         frame_element(E, G, RHO, SECTION, 0.1, "bernoulli")
     with pytest.raises(ValueError, match="-0.1"):
         frame_element(E, G, RHO, SECTION, -0.1)
+
+
+def test_each_bending_plane_uses_its_own_second_moment_and_shear_parameter():
+    """A thin rectangle (I_y != I_z): each plane's Timoshenko frequency is its own."""
+    b, h = 0.02, 0.1  # width along local y, height along local z
+    area = b * h
+    i_y, i_z = b * h**3 / 12, h * b**3 / 12  # x-z bending on I_y, x-y bending on I_z
+    section = Section(area, i_y, i_z, 1e-9, i_y + i_z, 5 / 6)
+    L, s = 0.4, 20
+    k, m = assemble_beam(E, G, RHO, section, L, s, "timoshenko")
+    xy = [6 * n + c for n in range(s + 1) for c in (1, 5)]  # (u_y, theta_z)
+    xz = [6 * n + c for n in range(s + 1) for c in (2, 4)]  # (u_z, theta_y)
+    for plane, moment in ((xy, i_z), (xz, i_y)):
+        sub = np.ix_(plane, plane)
+        f = lowest_frequencies(k[sub], m[sub], [0, len(plane) - 2], 1)[0]
+        one_plane = Section(area, moment, moment, 1e-9, 2 * moment, 5 / 6)
+        exact = timoshenko_simply_supported(1, L, one_plane)
+        assert f == pytest.approx(exact, rel=2e-4)
