@@ -51,25 +51,32 @@ def pair_modes(model_shapes: np.ndarray, model_hz: np.ndarray, reference_shapes:
                ) -> list[Pair]:
     """Pair the first `count` reference modes with modes of the model under test.
 
-    The reference may carry more modes than `count` (so a pair split across the cut is still
-    found); the model must carry at least `count`. Groups of near-repeated reference modes
-    (relative gap < repeat_tolerance) are matched as subspaces to the model modes that the
-    assignment gives them.
+    Groups of near-repeated reference modes (relative gap < repeat_tolerance) are found over
+    every reference mode given, so a pair split by the cut at `count` is still taken whole:
+    it is matched as a subspace, and its members below the cut are reported. The model must
+    carry at least as many modes as the groups reaching below the cut hold.
     """
-    mac = mac_matrix(model_shapes, reference_shapes)
+    reference_hz = np.asarray(reference_hz)
     n_ref = min(count, reference_shapes.shape[1])
-    rows, cols = linear_sum_assignment(-mac[:, :n_ref])
-    assigned = dict(zip(cols, rows))
+    groups = [g for g in clusters(reference_hz, repeat_tolerance) if g[0] < n_ref]
+    columns = [k for g in groups for k in g]
+    if len(columns) > model_shapes.shape[1]:
+        raise ValueError(f"pairing needs {len(columns)} model modes, got "
+                         f"{model_shapes.shape[1]}")
+    mac = mac_matrix(model_shapes, reference_shapes)
+    rows, cols = linear_sum_assignment(-mac[:, columns])
+    assigned = {columns[c]: int(r) for r, c in zip(rows, cols)}
     pairs: list[Pair] = []
-    for g, group in enumerate(clusters(np.asarray(reference_hz[:n_ref]), repeat_tolerance)):
+    for g, group in enumerate(groups):
         if len(group) == 1:
             k = group[0]
-            pairs.append(Pair(k, int(assigned[k]), float(mac[assigned[k], k]), g, False))
+            pairs.append(Pair(k, assigned[k], float(mac[assigned[k], k]), g, False))
             continue
-        model_modes = sorted(int(assigned[k]) for k in group)
+        model_modes = sorted(assigned[k] for k in group)
         angles = scipy.linalg.subspace_angles(model_shapes[:, model_modes],
                                               reference_shapes[:, group])
         quality = float(np.cos(angles.max()) ** 2)
         for k, j in zip(group, model_modes):
-            pairs.append(Pair(k, j, quality, g, True))
+            if k < n_ref:
+                pairs.append(Pair(k, j, quality, g, True))
     return pairs

@@ -44,3 +44,15 @@ def test_repeated_pair_is_compared_as_a_subspace():
 def test_clusters_group_near_repeated_frequencies():
     assert clusters(np.array([115.0, 115.1, 196.0, 650.0, 724.0, 724.5]), 0.01) == [
         [0, 1], [2], [3], [4, 5]]
+
+
+def test_a_pair_split_by_the_cut_is_still_compared_whole():
+    rng = np.random.default_rng(3)
+    basis = np.linalg.qr(rng.normal(size=(40, 4)))[0]
+    c, s = np.cos(0.9), np.sin(0.9)
+    model = basis.copy()
+    model[:, 2:] = basis[:, 2:] @ np.array([[c, -s], [s, c]])  # the pair in another basis
+    ref_hz = np.array([50.0, 80.0, 120.0, 120.5])
+    pairs = pair_modes(model, np.array([51.0, 81.0, 121.0, 121.0]), basis, ref_hz, count=3)
+    assert [p.reference_mode for p in pairs] == [0, 1, 2]
+    assert pairs[2].repeated and pairs[2].mac > 0.999999
