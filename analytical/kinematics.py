@@ -102,6 +102,9 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
     m = manipulator
     if not (math.isfinite(pose.height) and pose.height > 0):
         raise PoseError(f"height = {pose.height!r} m: the platform must be above the base")
+    reach = m.actuator_max + m.base_radius + m.platform_radius
+    if pose.height > 1e3 * reach:  # beyond any leg by orders of magnitude (and overflow)
+        raise PoseError(f"height = {pose.height!r} m: no leg of this manipulator reaches it")
     for name in ("azimuth", "tilt"):
         if not math.isfinite(getattr(pose, name)):
             raise PoseError(f"{name} = {getattr(pose, name)!r}: not a finite angle")

@@ -12,6 +12,7 @@ BEAM_THEORIES = ("euler-bernoulli", "timoshenko")
 PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
 R_JOINT_COORDINATES = ("axis", "paper-eq18")
+MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
 
 
 @dataclass(frozen=True)
@@ -87,8 +88,9 @@ class ModelOptions:
     shear_coefficient: float | None = None  # None: Cowper's value for a solid circle
 
     def __post_init__(self) -> None:
-        if not isinstance(self.elements, int) or self.elements < 1:
-            raise ValueError(f"elements = {self.elements!r}: need an integer >= 1")
+        if not isinstance(self.elements, int) or not 1 <= self.elements <= MAX_ELEMENTS:
+            raise ValueError(f"elements = {self.elements!r}: need an integer in "
+                             f"[1, {MAX_ELEMENTS}] (frequencies converge to 1e-4 by s = 10)")
         if self.beam not in BEAM_THEORIES:
             raise ValueError(f"beam = {self.beam!r}: expected one of {', '.join(BEAM_THEORIES)}")
         if self.platform_inertia not in PLATFORM_INERTIAS:
@@ -129,7 +131,7 @@ def check_manipulator(m: Manipulator) -> None:
         )
     nu = m.material.poisson_ratio
     if not -1.0 < nu < 0.5:
-        raise ValueError(f"poisson ratio E/(2G) - 1 = {nu:.4f}: must lie in (-1, 0.5)")
+        raise ValueError(f"poisson ratio E/(2G) - 1 = {nu:.4g}: must lie in (-1, 0.5)")
     if m.platform_shape not in PLATFORM_SHAPES:
         raise ValueError(
             f"platform_shape = {m.platform_shape!r}: expected one of {', '.join(PLATFORM_SHAPES)}"

@@ -227,21 +227,16 @@ def fem_refinement(scene: Scene, case: Case, geometry, cache: ResultCache,
                    sizes: tuple[float, ...]) -> dict:
     """Solve at every size (each through the cache) and extrapolate every frequency
     (Richardson with the observed order, fem_reference.convergence)."""
-    from fem_reference.convergence import RefinementStudy, richardson
+    from fem_reference.convergence import study_from_values
     from meshing.bodies import pose_assembly
 
     solves = [fem_case(scene, geometry, cache, size) for size in sizes]
     count = scene.analytical.modes
-    freqs = np.array([s["frequencies_hz"][:count] for s in solves])
     volume = pose_assembly(scene.manipulator, geometry,
                            elastic_platform=scene.fem.platform == "elastic").volume
-    raw = np.array([s["raw_dofs"] for s in solves], float)
-    h_eff = (volume / (raw / 3.0)) ** (1.0 / 3.0)
-    study = RefinementStudy(
-        sizes=list(sizes), effective_sizes=h_eff.tolist(), frequencies_hz=freqs.tolist(),
-        dofs=[s["dofs"] for s in solves], raw_dofs=[int(r) for r in raw],
-        timings=[s["timings"] for s in solves],
-        modes=[richardson(h_eff, freqs[:, k]) for k in range(count)])
+    study = study_from_values(sizes, [s["frequencies_hz"][:count] for s in solves],
+                              [s["dofs"] for s in solves], [s["raw_dofs"] for s in solves],
+                              [s["timings"] for s in solves], volume)
     out = study.to_dict()
     out["seconds"] = [t.get("total", sum(t.values())) for t in out["timings"]]
     out["estimated_error_percent"] = (100 * study.relative_errors).tolist()

@@ -18,14 +18,19 @@ COLUMNS = ("mode", "paper_fea_hz", "paper_theory_hz", "paper_error_percent", "fe
 
 def case_rows(case: dict) -> list[dict]:
     paper = case.get("paper") or {}
+
+    def paper_value(key: str, k: int):
+        row = paper.get(key) or []
+        return row[k] if k < len(row) else None  # the paper may list fewer modes than we do
+
     rows = []
     for pair in case["pairs"]:
         k = pair["fem_mode"] - 1
         rows.append({
             "mode": pair["fem_mode"],
-            "paper_fea_hz": (paper.get("fea_hz") or [None] * 99)[k],
-            "paper_theory_hz": (paper.get("theory_hz") or [None] * 99)[k],
-            "paper_error_percent": (paper.get("error_percent") or [None] * 99)[k],
+            "paper_fea_hz": paper_value("fea_hz", k),
+            "paper_theory_hz": paper_value("theory_hz", k),
+            "paper_error_percent": paper_value("error_percent", k),
             "fem_hz": pair["f_fem_hz"],
             "fem_estimated_error_percent": pair.get("fem_estimated_error_percent"),
             "analytical_hz": pair["f_analytical_hz"],

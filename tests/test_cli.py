@@ -115,3 +115,14 @@ def test_workspace_map_command():
     assert proc.returncode == 0, proc.stderr
     payload = json.loads(proc.stdout)
     assert len(payload["heights_mm"]) == 3 and len(payload["frequencies_hz"][0][1]) == 6
+
+
+@pytest.mark.parametrize("args, needle", [
+    (("--elements", "100000"), "elements = 100000"),
+    (("--height", "1e308"), "no leg of this manipulator reaches it"),
+])
+def test_absurd_values_are_refused_in_one_line(args, needle):
+    proc = run("analytical", *args)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0], proc.stderr

@@ -32,12 +32,20 @@ def case1_result(manipulator, case1, cache):
     return solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=cache))
 
 
-def test_case1_frequencies_near_the_beam_model(case1_result):
+def test_case1_frequencies_near_the_beam_model(scene, case1_result):
+    """Two independent models of the same physics: the solid FEM against Timoshenko beams
+    (shear and rotary inertia of the stocky legs included). Measured: within 0.9 % at this
+    40 mm mesh (0.65 % against the refined limit), so 1.5 % per mode leaves room for the
+    mesh's ~0.2 % and catches any real modelling error of the size of Euler-Bernoulli's
+    4 % on modes 4-6."""
+    from dataclasses import replace
+    from analytical.model import natural_frequencies
     f = case1_result.frequencies_hz
     assert f.shape == (6,) and np.all(np.diff(f) >= 0)
     assert f[0] > 50.0  # no zero (mechanism) mode: the structure is locked by the joints
-    beam = np.array([115.3, 115.3, 196.5, 650.1, 724.5, 724.5])  # analytical, issue #3
-    assert np.all(np.abs(f / beam - 1) < 0.05)
+    beam = natural_frequencies(scene.manipulator, scene.case("case1").pose,
+                               replace(scene.analytical, beam="timoshenko", modes=6))
+    assert np.all(np.abs(f / beam - 1) < 0.015), np.round(100 * (f / beam - 1), 3)
 
 
 def test_case1_shows_its_repeated_pairs(case1_result):
@@ -127,12 +135,30 @@ def test_refinement_study_reports_orders_and_errors(manipulator, case1, cache):
     err = np.array(d["relative_error"])
     assert err.shape == (3, 6) and np.all(err >= 0)
     for k, status in enumerate(d["status"]):
-        assert status in ("ok", "non-monotone", "order out of range", "converged")
-        if status == "ok":
-            assert d["observed_order"][k] > 0
+        assert status in ("ok", "order capped", "non-monotone", "order out of range",
+                          "converged")
+        if status in ("ok", "order capped"):
+            assert 0 < d["observed_order"][k] <= 4.0
         else:
             assert d["observed_order"][k] is None
-    assert d["max_relative_error"][-1] < 0.01
+    # the finest of these coarse meshes: a few tenths of a percent, and never claimed exact
+    assert 0 < d["max_relative_error"][-1] < 0.005
+
+
+@pytest.mark.parametrize("p_true", [1.5, 2.0, 3.0, 4.0, 5.0])
+def test_richardson_error_estimate_is_never_optimistic(p_true):
+    """Noisy four-mesh sequences of known order (sizes and noise as in the real study): the
+    estimated error of every size bounds the true one, even when the order is mis-fitted."""
+    from fem_reference import richardson
+    h = np.array([16.1, 13.7, 11.0, 9.2]) * 1e-3
+    for seed in range(3):
+        noise = 2e-6 * np.random.default_rng(seed).normal(size=4)
+        f = 100.0 * (1 + 0.002 * (h / h[0]) ** p_true) * (1 + noise)
+        mode = richardson(h, f)
+        true = np.abs(f / 100.0 - 1)
+        assert np.all(np.asarray(mode.relative_error) >= 0.99 * true)
+        if p_true <= 2.0:  # and not loose where the order is the singular-rim one
+            assert np.all(np.asarray(mode.relative_error) <= 1.1 * true)
 
 
 def test_richardson_handles_exact_and_non_monotone_sequences():
