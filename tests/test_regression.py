@@ -50,7 +50,7 @@ def test_paper_faithful_model_meets_the_papers_accuracy_on_the_first_three_modes
 def test_best_model_is_within_one_percent_of_the_fem_on_all_six_modes(baseline, tmp_path_factory):
     """Issue acceptance: Timoshenko beams and the true plate inertia bring all six modes of both
     cases within 1 % of the FEM. The scene's default 32 mm FEM has an estimated error of at most
-    0.13 % on f1..f6 (refinement study, `make`), so 0.85 % against it bounds 1 % against the
+    0.16 % on f1..f6 (refinement study, `make`), so 0.84 % against it bounds 1 % against the
     converged reference."""
     from pipeline.scene import load_scene
     default_size = load_scene(ROOT / baseline["scene"]).fem.mesh_size
@@ -59,4 +59,4 @@ def test_best_model_is_within_one_percent_of_the_fem_on_all_six_modes(baseline, 
                             platform_inertia="plate")
     for name in ("case1", "case2"):
         worst = max(abs(r["error_percent"]) for r in tables[name])
-        assert worst < 0.85, (name, worst)
+        assert worst < 0.84, (name, worst)
