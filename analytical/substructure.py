@@ -41,8 +41,14 @@ class SingularJointMap(ValueError):
 
 
 def skew(v: np.ndarray) -> np.ndarray:
-    """[v x], the matrix of the cross product v x (.)."""
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    """[v x], the matrix of the cross product v x (.), for one vector (3,) or a stack
+    (..., 3) -> (..., 3, 3)."""
+    v = np.asarray(v, float)
+    out = np.zeros(v.shape + (3,))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
 
 
 @dataclass(frozen=True)

@@ -46,19 +46,11 @@ import scipy.sparse as sp
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
+from analytical.substructure import skew
+
 from .discretisation import Discretisation
 
 COUPLINGS = ("rigid", "distributing")
-
-
-def skew(v: np.ndarray) -> np.ndarray:
-    """[v x] for one vector (3,) or a stack (..., 3) -> (..., 3, 3)."""
-    v = np.asarray(v, float)
-    out = np.zeros(v.shape + (3,))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
 
 
 # ---------------------------------------------------------------- face averages (RBE3 weights)

@@ -24,7 +24,9 @@ from meshing.cache import cached_mesh
 from meshing.geometry import GmshFailure, MeshSettings
 
 from .assembly import stiffness_and_mass
-from .constraints import COUPLINGS, ConstraintMap, build_constraints, skew
+from analytical.substructure import skew
+
+from .constraints import COUPLINGS, ConstraintMap, build_constraints
 from .discretisation import Discretisation, discretise
 from .eigen import EigenError, Modes, lowest_modes
 from .export import write_modes_vtu

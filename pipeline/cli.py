@@ -16,11 +16,9 @@ from pathlib import Path
 
 from analytical.params import BEAM_THEORIES, PLATFORM_INERTIAS
 
+from .scene import FEM_COUPLINGS, FEM_PLATFORMS
+
 EXIT_BAD_INPUT = 2
-
-
-class UsageError(ValueError):
-    """A command-line value is invalid."""
 
 
 def _positive_int(text: str) -> int:
@@ -33,16 +31,6 @@ def _positive_int(text: str) -> int:
     return value
 
 
-def _positive_mm(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text} must be a positive size in mm")
-    return value
-
-
 def _finite(text: str) -> float:
     try:
         value = float(text)
@@ -50,6 +38,13 @@ def _finite(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"{text} is not finite")
+    return value
+
+
+def _positive_mm(text: str) -> float:
+    value = _finite(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"{text} must be a positive size in mm")
     return value
 
 
@@ -103,8 +98,8 @@ def build_parser() -> argparse.ArgumentParser:
     f = sub.add_parser("fem", help="3D solid FEM reference of one case")
     _scene_args(f)
     f.add_argument("--size", type=_positive_mm, help="mesh size in mm (overrides the scene)")
-    f.add_argument("--platform", choices=("rigid", "elastic"))
-    f.add_argument("--coupling", choices=("rigid", "distributing"))
+    f.add_argument("--platform", choices=FEM_PLATFORMS)
+    f.add_argument("--coupling", choices=FEM_COUPLINGS)
     f.add_argument("--modes", type=_positive_int)
     f.add_argument("--vtu", help="write the mode shapes to this VTU file")
     f.add_argument("--estimate-error", action="store_true",
