@@ -94,6 +94,16 @@ def test_builds_html_and_pdf(built):
     assert not list(built["out"].glob(".report-*")), "temporary directory left behind"
 
 
+def test_papers_inconsistent_printed_errors_are_flagged(built):
+    import html as html_lib
+    text = html_lib.unescape(built["html"].read_text(encoding="utf-8"))
+    notes = [c["paper"].get("printed_error_note") for c in built["results"]["cases"]
+             if c.get("paper")]
+    assert any(notes)
+    for note in filter(None, notes):
+        assert note in text
+
+
 def test_table_numbers_equal_the_json(built):
     sourced = [c for c in built["page"].cells if "data-src" in c["attrs"]]
     assert len(sourced) > 300
