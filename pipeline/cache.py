@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import shutil
 from functools import lru_cache
 from pathlib import Path
 from typing import Any, Callable
 
-from .atomic import write_bytes_atomic, write_text_atomic
+from .atomic import write_text_atomic
 
 ROOT = Path(__file__).resolve().parents[1]
 CODE_PACKAGES = ("analytical", "meshing", "fem_reference")
@@ -59,19 +60,21 @@ class ResultCache:
         if not isinstance(value, dict) or any(k not in value for k in required):
             self.discard(kind, key)
             return None
-        for side in value.get("_files", []):
+        for side in value.pop("_files", []):
             if not self._path(kind, key, side).is_file():
                 self.discard(kind, key)
                 return None
         return value
 
     def put(self, kind: str, key: str, value: dict, files: dict[str, Path] | None = None) -> None:
-        """Store `value`; `files` maps a suffix (".vtu") to a file to keep beside it."""
-        value = dict(value)
-        value["_files"] = sorted(files or {})
+        """Store `value`; `files` maps a suffix (".vtu") to a complete file that is moved in
+        beside it (same file system: a rename, no copy)."""
+        stored = dict(value, _files=sorted(files or {}))
         for suffix, source in (files or {}).items():
-            write_bytes_atomic(self._path(kind, key, suffix), Path(source).read_bytes())
-        write_text_atomic(self._path(kind, key), json.dumps(value))  # last: commits the entry
+            target = self._path(kind, key, suffix)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(source, target)
+        write_text_atomic(self._path(kind, key), json.dumps(stored))  # last: commits the entry
 
     def side_file(self, kind: str, key: str, suffix: str) -> Path:
         return self._path(kind, key, suffix)

@@ -81,6 +81,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
             "platform": options.platform,
             "coupling": options.coupling,
             "timings": {k: float(v) for k, v in result.timings.items()},
+            "mesh_cache_hit": bool(result.cache_hit),  # then "mesh" timed a cache read
             "station_shapes": shapes.reshape(-1, shapes.shape[-1]).tolist(),
         }
         return value, {".vtu": vtu}
@@ -91,8 +92,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
     finally:
         for leftover in (cache.directory / "tmp").glob(f"mode-{os.getpid()}-*.vtu"):
             leftover.unlink(missing_ok=True)
-    value = {k: v for k, v in value.items() if k != "_files"}
-    value["cache_hit"] = hit
+    value = dict(value, cache_hit=hit)
     value["vtu_cache_path"] = str(cache.side_file("fem", key, ".vtu"))
     return value
 
