@@ -88,7 +88,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
 
     try:
         value, key, hit = cache.get_or_compute(
-            "fem", payload, compute, required=("frequencies_hz", "station_shapes", "timings"))
+            "fem", payload, compute, required=("frequencies_hz", "station_shapes", "timings", "mesh_cache_hit"))
     finally:
         for leftover in (cache.directory / "tmp").glob(f"mode-{os.getpid()}-*.vtu"):
             leftover.unlink(missing_ok=True)
