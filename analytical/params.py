@@ -8,6 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 import math
 
+from common.settings import check_settings, nested_setting, setting
+
 BEAM_THEORIES = ("euler-bernoulli", "timoshenko")
 PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
@@ -15,11 +17,17 @@ R_JOINT_COORDINATES = ("axis", "paper-eq18")
 MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
 
 
+JOINT_TYPES = ("R", "S")
+
+
 @dataclass(frozen=True)
 class Material:
-    youngs_modulus: float  # Pa
-    shear_modulus: float  # Pa
-    density: float  # kg/m^3
+    youngs_modulus: float = setting(doc="Young's modulus E", unit="GPa", minimum=0.0,
+                                    exclusive_minimum=True)  # Pa
+    shear_modulus: float = setting(doc="shear modulus G (E / (2 G) - 1 is the Poisson ratio)",
+                                   unit="GPa", minimum=0.0, exclusive_minimum=True)  # Pa
+    density: float = setting(doc="mass density rho", unit="kg/m3", minimum=0.0,
+                             exclusive_minimum=True)  # kg/m^3
 
     @property
     def poisson_ratio(self) -> float:
@@ -27,27 +35,55 @@ class Material:
         return self.youngs_modulus / (2.0 * self.shear_modulus) - 1.0
 
 
+_POSITIVE = dict(minimum=0.0, exclusive_minimum=True)
+
+
 @dataclass(frozen=True)
 class Manipulator:
     """Geometry and material of a 3-RPS manipulator (paper Section 2).
 
-    B_i (revolute joints) lie on the base circle of radius `base_radius`; A_i (spherical joints)
+    The base joints B_i lie on the base circle of radius `base_radius`; the platform joints A_i
     lie on the platform circle of radius `platform_radius`, both at the polar angles
-    `leg_angles` (rad), measured from the base x-axis. Each R-joint axis is horizontal and
-    perpendicular to O->B_i.
+    `leg_angles` (rad), measured from the base x-axis. `base_joint` and `platform_joint` say
+    which joint sits at each end of a leg: the paper's equations put the revolute joint on the
+    base (axis horizontal, perpendicular to O->B_i) and the spherical joint on the platform;
+    its Section 2 text reads the other way round (spherical at the base, revolute at the
+    platform with its axis tangent to the platform circle).
     """
 
-    base_radius: float  # r1, m
-    platform_radius: float  # r2, m
-    leg_diameter: float  # d, m
-    platform_thickness: float  # h, m
-    material: Material
-    leg_angles: tuple[float, float, float] = (0.0, 2 * math.pi / 3, 4 * math.pi / 3)
-    platform_shape: str = "disk"  # plate outline: "disk" of radius r2, or "triangle" A1A2A3
-    actuator_min: float = 0.2  # L_min, m (Eq. 25)
-    actuator_max: float = 1.0  # L_max, m (Eq. 25)
-    s_joint_max: float = math.radians(45.0)  # alpha_max, rad (Eq. 25)
-    r_joint_max: float = math.radians(45.0)  # beta_max, rad (Eq. 25)
+    base_radius: float = setting(doc="r1, radius of the circle of base joints B_i", unit="mm",
+                                 **_POSITIVE)
+    platform_radius: float = setting(doc="r2, radius of the circle of platform joints A_i",
+                                     unit="mm", **_POSITIVE)
+    leg_diameter: float = setting(doc="d, diameter of the solid circular legs", unit="mm",
+                                  **_POSITIVE)
+    platform_thickness: float = setting(doc="h, thickness of the platform plate", unit="mm",
+                                        **_POSITIVE)
+    material: Material = nested_setting(Material)
+    leg_angles: tuple[float, float, float] = setting(
+        (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3,
+        doc="polar angles of the three legs from the base x-axis (120 degrees apart)")
+    platform_shape: str = setting("disk", kind=str, choices=PLATFORM_SHAPES,
+                                  doc='plate outline: "disk" of radius r2, or the "triangle" '
+                                  "A1A2A3")
+    actuator_min: float = setting(0.2, unit="mm", scene_required=True, **_POSITIVE,
+                                  doc="L_min, shortest leg (Eq. 25)")  # m
+    actuator_max: float = setting(1.0, unit="mm", scene_required=True, **_POSITIVE,
+                                  doc="L_max, longest leg (Eq. 25)")  # m
+    s_joint_max: float = setting(math.radians(45.0), unit="deg", scene_required=True,
+                                 maximum=math.pi / 2, **_POSITIVE,
+                                 doc="alpha_max, largest angle between a leg and the normal of "
+                                 "the body carrying its spherical joint (Eq. 25)")  # rad
+    r_joint_max: float = setting(math.radians(45.0), unit="deg", scene_required=True,
+                                 maximum=math.pi / 2, **_POSITIVE,
+                                 doc="beta_max, largest rotation of a revolute joint from the "
+                                 "normal of its body (Eq. 25)")  # rad
+    base_joint: str = setting("R", kind=str, choices=JOINT_TYPES,
+                              doc="joint at the base end of every leg (the paper's equations: "
+                              "R)")
+    platform_joint: str = setting("S", kind=str, choices=JOINT_TYPES,
+                                  doc="joint at the platform end of every leg (the paper's "
+                                  "equations: S)")
 
     def scaled(self, length_factor: float) -> "Manipulator":
         """The same manipulator with every length multiplied by `length_factor`."""
@@ -80,31 +116,22 @@ class Pose:
 class ModelOptions:
     """Fidelity of the analytical substructure model."""
 
-    elements: int = 3  # s, beam elements per leg
-    beam: str = "euler-bernoulli"
-    platform_inertia: str = "plate"  # true plate inertia, or Eq. (8)'s m r2^2 on every axis
-    r_joint_coordinate: str = "axis"  # regular form, or the paper's Eq. (18)/(21) ratio form
-    modes: int = 6
+    elements: int = setting(3, kind=int, minimum=1, maximum=MAX_ELEMENTS,
+                            doc="s, beam elements per leg (the paper: 3; frequencies converge "
+                            "to 1e-4 by s = 10)")
+    beam: str = setting("euler-bernoulli", kind=str, choices=BEAM_THEORIES,
+                        doc="beam theory of the leg elements (Timoshenko adds shear "
+                        "deformation and rotary inertia)")
+    platform_inertia: str = setting("plate", kind=str, choices=PLATFORM_INERTIAS,
+                                    doc="true plate inertia, or Eq. (8)'s m r2^2 on every axis")
+    r_joint_coordinate: str = setting("axis", kind=str, choices=R_JOINT_COORDINATES,
+                                      doc="independent R-joint coordinate: rotation about the "
+                                      "joint axis (regular), or the paper's Eq. (18) ratio form")
+    modes: int = setting(6, kind=int, minimum=1, doc="number of modes compared")
     shear_coefficient: float | None = None  # None: Cowper's value for a solid circle
 
     def __post_init__(self) -> None:
-        if not isinstance(self.elements, int) or not 1 <= self.elements <= MAX_ELEMENTS:
-            raise ValueError(f"elements = {self.elements!r}: need an integer in "
-                             f"[1, {MAX_ELEMENTS}] (frequencies converge to 1e-4 by s = 10)")
-        if self.beam not in BEAM_THEORIES:
-            raise ValueError(f"beam = {self.beam!r}: expected one of {', '.join(BEAM_THEORIES)}")
-        if self.platform_inertia not in PLATFORM_INERTIAS:
-            raise ValueError(
-                f"platform_inertia = {self.platform_inertia!r}: expected one of "
-                f"{', '.join(PLATFORM_INERTIAS)}"
-            )
-        if self.r_joint_coordinate not in R_JOINT_COORDINATES:
-            raise ValueError(
-                f"r_joint_coordinate = {self.r_joint_coordinate!r}: expected one of "
-                f"{', '.join(R_JOINT_COORDINATES)}"
-            )
-        if not isinstance(self.modes, int) or self.modes < 1:
-            raise ValueError(f"modes = {self.modes!r}: need an integer >= 1")
+        check_settings(self)
 
 
 def check_manipulator(m: Manipulator) -> None:

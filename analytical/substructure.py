@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common.rigid_body import skew
+
 from .beam import Section, assemble_beam
 from .kinematics import PoseGeometry
 from .params import Manipulator, ModelOptions
@@ -38,17 +40,6 @@ from .platform import platform_mass_matrix
 
 class SingularJointMap(ValueError):
     """The chosen independent R-joint coordinate cannot describe the joint's rotation."""
-
-
-def skew(v: np.ndarray) -> np.ndarray:
-    """[v x], the matrix of the cross product v x (.), for one vector (3,) or a stack
-    (..., 3) -> (..., 3, 3)."""
-    v = np.asarray(v, float)
-    out = np.zeros(v.shape + (3,))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
 
 
 @dataclass(frozen=True)

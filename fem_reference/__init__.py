@@ -10,13 +10,15 @@ from __future__ import annotations
 import numpy as np
 
 from .convergence import RefinementStudy, richardson
-from .model import FemError, FemOptions, FemResult, estimate_raw_dofs, solve_pose, with_size
+from .model import (FemError, FemOptions, FemResult, FemRuntime, estimate_raw_dofs, solve_pose,
+                    with_size)
 
-__all__ = ["FemError", "FemOptions", "FemResult", "RefinementStudy", "estimate_raw_dofs",
+__all__ = ["FemError", "FemOptions", "FemResult", "FemRuntime", "RefinementStudy", "estimate_raw_dofs",
            "refinement_study", "richardson", "solve_pose"]
 
 
-def refinement_study(manipulator, geometry, sizes, options: FemOptions) -> RefinementStudy:
+def refinement_study(manipulator, geometry, sizes, options: FemOptions,
+                     runtime: FemRuntime | None = None) -> RefinementStudy:
     """Solve the pose at every size (coarse -> fine, m) and extrapolate every frequency.
 
     Raises FemError for fewer than three sizes or sizes that do not strictly decrease.
@@ -29,7 +31,8 @@ def refinement_study(manipulator, geometry, sizes, options: FemOptions) -> Refin
         raise FemError(f"sizes = {sizes!r}: Richardson extrapolation needs at least three sizes")
     if any(b >= a for a, b in zip(sizes, sizes[1:])):
         raise FemError(f"sizes = {sizes!r}: sizes must strictly decrease (coarse -> fine)")
-    results = [solve_pose(manipulator, geometry, with_size(options, h)) for h in sizes]
+    results = [solve_pose(manipulator, geometry, with_size(options, h), runtime or FemRuntime())
+               for h in sizes]
     volume = pose_assembly(manipulator, geometry,
                            elastic_platform=options.platform == "elastic").volume
     return study_from_results(results, volume)

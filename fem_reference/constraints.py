@@ -46,7 +46,7 @@ import scipy.sparse as sp
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
-from analytical.substructure import skew
+from common.rigid_body import skew
 
 from .discretisation import Discretisation
 

@@ -27,6 +27,9 @@ V0_SEED = 20230723
 ARPACK_TOL = 1e-10  # relative Ritz-value accuracy; frequencies to ~1e-10
 
 
+BACKENDS = ("splu", "splu-colamd")
+
+
 class EigenError(RuntimeError):
     """The eigensolver did not converge or returned inaccurate pairs."""
 

@@ -13,7 +13,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from meshing.cache import atomic_write
+from common.atomic import atomic_write
 
 from .discretisation import Discretisation
 

@@ -18,17 +18,17 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from analytical.platform import platform_mass_matrix
+from common.plate import plate_inertia, plate_mass, rigid_mass_matrix
+from common.rigid_body import rigid_fit
+from common.settings import check_settings, nested_setting, setting
 from meshing.bodies import Assembly, GeometryError, pose_assembly
 from meshing.cache import cached_mesh
 from meshing.geometry import GmshFailure, MeshSettings
 
 from .assembly import stiffness_and_mass
-from analytical.substructure import skew
-
 from .constraints import COUPLINGS, ConstraintMap, build_constraints
 from .discretisation import Discretisation, discretise
-from .eigen import EigenError, Modes, lowest_modes
+from .eigen import BACKENDS, EigenError, Modes, lowest_modes
 from .export import write_modes_vtu
 from . import probes
 
@@ -44,42 +44,59 @@ class FemError(ValueError):
 
 @dataclass(frozen=True)
 class FemOptions:
-    mesh_size: float  # global element size h, m
-    platform: str = "rigid"  # "rigid": 6 dofs at o with the plate's inertia; "elastic": meshed
-    coupling: str = "rigid"  # joint-face coupling: "rigid" (RBE2) or "distributing" (RBE3)
-    modes: int = 6
-    max_dofs: int = 600_000
-    cache_dir: str | os.PathLike | None = None  # None: <repo>/.cache/meshes
-    use_cache: bool = True
-    rim_factor: float = 0.5  # element size at the joint-face rims, relative to mesh_size
-    rim_zone: float = 0.015  # m, graded zone around the rims (0: no refinement)
-    backend: str = "splu"
+    """What the solid model is: the mesh, the platform, the joint-face coupling, the modes.
+
+    Everything that changes the answer is here (the result cache keys on the whole object);
+    how the answer is obtained (cache directory, DOF guard, linear solver) is `FemRuntime`.
+    """
+
+    mesh: MeshSettings = nested_setting(MeshSettings)
+    platform: str = setting("rigid", kind=str, choices=PLATFORMS,
+                            doc="rigid: 6 coordinates at o with the plate's inertia (as the "
+                            "paper); elastic: the plate meshed as a solid")
+    coupling: str = setting("rigid", kind=str, choices=COUPLINGS,
+                            doc="how a joint face follows its joint centre: rigid (RBE2-like) or "
+                            "distributing (RBE3-like, the face may warp)")
+    modes: int = setting(6, kind=int, minimum=1, scene=False,
+                         doc="number of modes solved for")
 
     def __post_init__(self):
-        def bad(name, value, why):
-            raise FemError(f"{name} = {value!r}: {why}")
-        h = self.mesh_size
-        if isinstance(h, bool) or not isinstance(h, (int, float)) or not math.isfinite(h) \
-                or h <= 0:
-            bad("mesh_size", h, "must be a finite positive length in m")
-        if self.platform not in PLATFORMS:
-            bad("platform", self.platform, f"expected one of {', '.join(PLATFORMS)}")
-        if self.coupling not in COUPLINGS:
-            bad("coupling", self.coupling, f"expected one of {', '.join(COUPLINGS)}")
-        if isinstance(self.modes, bool) or not isinstance(self.modes, int) or self.modes < 1:
-            bad("modes", self.modes, "need an integer >= 1")
-        if isinstance(self.max_dofs, bool) or not isinstance(self.max_dofs, int) \
-                or self.max_dofs < 100:
-            bad("max_dofs", self.max_dofs, "need an integer >= 100")
-        if not (isinstance(self.rim_factor, (int, float)) and 0 < self.rim_factor <= 1):
-            bad("rim_factor", self.rim_factor, "must lie in (0, 1]")
-        if not (isinstance(self.rim_zone, (int, float)) and math.isfinite(self.rim_zone)
-                and self.rim_zone >= 0):
-            bad("rim_zone", self.rim_zone, "must be a finite length >= 0 m")
+        if not isinstance(self.mesh, MeshSettings):
+            raise FemError(f"mesh = {self.mesh!r}: expected MeshSettings")
+        try:
+            check_settings(self)
+        except ValueError as exc:
+            raise FemError(str(exc)) from None
 
     @property
-    def mesh_settings(self) -> MeshSettings:
-        return MeshSettings(float(self.mesh_size), float(self.rim_factor), float(self.rim_zone))
+    def mesh_size(self) -> float:
+        return self.mesh.size
+
+    def with_size(self, size: float) -> "FemOptions":
+        """The same options at another global element size (m)."""
+        try:
+            return replace(self, mesh=replace(self.mesh, size=float(size)))
+        except ValueError as exc:
+            raise FemError(str(exc)) from None
+
+
+@dataclass(frozen=True)
+class FemRuntime:
+    """How a solve is run; nothing here changes the frequencies."""
+
+    cache_dir: str | os.PathLike | None = None  # mesh cache; None: meshing.cache.DEFAULT_DIR
+    use_cache: bool = True
+    max_dofs: int = setting(600_000, kind=int, minimum=100,
+                            doc="refuse meshes with more raw degrees of freedom than this "
+                            "(estimated before meshing)")
+    backend: str = setting("splu", kind=str, choices=BACKENDS, scene=False,
+                           doc="sparse factorisation of the shift-invert eigen solve")
+
+    def __post_init__(self):
+        try:
+            check_settings(self)
+        except ValueError as exc:
+            raise FemError(str(exc)) from None
 
 
 @dataclass
@@ -131,15 +148,10 @@ class FemResult:
         if cols is not None:
             return self.modes_q[cols].copy()
         nodes = self.disc.body_nodes("platform")
-        r = self.disc.node_xyz[nodes] - np.asarray(self.geometry.platform_centre, float)
-        phi = np.zeros((len(nodes), 3, 6))
-        phi[:, :, :3] = np.eye(3)
-        phi[:, :, 3:] = -skew(r)
-        phi = phi.reshape(-1, 6)
         dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
-        mpp = self.mass_matrix[dofs][:, dofs]
-        mphi = mpp @ phi
-        return np.linalg.solve(phi.T @ mphi, mphi.T @ self.modes_raw[dofs])
+        u = self.modes_raw[dofs].reshape(len(nodes), 3, -1)
+        return rigid_fit(self.disc.node_xyz[nodes], u, self.geometry.platform_centre,
+                         mass=self.mass_matrix[dofs][:, dofs])
 
     def write_vtu(self, path) -> None:
         write_modes_vtu(path, self.disc, self.modes_raw, self.frequencies_hz)
@@ -157,8 +169,8 @@ class FemResult:
             "mesh_digest": self.mesh_digest,
             "platform": self.options.platform,
             "coupling": self.options.coupling,
-            "rim_factor": self.options.rim_factor,
-            "rim_zone_m": self.options.rim_zone,
+            "rim_factor": self.options.mesh.rim_factor,
+            "rim_zone_m": self.options.mesh.rim_zone,
         }
 
 
@@ -175,35 +187,38 @@ def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
     return int(3 * nodes)
 
 
-def solve_pose(manipulator, geometry, options: FemOptions) -> FemResult:
+def solve_pose(manipulator, geometry, options: FemOptions,
+               runtime: FemRuntime = FemRuntime()) -> FemResult:
     """Natural frequencies and modes of the 3D solid model of one pose."""
     if not isinstance(options, FemOptions):
         raise FemError(f"options = {options!r}: expected FemOptions")
+    if not isinstance(runtime, FemRuntime):
+        raise FemError(f"runtime = {runtime!r}: expected FemRuntime")
     t0 = time.perf_counter()
     elastic = options.platform == "elastic"
     try:
         assembly = pose_assembly(manipulator, geometry, elastic_platform=elastic)
     except GeometryError as exc:
         raise FemError(str(exc)) from None
-    settings = options.mesh_settings
+    settings = options.mesh
     diameter = 2 * assembly.cylinders[0].radius
     if settings.size > diameter:
         raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
                        f"{diameter:g} m (needs at least one element across a leg)")
     estimate = estimate_raw_dofs(assembly, settings)
-    if estimate > options.max_dofs:
+    if estimate > runtime.max_dofs:
         raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
-                       f"max_dofs = {options.max_dofs}")
+                       f"max_dofs = {runtime.max_dofs}")
     try:
-        solid, hit = cached_mesh(assembly, settings, options.cache_dir, options.use_cache)
+        solid, hit = cached_mesh(assembly, settings, runtime.cache_dir, runtime.use_cache)
     except GmshFailure as exc:
         raise FemError(f"mesh_size = {settings.size:g} m: gmsh failed ({exc})") from None
     t_mesh = time.perf_counter()
 
     disc = discretise(solid)
-    if disc.n_dofs > options.max_dofs:
+    if disc.n_dofs > runtime.max_dofs:
         raise FemError(f"mesh_size = {settings.size:g} m: {disc.n_dofs} dofs, above max_dofs = "
-                       f"{options.max_dofs}")
+                       f"{runtime.max_dofs}")
     k, m = stiffness_and_mass(disc, manipulator.material)
     cmap = build_constraints(disc, geometry, options.coupling, options.platform)
     t_ = cmap.T
@@ -211,14 +226,14 @@ def solve_pose(manipulator, geometry, options: FemOptions) -> FemResult:
     mq = (t_.T @ m @ t_).tocsr()
     if not elastic:
         cols = cmap.columns["platform"]
-        mp = sp.coo_matrix(platform_mass_matrix(manipulator, np.asarray(geometry.rotation)))
+        mp = sp.coo_matrix(_rigid_platform_mass(manipulator, np.asarray(geometry.rotation)))
         mq = mq + sp.csr_matrix((mp.data, (cols[mp.row], cols[mp.col])), shape=mq.shape)
     kq = 0.5 * (kq + kq.T)  # symmetric to round-off
     mq = 0.5 * (mq + mq.T)
     t_asm = time.perf_counter()
 
     try:
-        modes = lowest_modes(kq, mq, options.modes, backend=options.backend)
+        modes = lowest_modes(kq, mq, options.modes, backend=runtime.backend)
     except EigenError as exc:
         raise FemError(f"mesh_size = {settings.size:g} m: eigensolver failed ({exc})") from None
     vq = _normalise_signs(modes.vectors)
@@ -255,4 +270,11 @@ def _normalise_signs(v: np.ndarray) -> np.ndarray:
 
 
 def with_size(options: FemOptions, size: float) -> FemOptions:
-    return replace(options, mesh_size=float(size))
+    return options.with_size(size)
+
+
+def _rigid_platform_mass(manipulator, rotation: np.ndarray) -> np.ndarray:
+    """6x6 mass of the rigid plate at o (Eqs. 7-9) from the plate's own shape and material."""
+    m = manipulator
+    args = (m.platform_shape, m.platform_radius, m.platform_thickness, m.material.density)
+    return rigid_mass_matrix(plate_mass(*args), plate_inertia(*args), rotation)

@@ -15,9 +15,10 @@ import io
 import json
 import os
 from pathlib import Path
-import tempfile
 
 import meshio
+
+from common.atomic import atomic_write
 
 from .bodies import Assembly
 from .geometry import PINNED_OPTIONS, MeshSettings, build_mesh, gmsh_version
@@ -36,24 +37,6 @@ def cache_key(assembly: Assembly, settings: MeshSettings) -> str:
         "settings": settings.canonical(),
     }
     return hashlib.sha256(json.dumps(content, sort_keys=True).encode()).hexdigest()
-
-
-def atomic_write(path: Path, write) -> None:
-    """Call write(tmp_path) on a temporary file beside `path`, then move it into place."""
-    try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
-    except OSError as exc:
-        raise OSError(f"cannot write {path}: {exc.strerror or exc}") from None
-    os.close(fd)
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
 
 
 class MeshCache:

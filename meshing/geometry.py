@@ -14,11 +14,13 @@ lock, and gmsh is always finalised, also on error.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, asdict
+from dataclasses import dataclass
 import signal
 import threading
 
 import numpy as np
+
+from common.settings import as_dict, check_settings, setting
 
 from .bodies import Assembly, Cylinder, Plate
 from .mesh import SolidMesh
@@ -30,13 +32,28 @@ class GmshFailure(RuntimeError):
 
 @dataclass(frozen=True)
 class MeshSettings:
-    size: float  # global element size h, m
-    rim_factor: float = 1.0  # size near joint-face rims = rim_factor * h (1: no refinement)
-    rim_zone: float = 0.0  # distance from the rims over which the size grows back to h, m
+    """How finely the bodies of one pose are meshed: the one declaration of every mesh knob.
+
+    A new knob is a field here (with its `setting` declaration) and, if a scene should set it,
+    a key in the scene file: the scene reader, the FEM options, the mesh cache key and the
+    result cache key all take the whole object.
+    """
+
+    size: float = setting(doc="global element size h of the solid mesh", unit="mm",
+                          minimum=0.0, exclusive_minimum=True, scene_name="mesh_size")
+    rim_factor: float = setting(
+        0.5, doc="element size at the rims of the joint faces (stress-singular edges of "
+        "rigidly coupled faces), as a fraction of the global size; 1 = no refinement",
+        minimum=0.0, exclusive_minimum=True, maximum=1.0)
+    rim_zone: float = setting(
+        0.015, doc="distance from the joint-face rims over which the element size grows back "
+        "to the global size (0 = no refinement)", unit="mm", minimum=0.0)
+
+    def __post_init__(self):
+        check_settings(self)
 
     def canonical(self) -> dict:
-        d = asdict(self)
-        return {k: round(float(v), 12) for k, v in d.items()}
+        return as_dict(self)
 
 
 # Pinned gmsh options (name -> value). Algorithm 6 = Frontal-Delaunay (2D), 1 = Delaunay (3D).

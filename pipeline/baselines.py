@@ -23,7 +23,7 @@ from pathlib import Path
 
 from analytical.kinematics import pose_geometry
 
-from .atomic import write_json_atomic
+from common.atomic import write_json_atomic
 from .cache import ResultCache
 from .compare import analytical_case, error_table, fem_case
 from .scene import load_scene
@@ -98,7 +98,7 @@ def compare(baseline: dict, current: dict) -> list[str]:
 
 def update_command(scene_path: str) -> int:
     scene = load_scene(scene_path)
-    size = scene.fem.ci_mesh_size
+    size = scene.fem_study.ci_mesh_size
     tables = compute_tables(scene_path, size)
     write_json_atomic(BASELINE, {
         "scene": str(scene_path),

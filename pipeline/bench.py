@@ -18,8 +18,8 @@ from pathlib import Path
 from analytical.kinematics import pose_geometry
 from analytical.model import analyse
 
-from .atomic import write_json_atomic
-from .compare import fem_options
+from common.atomic import write_json_atomic
+from .compare import fem_options, fem_runtime
 from .scene import load_scene
 
 
@@ -53,8 +53,8 @@ def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
     for size in sizes:
         # no mesh cache, so that meshing is timed too; as many modes as the pipeline asks
         def once(size=size):
-            opts = fem_options(scene, size, use_cache=False)
-            return solve_pose(scene.manipulator, geometry, opts)
+            return solve_pose(scene.manipulator, geometry, fem_options(scene, size),
+                              fem_runtime(scene, use_cache=False))
 
         samples, timings, dofs = [], [], 0
         for _ in range(runs):
@@ -98,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
             "analytical_runs": args.runs,
         }
         if not args.skip_fem:
-            sizes = sorted(set(scene.fem.refinement) | {scene.fem.mesh_size}, reverse=True)
+            sizes = sorted(set(scene.fem_study.refinement) | {scene.fem.mesh_size}, reverse=True)
             fem = bench_fem(scene, args.case, args.fem_runs, sizes)
             result["fem"] = fem
             result["fem_pose_seconds_median"] = fem[f"{scene.fem.mesh_size * 1e3:g}mm"][

@@ -15,7 +15,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, Callable
 
-from .atomic import write_text_atomic
+from common.atomic import write_text_atomic
 
 ROOT = Path(__file__).resolve().parents[1]
 CODE_PACKAGES = ("analytical", "meshing", "fem_reference")

@@ -16,7 +16,8 @@ from pathlib import Path
 
 from analytical.params import BEAM_THEORIES, PLATFORM_INERTIAS
 
-from .scene import FEM_COUPLINGS, FEM_PLATFORMS
+from fem_reference.constraints import COUPLINGS as FEM_COUPLINGS
+from fem_reference.model import PLATFORMS as FEM_PLATFORMS
 
 EXIT_BAD_INPUT = 2
 
@@ -174,18 +175,20 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
 def cmd_fem(args: argparse.Namespace) -> dict:
     from analytical.kinematics import pose_geometry
     from fem_reference import solve_pose
-    from .compare import fem_options
+    from .cache import ResultCache
+    from .compare import fem_options, fem_runtime
     from .scene import load_scene
 
     scene = load_scene(args.scene)
     case = _case(scene, args)
     size = args.size * 1e-3 if args.size is not None else scene.fem.mesh_size
+    count = args.modes or scene.analytical.modes
     options = fem_options(scene, size, platform=args.platform, coupling=args.coupling,
-                          modes=args.modes or scene.analytical.modes,
-                          cache_dir=Path(".cache") / "meshes")
+                          modes=count)
     geometry = pose_geometry(scene.manipulator, case.pose)
     start = time.perf_counter()
-    result = solve_pose(scene.manipulator, geometry, options)
+    result = solve_pose(scene.manipulator, geometry, options,
+                        fem_runtime(scene, ResultCache(Path(".cache"))))
     seconds = time.perf_counter() - start
     if args.vtu:
         result.write_vtu(args.vtu)
@@ -195,16 +198,15 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         "model": "fem",
         "platform": options.platform,
         "coupling": options.coupling,
-        "frequencies_hz": [float(x) for x in result.frequencies_hz],
+        "frequencies_hz": [float(x) for x in result.frequencies_hz[:count]],
         "dofs": int(result.dofs),
         "mesh_size_m": float(result.mesh_size),
         "timings": {k: float(v) for k, v in result.timings.items()},
         "seconds": seconds,
     }
     if args.estimate_error:
-        from .cache import ResultCache
         from .run import fem_refinement
-        sizes = tuple(sorted(set(scene.fem.refinement) | {size}, reverse=True))
+        sizes = tuple(sorted(set(scene.fem_study.refinement) | {size}, reverse=True))
         study = fem_refinement(replace(scene, fem=replace(scene.fem, platform=options.platform,
                                                           coupling=options.coupling)),
                                case, geometry, ResultCache(Path(".cache")), sizes)

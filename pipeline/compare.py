@@ -13,6 +13,8 @@ from analytical.modal import leg_axis_displacements
 from analytical.model import analyse
 from analytical.params import ModelOptions
 
+from common.settings import as_dict
+
 from .cache import ResultCache
 from .pairing import pair_modes
 from .scene import Case, Scene
@@ -42,33 +44,38 @@ def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> dict:
     }
 
 
-def fem_options(scene: Scene, mesh_size: float, **overrides):
-    """The FEM settings a scene asks for at one mesh size; `overrides` replace any field."""
-    from fem_reference import FemOptions
+def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | None = None,
+                coupling: str | None = None, modes: int | None = None):
+    """The scene's FEM options (built once, at load) at one mesh size, with optional
+    platform/coupling/mode-count overrides; EXTRA_MODES are added for the pairing."""
+    options = scene.fem if mesh_size is None else scene.fem.with_size(mesh_size)
+    changes = {k: v for k, v in {"platform": platform, "coupling": coupling}.items()
+               if v is not None}
+    changes["modes"] = (modes if modes is not None else scene.analytical.modes) + EXTRA_MODES
+    return replace(options, **changes)
 
-    settings = dict(mesh_size=mesh_size, platform=scene.fem.platform,
-                    coupling=scene.fem.coupling, modes=scene.analytical.modes + EXTRA_MODES,
-                    max_dofs=scene.fem.max_dofs, rim_factor=scene.fem.rim_factor,
-                    rim_zone=scene.fem.rim_zone)
-    settings.update({k: v for k, v in overrides.items() if v is not None})
-    return FemOptions(**settings)
+
+def fem_runtime(scene: Scene, cache: ResultCache | None = None, use_cache: bool = True):
+    """How the scene's FEM solves run: its DOF guard, the mesh cache beside the result cache."""
+    return replace(scene.fem_runtime, use_cache=use_cache,
+                   cache_dir=None if cache is None else cache.directory / "meshes")
 
 
 def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size: float,
              platform: str | None = None, coupling: str | None = None) -> dict:
-    """The FEM reference of one pose at one mesh size, through the result cache."""
+    """The FEM reference of one pose at one mesh size, through the result cache.
+
+    The cache key is every input that changes the answer, taken whole: the manipulator, the
+    pose geometry, the complete FEM options (`dataclasses.asdict`, so a new option can never be
+    left out of the key) and the sampling stations.
+    """
     from fem_reference import solve_pose
 
-    options = fem_options(scene, mesh_size, platform=platform, coupling=coupling,
-                          cache_dir=cache.directory / "meshes")
-    payload = {"manipulator": repr(scene.manipulator), "geometry": _geometry_payload(geometry),
-               "mesh_size": mesh_size, "platform": options.platform,
-               "coupling": options.coupling, "modes": options.modes,
-               "rim_factor": options.rim_factor, "rim_zone": options.rim_zone,
-               "stations": STATIONS.tolist()}
+    options = fem_options(scene, mesh_size, platform=platform, coupling=coupling)
+    payload = fem_cache_payload(scene.manipulator, geometry, options)
 
     def compute():
-        result = solve_pose(scene.manipulator, geometry, options)
+        result = solve_pose(scene.manipulator, geometry, options, fem_runtime(scene, cache))
         shapes = result.leg_axis_displacements(STATIONS)
         vtu = cache.directory / "tmp" / f"mode-{os.getpid()}-{time.time_ns()}.vtu"
         vtu.parent.mkdir(parents=True, exist_ok=True)
@@ -97,10 +104,10 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
     return value
 
 
-def _geometry_payload(geometry: PoseGeometry) -> dict:
-    return {name: np.round(np.asarray(getattr(geometry, name)), 12).tolist()
-            for name in ("rotation", "platform_centre", "base_points", "platform_points",
-                         "joint_axes")}
+def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
+    """Everything that determines a FEM result, whole (see `fem_case`)."""
+    return {"manipulator": as_dict(manipulator), "geometry": as_dict(geometry),
+            "options": as_dict(options), "stations": STATIONS.tolist()}
 
 
 def error_table(analytical: dict, fem: dict, count: int, fem_error_percent=None,

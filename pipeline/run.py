@@ -77,7 +77,9 @@ def scene_summary(scene: Scene, path: str) -> dict:
                        "platform_inertia": scene.analytical.platform_inertia,
                        "modes": scene.analytical.modes},
         "fem": {"mesh_size_mm": scene.fem.mesh_size * 1e3,
-                "refinement_mm": [s * 1e3 for s in scene.fem.refinement],
+                "refinement_mm": [s * 1e3 for s in scene.fem_study.refinement],
+                "rim_factor": scene.fem.mesh.rim_factor,
+                "rim_zone_mm": scene.fem.mesh.rim_zone * 1e3,
                 "platform": scene.fem.platform, "coupling": scene.fem.coupling},
         "calibrated": [] if scene.calibrated_height is None else [{
             "name": "platform height z",
@@ -300,7 +302,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
                 with_paper = case.paper_theory_hz is not None
                 results["cases"].append(run_case(
                     scene, case, cache, scene.fem.mesh_size,
-                    scene.fem.refinement if profile == "full" else None,
+                    scene.fem_study.refinement if profile == "full" else None,
                     variants=with_paper and profile == "full",
                     progress=lambda text: bar.update(task, description=text)))
                 bar.advance(task)

@@ -12,11 +12,10 @@ from pathlib import Path
 import tomllib
 from typing import Any
 
-from analytical.params import (BEAM_THEORIES, PLATFORM_INERTIAS, PLATFORM_SHAPES, Manipulator,
-                               Material, ModelOptions, Pose, check_manipulator)
-
-FEM_PLATFORMS = ("rigid", "elastic")
-FEM_COUPLINGS = ("rigid", "distributing")
+from analytical.params import Manipulator, Material, ModelOptions, Pose, check_manipulator
+from common.settings import MISSING, Setting, declared, nested, setting
+from fem_reference.model import FemError, FemOptions, FemRuntime
+from meshing.geometry import MeshSettings
 
 
 class SceneError(ValueError):
@@ -24,15 +23,34 @@ class SceneError(ValueError):
 
 
 @dataclass(frozen=True)
-class FemSettings:
-    mesh_size: float  # m
-    refinement: tuple[float, ...]  # m, coarse to fine
-    ci_mesh_size: float  # m, the mesh of the CI regression baselines
-    platform: str = "rigid"
-    coupling: str = "rigid"
-    max_dofs: int = 600_000
-    rim_factor: float = 0.5  # element size near joint-face rims, as a fraction of mesh_size
-    rim_zone: float = 0.015  # m, distance over which the size grows back to mesh_size
+class FemStudy:
+    """The scene's plan for the FEM reference beyond one solve: its refinement sequence and
+    the mesh of the CI regression baselines."""
+
+    refinement: tuple[float, ...] = setting(
+        kind=tuple, unit="mm", minimum=0.0, exclusive_minimum=True, min_length=3,
+        doc="global element sizes of the Richardson refinement study, coarse to fine "
+        "(strictly decreasing, at least three)")
+    ci_mesh_size: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+                                  doc="mesh size of the CI regression baselines")
+
+
+# Defaults that follow the geometry: element sizes as fractions of the leg diameter d (measured
+# on the paper's 100 mm legs: 0.32 d gives <= 0.16 % estimated error on f1..f6, the sequence
+# 0.40 .. 0.20 d a <= 0.08 % reference; the rim zone 0.15 d).
+MESH_SIZE_PER_DIAMETER = 0.32
+REFINEMENT_PER_DIAMETER = (0.40, 0.32, 0.25, 0.20)
+CI_MESH_SIZE_PER_DIAMETER = 0.40
+RIM_ZONE_PER_DIAMETER = 0.15
+
+
+def geometry_defaults(manipulator: Manipulator) -> dict[str, object]:
+    """SI defaults of the [fem] keys a scene leaves out, scaled with the leg diameter."""
+    d = manipulator.leg_diameter
+    return {"size": MESH_SIZE_PER_DIAMETER * d,
+            "refinement": tuple(f * d for f in REFINEMENT_PER_DIAMETER),
+            "ci_mesh_size": CI_MESH_SIZE_PER_DIAMETER * d,
+            "rim_zone": RIM_ZONE_PER_DIAMETER * d}
 
 
 @dataclass(frozen=True)
@@ -52,7 +70,9 @@ class Scene:
     path: str
     manipulator: Manipulator
     analytical: ModelOptions
-    fem: FemSettings
+    fem: FemOptions  # at the scene's default mesh size, for the compared modes
+    fem_study: FemStudy
+    fem_runtime: FemRuntime
     cases: dict[str, Case]
     calibrated_height: float | None = None  # m
     calibration_reason: str = ""
@@ -136,6 +156,54 @@ class _Table:
         value = self._get(key, _REQUIRED if default is None else default)
         return _Table(value, f"{self.where}.{key}")
 
+    def settings(self, cls, defaults: dict | None = None, **given):
+        """Read every declared field of the dataclass `cls` (and of its nested settings) from
+        this table, in the field's edge unit, converted to SI once. `defaults` replace the
+        declared defaults (SI); `given` are values decided elsewhere (passed through)."""
+        defaults = defaults or {}
+        values = dict(given)
+        for name, sub in nested(cls):
+            if name not in values:
+                values[name] = self.settings(sub, defaults)
+        for name, spec, default in declared(cls):
+            if name in values or not spec.scene:
+                continue
+            default = defaults.get(name, default)
+            key = spec.scene_key(name)
+            if key not in self.data:
+                self.used.add(key)
+                if default is MISSING or spec.scene_required:
+                    raise SceneError(f"{self.where}.{key}: missing ({spec.doc}"
+                                     f"{', in ' + spec.unit if spec.unit else ''})")
+                values[name] = default
+                continue
+            values[name] = self.value(key, spec)
+        try:
+            return cls(**values)
+        except (ValueError, FemError) as exc:
+            raise SceneError(f"{self.where}: {exc}") from None
+
+    def value(self, key: str, spec: Setting):
+        """One declared value, checked in the edge unit and returned in SI."""
+        raw = typed = self._get(key, _REQUIRED)
+        if spec.kind is tuple:
+            if not isinstance(raw, list) or not raw:
+                raise SceneError(f"{self.where}.{key} = {_short(raw)}: expected a list of numbers")
+            raw = tuple(raw)
+        if spec.kind is float and isinstance(raw, int) and not isinstance(raw, bool):
+            raw = float(raw)
+        if spec.kind is tuple and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                      for v in raw):
+            si = tuple(float(v) * spec.scale for v in raw)
+        elif spec.kind is float and isinstance(raw, float):
+            si = raw * spec.scale
+        else:
+            si = raw
+        why = spec.problem(si, edge=True)
+        if why is not None:
+            raise SceneError(f"{self.where}.{key} = {_short(typed)}: {why}")
+        return si
+
     def done(self) -> None:
         unknown = sorted(set(self.data) - self.used)
         if unknown:
@@ -145,6 +213,11 @@ class _Table:
 
 _REQUIRED = object()
 _ABSENT = object()
+
+
+def _short(value: Any, limit: int = 80) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 MM = 1e-3
 DEG = math.pi / 180.0
 
@@ -169,26 +242,9 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
 
     man = top.table("manipulator")
     mat = top.table("material")
-    material = Material(
-        youngs_modulus=mat.number("youngs_modulus_gpa") * 1e9,
-        shear_modulus=mat.number("shear_modulus_gpa") * 1e9,
-        density=mat.number("density_kg_m3"),
-    )
+    material = mat.settings(Material)
     mat.done()
-    angles = man.numbers("leg_angles_deg", [0.0, 120.0, 240.0], length=3, positive=False)
-    manipulator = Manipulator(
-        base_radius=man.number("base_radius_mm") * MM,
-        platform_radius=man.number("platform_radius_mm") * MM,
-        leg_diameter=man.number("leg_diameter_mm") * MM,
-        platform_thickness=man.number("platform_thickness_mm") * MM,
-        material=material,
-        leg_angles=tuple(a * DEG for a in angles),
-        platform_shape=man.choice("platform_shape", PLATFORM_SHAPES, "disk"),
-        actuator_min=man.number("actuator_min_mm") * MM,
-        actuator_max=man.number("actuator_max_mm") * MM,
-        s_joint_max=man.number("s_joint_max_deg", maximum=90.0) * DEG,
-        r_joint_max=man.number("r_joint_max_deg", maximum=90.0) * DEG,
-    )
+    manipulator = man.settings(Manipulator, material=material)
     shape_reason = man.text("platform_shape_reason", "")
     man.done()
     try:
@@ -200,36 +256,18 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
                          f"{manipulator.leg_diameter / MM:g}: legs would touch at the platform")
 
     ana = top.table("analytical", {})
-    try:
-        analytical = ModelOptions(
-            elements=ana.integer("elements", 3),
-            beam=ana.choice("beam", BEAM_THEORIES, "euler-bernoulli"),
-            platform_inertia=ana.choice("platform_inertia", PLATFORM_INERTIAS, "plate"),
-            modes=ana.integer("modes", 6),
-        )
-    except ValueError as exc:
-        raise SceneError(f"{where}: analytical: {exc}") from None
+    analytical = ana.settings(ModelOptions)
     ana.done()
 
     fem_t = top.table("fem", {})
-    size = fem_t.number("mesh_size_mm", 32.0) * MM
-    refinement = fem_t.numbers("refinement_mm", [40.0, 32.0, 25.0, 20.0])
-    if len(refinement) < 3:
-        raise SceneError(f"{where}.fem.refinement_mm = {list(refinement)!r}: "
-                         "Richardson extrapolation needs at least three sizes")
-    if list(refinement) != sorted(refinement, reverse=True) or len(set(refinement)) != len(refinement):
-        raise SceneError(f"{where}.fem.refinement_mm = {list(refinement)!r}: "
-                         "sizes must strictly decrease")
-    fem = FemSettings(
-        mesh_size=size,
-        refinement=tuple(r * MM for r in refinement),
-        ci_mesh_size=fem_t.number("ci_mesh_size_mm", 40.0) * MM,
-        platform=fem_t.choice("platform", FEM_PLATFORMS, "rigid"),
-        coupling=fem_t.choice("coupling", FEM_COUPLINGS, "rigid"),
-        max_dofs=fem_t.integer("max_dofs", 600_000, minimum=100),
-        rim_factor=fem_t.number("rim_factor", 0.5, maximum=1.0),
-        rim_zone=fem_t.number("rim_zone_mm", 15.0, positive=False, minimum=0.0) * MM,
-    )
+    defaults = geometry_defaults(manipulator)
+    fem = fem_t.settings(FemOptions, defaults, modes=analytical.modes)
+    study = fem_t.settings(FemStudy, defaults)
+    refinement = [r / MM for r in study.refinement]
+    if refinement != sorted(refinement, reverse=True) or len(set(refinement)) != len(refinement):
+        raise SceneError(f"{where}.fem.refinement_mm = {refinement!r}: sizes must strictly "
+                         "decrease")
+    runtime = fem_t.settings(FemRuntime, defaults)
     fem_t.done()
 
     calibrated, reason = None, ""
@@ -275,5 +313,5 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     if not cases:
         raise SceneError(f"{where}.cases: the scene defines no case")
     top.done()
-    return Scene(name, where, manipulator, analytical, fem, cases, calibrated, reason,
-                 shape_reason, raw)
+    return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
+                 reason, shape_reason, raw)

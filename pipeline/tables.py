@@ -10,7 +10,7 @@ import io
 import re
 from pathlib import Path
 
-from .atomic import write_text_atomic
+from common.atomic import write_text_atomic
 
 COLUMNS = ("mode", "paper_fea_hz", "paper_theory_hz", "paper_error_percent", "fem_hz",
            "fem_estimated_error_percent", "analytical_hz", "error_percent", "mac")

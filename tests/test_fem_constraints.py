@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from analytical.kinematics import pose_geometry
-from fem_reference.constraints import build_constraints, skew
+from common.rigid_body import skew
+from fem_reference.constraints import build_constraints
 from fem_reference.discretisation import discretise
 from meshing import MeshSettings, build_mesh, pose_assembly
 

@@ -10,11 +10,20 @@ import numpy as np
 import pytest
 
 from analytical.kinematics import pose_geometry
-from fem_reference import FemError, FemOptions, refinement_study, solve_pose
+from fem_reference import FemError, FemOptions, FemRuntime, refinement_study, solve_pose
+from meshing.geometry import MeshSettings
 import fem_reference.model as fem_model
 from fem_reference.eigen import EigenError
 
 SIZE = 0.04  # coarse: ~7000 dofs, ~0.5 s a pose
+
+
+def options(size: float, **kwargs) -> FemOptions:
+    return FemOptions(MeshSettings(size), **kwargs)
+
+
+def runtime(cache, **kwargs) -> FemRuntime:
+    return FemRuntime(cache_dir=cache, **kwargs)
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +38,7 @@ def case1(scene):
 
 @pytest.fixture(scope="module")
 def case1_result(manipulator, case1, cache):
-    return solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=cache))
+    return solve_pose(manipulator, case1, options(SIZE), runtime(cache))
 
 
 def test_case1_frequencies_near_the_beam_model(scene, case1_result):
@@ -63,20 +72,20 @@ def test_case1_shows_its_repeated_pairs(case1_result):
 
 def test_case2_breaks_the_pairs(manipulator, scene, cache):
     geom = pose_geometry(manipulator, scene.case("case2").pose)
-    f = solve_pose(manipulator, geom, FemOptions(SIZE, cache_dir=cache)).frequencies_hz
+    f = solve_pose(manipulator, geom, options(SIZE), runtime(cache)).frequencies_hz
     assert f[1] / f[0] - 1 > 0.03 and f[5] / f[4] - 1 > 0.02
 
 
 def test_two_runs_give_identical_frequencies(manipulator, case1, tmp_path):
-    a = solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=tmp_path, use_cache=False))
-    b = solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=tmp_path, use_cache=False))
+    a = solve_pose(manipulator, case1, options(SIZE), runtime(tmp_path, use_cache=False))
+    b = solve_pose(manipulator, case1, options(SIZE), runtime(tmp_path, use_cache=False))
     assert a.mesh_digest == b.mesh_digest
     assert np.array_equal(a.frequencies_hz, b.frequencies_hz)
     assert not list(tmp_path.iterdir())  # use_cache=False writes nothing
 
 
 def test_cached_mesh_gives_the_same_model(manipulator, case1, case1_result, cache):
-    again = solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=cache))
+    again = solve_pose(manipulator, case1, options(SIZE), runtime(cache))
     assert again.cache_hit and again.mesh_digest == case1_result.mesh_digest
     assert np.array_equal(again.frequencies_hz, case1_result.frequencies_hz)
 
@@ -116,8 +125,8 @@ def test_write_vtu(case1_result, tmp_path):
 @pytest.mark.parametrize("platform,coupling", [("rigid", "distributing"), ("elastic", "rigid")])
 def test_other_platform_and_coupling_options(manipulator, case1, case1_result, cache,
                                              platform, coupling):
-    r = solve_pose(manipulator, case1, FemOptions(SIZE, platform=platform, coupling=coupling,
-                                                  cache_dir=cache))
+    r = solve_pose(manipulator, case1, options(SIZE, platform=platform, coupling=coupling),
+                  runtime(cache))
     f, ref = r.frequencies_hz, case1_result.frequencies_hz
     assert np.all(f > 50)
     # both options are softer: a distributing face does not stiffen the leg ends; an elastic
@@ -129,7 +138,7 @@ def test_other_platform_and_coupling_options(manipulator, case1, case1_result, c
 
 def test_refinement_study_reports_orders_and_errors(manipulator, case1, cache):
     study = refinement_study(manipulator, case1, [0.045, 0.04, 0.035],
-                             FemOptions(0.04, cache_dir=cache))
+                             options(0.04), runtime(cache))
     d = json.loads(json.dumps(study.to_dict()))
     assert len(d["frequencies_hz"]) == 3 and len(d["observed_order"]) == 6
     err = np.array(d["relative_error"])
@@ -174,35 +183,43 @@ def test_richardson_handles_exact_and_non_monotone_sequences():
 
 
 @pytest.mark.parametrize("kwargs,message", [
-    ({"mesh_size": -0.02}, "mesh_size = -0.02"),
-    ({"mesh_size": float("nan")}, "mesh_size = nan"),
-    ({"mesh_size": 0.02, "modes": 0}, "modes = 0"),
-    ({"mesh_size": 0.02, "coupling": "glue"}, "coupling = 'glue'"),
-    ({"mesh_size": 0.02, "platform": "soft"}, "platform = 'soft'"),
-    ({"mesh_size": 0.02, "rim_factor": 0.0}, "rim_factor = 0.0"),
+    ({"modes": 0}, "modes = 0"),
+    ({"coupling": "glue"}, "coupling = 'glue'"),
+    ({"platform": "soft"}, "platform = 'soft'"),
 ])
 def test_bad_options_raise_fem_error(kwargs, message):
-    with pytest.raises(FemError, match=message.replace("(", r"\(")):
-        FemOptions(**kwargs)
+    with pytest.raises(FemError, match=message):
+        options(0.02, **kwargs)
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"size": -0.02}, "size = -0.02 m: must be > 0 m"),
+    ({"size": float("nan")}, "size = nan m: expected a finite number"),
+    ({"size": 0.02, "rim_factor": 0.0}, "rim_factor = 0.0: must be > 0 and <= 1"),
+    ({"size": 0.02, "rim_zone": -1e-3}, "rim_zone = -0.001 m: must be >= 0 m"),
+])
+def test_bad_mesh_settings_name_the_value(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        MeshSettings(**kwargs)
 
 
 def test_bad_sizes_and_geometry_raise_fem_error(manipulator, case1, cache):
     with pytest.raises(FemError, match=r"mesh_size = 0.5 m: coarser than the leg diameter"):
-        solve_pose(manipulator, case1, FemOptions(0.5, cache_dir=cache))
+        solve_pose(manipulator, case1, options(0.5), runtime(cache))
     # folded even after the Netgen fallback: a real gmsh failure, refused
     with pytest.raises(FemError, match=r"mesh_size = 0.095 m: gmsh failed \(\d+ inverted"):
-        solve_pose(manipulator, case1, FemOptions(0.095, cache_dir=cache))
+        solve_pose(manipulator, case1, options(0.095), runtime(cache))
     with pytest.raises(FemError, match=r"mesh_size = 0.002 m: about \d+ dofs expected, above "
                                        r"max_dofs = 600000"):
-        solve_pose(manipulator, case1, FemOptions(0.002, cache_dir=cache))
+        solve_pose(manipulator, case1, options(0.002), runtime(cache))
     with pytest.raises(FemError, match="max_dofs = 5000"):
-        solve_pose(manipulator, case1, FemOptions(SIZE, max_dofs=5000, cache_dir=cache))
+        solve_pose(manipulator, case1, options(SIZE), runtime(cache, max_dofs=5000))
     zero = replace(case1, platform_points=case1.base_points.copy())
     with pytest.raises(FemError, match="leg 1 length = 0"):
-        solve_pose(manipulator, zero, FemOptions(SIZE, cache_dir=cache))
+        solve_pose(manipulator, zero, options(SIZE), runtime(cache))
     crossing = replace(case1, base_points=case1.base_points[[1, 0, 2]])
     with pytest.raises(FemError, match="legs 1 and 2"):
-        solve_pose(manipulator, crossing, FemOptions(SIZE, cache_dir=cache))
+        solve_pose(manipulator, crossing, options(SIZE), runtime(cache))
     assert not list(cache.glob(".*"))  # nothing half-written
 
 
@@ -211,7 +228,7 @@ def test_eigensolver_failure_is_a_fem_error(manipulator, case1, cache, monkeypat
         raise EigenError("ARPACK did not converge: 3 of 8 eigenpairs found")
     monkeypatch.setattr(fem_model, "lowest_modes", fail)
     with pytest.raises(FemError, match="eigensolver failed .ARPACK did not converge"):
-        solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=cache))
+        solve_pose(manipulator, case1, options(SIZE), runtime(cache))
 
 
 def test_gmsh_failure_is_a_fem_error(manipulator, case1, tmp_path, monkeypatch):
@@ -222,7 +239,7 @@ def test_gmsh_failure_is_a_fem_error(manipulator, case1, tmp_path, monkeypatch):
         raise GmshFailure("12 inverted curved tetrahedra (min scaled Jacobian -0.1)")
     monkeypatch.setattr(meshing.cache, "build_mesh", fail)
     with pytest.raises(FemError, match="mesh_size = 0.04 m: gmsh failed"):
-        solve_pose(manipulator, case1, FemOptions(SIZE, cache_dir=tmp_path))
+        solve_pose(manipulator, case1, options(SIZE), runtime(tmp_path))
     assert not list(tmp_path.iterdir())
 
 
@@ -234,7 +251,7 @@ def test_folded_first_mesh_is_rebuilt_with_the_netgen_fallback(scene):
 
     geom = pose_geometry(scene.manipulator, scene.case("case1_literal").pose)
     asm = pose_assembly(scene.manipulator, geom)
-    settings = FemOptions(0.04).mesh_settings
+    settings = MeshSettings(0.04)
     with pytest.raises(GmshFailure, match="inverted"):
         _build_with(asm, settings, {})
     mesh = build_mesh(asm, settings)

@@ -49,7 +49,7 @@ def mutated(path, value):
     (("analytical", "elements"), 0, "elements = 0"),
     (("analytical", "beam"), "rayleigh", "beam = 'rayleigh'"),
     (("fem", "refinement_mm"), [20.0, 28.0, 14.0], "must strictly decrease"),
-    (("fem", "refinement_mm"), [20.0, 14.0], "at least three sizes"),
+    (("fem", "refinement_mm"), [20.0, 14.0], "expected at least 3 numbers"),
     (("fem", "rim_factor"), 1.5, "rim_factor = 1.5"),
     (("calibration", "height", "reason"), "", "needs its reason"),
     (("cases", "case1", "tilt_deg"), 120.0, "tilt_deg = 120.0"),

@@ -1,0 +1,177 @@
+"""Settings declared once: a dataclass field carries its meaning, unit, range and scene key.
+
+A model's options are frozen dataclasses whose fields are declared with `setting(...)`. The same
+declaration
+- validates a value given from Python (`check_settings` in the dataclass's __post_init__),
+- reads and validates the scene file's key (`pipeline.scene` converts the edge unit to SI once),
+- documents the key (`docs/scenes.md` is generated from it),
+so a new knob is one field in one dataclass and one key in a scene file.
+
+Values inside the code are SI; `unit` names the unit at the edge (scene files, reports), and the
+scene key is the field name with that unit's suffix (`mesh_size` in mm -> `mesh_size_mm`).
+Ranges are declared in SI.
+"""
+from __future__ import annotations
+
+from dataclasses import MISSING, dataclass, field, fields, is_dataclass
+import math
+from typing import Any
+
+# edge unit -> (scene-key suffix, SI value of one edge unit, SI unit name)
+UNITS = {
+    None: ("", 1.0, ""),
+    "mm": ("_mm", 1e-3, "m"),
+    "deg": ("_deg", math.pi / 180.0, "rad"),
+    "GPa": ("_gpa", 1e9, "Pa"),
+    "kg/m3": ("_kg_m3", 1.0, "kg/m3"),
+}
+
+
+@dataclass(frozen=True)
+class Setting:
+    """What one field means and which values it admits (ranges in SI)."""
+
+    doc: str
+    unit: str | None = None  # unit at the edge
+    kind: type = float  # float, int, str, bool or tuple (of floats)
+    minimum: float | None = None
+    maximum: float | None = None
+    exclusive_minimum: bool = False
+    choices: tuple[str, ...] | None = None
+    length: int | None = None  # tuples: required length
+    min_length: int | None = None  # tuples: least length
+    scene: bool = True  # read from scene files
+    scene_required: bool = False  # a scene must give it even though Python has a default
+    scene_name: str | None = None  # scene key stem when it differs from the field name
+
+    def scene_key(self, name: str) -> str:
+        return (self.scene_name or name) + UNITS[self.unit][0]
+
+    @property
+    def scale(self) -> float:
+        return UNITS[self.unit][1]
+
+    def edge(self, value: float) -> float:
+        """An SI value in the edge unit."""
+        return value / self.scale
+
+    def range_text(self, edge: bool = True) -> str:
+        """The admitted values, in the edge unit (or in SI), unit included."""
+        if self.choices:
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        convert = self.edge if edge else float
+        parts = []
+        if self.minimum is not None:
+            parts.append(f"{'>' if self.exclusive_minimum else '>='} {convert(self.minimum):g}")
+        if self.maximum is not None:
+            parts.append(f"<= {convert(self.maximum):g}")
+        unit = (self.unit if edge else UNITS[self.unit][2]) or ""
+        return (" and ".join(parts) + (f" {unit}" if unit else "")) if parts else "any"
+
+    def problem(self, value: Any, edge: bool = False) -> str | None:
+        """Why an SI value is not admitted (message tail, limits in the edge unit or SI),
+        or None."""
+        if self.kind is bool:
+            return None if isinstance(value, bool) else "expected true or false"
+        if self.kind is str:
+            if not isinstance(value, str):
+                return "expected a string"
+            if self.choices and value not in self.choices:
+                return f"expected one of {', '.join(self.choices)}"
+            return None
+        if self.kind is tuple:
+            if not isinstance(value, tuple) or not all(_is_number(v) for v in value):
+                return "expected a list of numbers"
+            if self.length is not None and len(value) != self.length:
+                return f"expected {self.length} numbers"
+            if self.min_length is not None and len(value) < self.min_length:
+                return f"expected at least {self.min_length} numbers"
+            bad = [v for v in value if self._out_of_range(v)]
+            return None if not bad else f"every value must be {self.range_text(edge)}"
+        if self.kind is int and (isinstance(value, bool) or not isinstance(value, int)):
+            return "expected an integer"
+        if not _is_number(value):
+            return "expected a finite number"
+        if self._out_of_range(value):
+            return f"must be {self.range_text(edge)}"
+        return None
+
+    def _out_of_range(self, v: float) -> bool:
+        if self.minimum is not None and (v < self.minimum or (self.exclusive_minimum
+                                                              and v <= self.minimum)):
+            return True
+        return self.maximum is not None and v > self.maximum
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def setting(default: Any = MISSING, **spec) -> Any:
+    """A dataclass field with its declaration (see `Setting`)."""
+    return field(default=default, metadata={"setting": Setting(**spec)})
+
+
+def declared(cls_or_obj) -> list[tuple[str, Setting, Any]]:
+    """(name, Setting, default or MISSING) of every declared field, in order."""
+    out = []
+    for f in fields(cls_or_obj):
+        spec = f.metadata.get("setting")
+        if spec is not None:
+            out.append((f.name, spec, f.default))
+    return out
+
+
+def nested(cls_or_obj) -> list[tuple[str, type]]:
+    """(name, dataclass type) of the fields that hold settings dataclasses of their own."""
+    out = []
+    for f in fields(cls_or_obj):
+        if f.metadata.get("nested"):
+            out.append((f.name, f.metadata["nested"]))
+    return out
+
+
+def nested_setting(cls: type, default_factory=None) -> Any:
+    """A field holding another settings dataclass (read from the same scene table)."""
+    if default_factory is None:
+        return field(metadata={"nested": cls})
+    return field(default_factory=default_factory, metadata={"nested": cls})
+
+
+def check_settings(obj) -> None:
+    """Raise ValueError naming the first declared field whose value is not admitted."""
+    for name, spec, _ in declared(obj):
+        value = getattr(obj, name)
+        why = spec.problem(value)
+        if why is not None:
+            unit = UNITS[spec.unit][2]
+            shown = _short(value) + (f" {unit}" if unit and spec.kind is float
+                                     and isinstance(value, float) else "")
+            raise ValueError(f"{name} = {shown}: {why}")
+
+
+def _short(value: Any, limit: int = 80) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def as_dict(obj) -> dict:
+    """Every field of a dataclass, nested dataclasses and arrays included, as plain JSON-ready
+    values (floats rounded to 12 significant digits): the whole object, for cache keys."""
+    if not is_dataclass(obj):
+        raise TypeError(f"{obj!r} is not a dataclass")
+    return {f.name: _plain(getattr(obj, f.name)) for f in fields(obj)}
+
+
+def _plain(v: Any) -> Any:
+    if is_dataclass(v):
+        return as_dict(v)
+    if hasattr(v, "tolist") and hasattr(v, "dtype"):  # numpy array or scalar
+        return _plain(v.tolist())
+    if isinstance(v, (list, tuple)):
+        return [_plain(x) for x in v]
+    if isinstance(v, dict):
+        return {str(k): _plain(x) for k, x in v.items()}
+    if isinstance(v, float):
+        return float(f"{v:.12g}") if math.isfinite(v) else repr(v)
+    return v
