@@ -2,12 +2,25 @@
 
 A pose (height z, tilt-and-torsion angles phi, theta with zero torsion) gives the platform
 rotation (Eq. 1), the parasitic translation (Eq. 2), the joint points and leg vectors (Eq. 3),
-the R-joint axes, each limb's frame, and the joint rotation angles that Eq. (25) limits.
+the R-joint axes, each limb's frame, the chain of joints of every leg, and the joint rotation
+angles that Eq. (25) limits.
+
+Two joint orders (the scene's `base_joint` / `platform_joint`):
+- "R" at the base, "S" at the platform (the paper's equations, Eqs. 10-17): the R axis is
+  horizontal and perpendicular to O->B_i, so every A_i stays in the vertical plane through O and
+  B_i; Eq. (2) gives the parasitic translation.
+- "S" at the base, "R" at the platform (the paper's Section 2 text): the R axis is fixed in the
+  platform, tangent to the platform circle at A_i, so every B_i stays in the platform-fixed plane
+  through o, A_i and the platform normal. Seen from the platform this is the first mechanism
+  inverted (fixed and moving bodies swapped, radii r2 and r1, rotation R^T = Rz(phi) Ry(-theta)
+  Rz(-phi), again zero torsion), so Eq. (2) applied in the platform frame with radius r1 and
+  tilt -theta gives the base centre's offset, and the pose's height fixes the rest.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -54,11 +67,21 @@ def parasitic_translation(platform_radius: float, azimuth: float, tilt: float,
     return np.array([[c, -s], [s, c]]) @ xy_local
 
 
+class Joint(NamedTuple):
+    """One joint of a leg: its type, its centre, its axis (R joints), the body it joins."""
+
+    type: str  # "R" (revolute: one rotation about `axis`) or "S" (spherical: three rotations)
+    centre: np.ndarray  # (3,) joint centre, m
+    axis: np.ndarray | None  # (3,) unit axis of an R joint in base coordinates, None for S
+    body: str  # "base" (fixed) or "platform" (moving)
+
+
 @dataclass(frozen=True)
 class PoseGeometry:
     """Everything the elastic models need to know about one pose, in base coordinates (m).
 
-    Arrays are indexed by leg i = 0, 1, 2.
+    Arrays are indexed by leg i = 0, 1, 2. `joint_axes` are the R-joint axes, at whichever end
+    of the leg the R joint sits (`base_joint`, `platform_joint`).
     """
 
     rotation: np.ndarray  # (3, 3) platform-to-base rotation R, Eq. (1)
@@ -68,13 +91,27 @@ class PoseGeometry:
     joint_axes: np.ndarray  # (3, 3) unit R-joint axes, horizontal, perpendicular to OB_i
     leg_lengths: np.ndarray  # (3,) L_i = |B_i A_i|
     leg_frames: np.ndarray  # (3, 3, 3) limb-to-base rotations R_i; columns x_i, y_i, z_i
-    s_joint_angles: np.ndarray  # (3,) alpha_i: leg axis vs platform normal, rad
-    r_joint_angles: np.ndarray  # (3,) beta_i: leg axis vs base normal, about the R axis, rad
+    s_joint_angles: np.ndarray  # (3,) alpha_i: leg axis vs the S joint's body normal, rad
+    r_joint_angles: np.ndarray  # (3,) beta_i: leg axis vs the R joint's body normal, rad
+    base_joint: str = "R"
+    platform_joint: str = "S"
 
     @property
     def leg_directions(self) -> np.ndarray:
         """Unit vectors B_i -> A_i (the limb x_i axes)."""
         return self.leg_frames[:, :, 0]
+
+    @property
+    def leg_count(self) -> int:
+        return len(self.leg_lengths)
+
+    def leg_joints(self, leg: int) -> tuple[Joint, Joint]:
+        """The chain of leg `leg`: (joint at B_i on the base, joint at A_i on the platform)."""
+        def joint(kind, centre, body):
+            return Joint(kind, np.asarray(centre), self.joint_axes[leg] if kind == "R" else None,
+                         body)
+        return (joint(self.base_joint, self.base_points[leg], "base"),
+                joint(self.platform_joint, self.platform_points[leg], "platform"))
 
     def transformed(self, rotation: np.ndarray, translation=(0.0, 0.0, 0.0)) -> "PoseGeometry":
         """The same pose seen after a rigid motion x -> G x + t of the whole manipulator."""
@@ -90,6 +127,8 @@ class PoseGeometry:
             leg_frames=np.einsum("ab,ibc->iac", g, self.leg_frames),
             s_joint_angles=self.s_joint_angles.copy(),
             r_joint_angles=self.r_joint_angles.copy(),
+            base_joint=self.base_joint,
+            platform_joint=self.platform_joint,
         )
 
 
@@ -117,37 +156,46 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
             "closure (Eq. 2) needs legs 120 degrees apart"
         )
     rot = tilt_torsion_rotation(pose.azimuth, pose.tilt)
-    xy = parasitic_translation(m.platform_radius, pose.azimuth, pose.tilt, layout_angle)
-    centre = np.array([xy[0], xy[1], pose.height])
     radial = np.stack([np.cos(angles), np.sin(angles), np.zeros(3)], axis=1)
+    tangent = np.stack([-np.sin(angles), np.cos(angles), np.zeros(3)], axis=1)
+    if m.base_joint == "R":
+        xy = parasitic_translation(m.platform_radius, pose.azimuth, pose.tilt, layout_angle)
+        centre = np.array([xy[0], xy[1], pose.height])
+        axes = tangent  # horizontal, perpendicular to O->B_i
+    else:  # the inverted mechanism: the base centre seen from the platform follows Eq. (2)
+        xy = parasitic_translation(m.base_radius, pose.azimuth, -pose.tilt, layout_angle)
+        z_seen = -(pose.height + rot[2, 0] * xy[0] + rot[2, 1] * xy[1]) / rot[2, 2]
+        centre = -rot @ np.array([xy[0], xy[1], z_seen])
+        axes = tangent @ rot.T  # fixed in the platform, tangent to its circle at A_i
     base_points = m.base_radius * radial
     platform_points = centre + (m.platform_radius * radial) @ rot.T  # Eq. (3): Oo + R oA_i
-    axes = np.stack([-np.sin(angles), np.cos(angles), np.zeros(3)], axis=1)
     legs = platform_points - base_points  # B_i A_i, Eq. (3)
     lengths = np.linalg.norm(legs, axis=1)
     if np.any(lengths < 1e-12):
         raise PoseError(f"leg lengths {lengths.tolist()} m: a leg has zero length")
     x_axes = legs / lengths[:, None]
-    # The R joint only admits legs perpendicular to its axis (A_i in the joint's plane).
+    # The R joint only admits legs perpendicular to its axis.
     off_plane = np.abs(np.einsum("ij,ij->i", x_axes, axes))
     if np.any(off_plane > 1e-9):
         raise PoseError(
             f"leg directions leave the R-joint planes by {off_plane.max():.3g} (cosine): "
             "the pose violates the revolute-joint closure"
         )
-    z_axes = np.stack([  # x_i x y_i
-        x_axes[:, 1] * axes[:, 2] - x_axes[:, 2] * axes[:, 1],
-        x_axes[:, 2] * axes[:, 0] - x_axes[:, 0] * axes[:, 2],
-        x_axes[:, 0] * axes[:, 1] - x_axes[:, 1] * axes[:, 0],
-    ], axis=1)
+    z_axes = np.cross(x_axes, axes)
     frames = np.stack([x_axes, axes, z_axes], axis=2)
-    normal = rot[:, 2]
-    s_angles = np.arccos(np.clip(x_axes @ normal, -1.0, 1.0))
-    # beta_i: signed rotation of the leg about the R axis, from vertical (positive leans outward)
-    outward = np.einsum("ij,ij->i", x_axes, radial)
-    r_angles = np.arctan2(outward, x_axes[:, 2])
+    base_normal, platform_normal = np.array([0.0, 0.0, 1.0]), rot[:, 2]
+    s_normal = platform_normal if m.platform_joint == "S" else base_normal
+    s_angles = np.arccos(np.clip(x_axes @ s_normal, -1.0, 1.0))
+    # beta_i: signed rotation of the leg about the R axis from the normal of the R joint's
+    # body (positive leans outward)
+    if m.base_joint == "R":
+        outward, upward = np.einsum("ij,ij->i", x_axes, radial), x_axes[:, 2]
+    else:
+        outward = np.einsum("ij,ij->i", x_axes, radial @ rot.T)
+        upward = x_axes @ platform_normal
+    r_angles = np.arctan2(outward, upward)
     geom = PoseGeometry(rot, centre, base_points, platform_points, axes, lengths, frames,
-                        s_angles, r_angles)
+                        s_angles, r_angles, m.base_joint, m.platform_joint)
     if check_limits:
         check_joint_limits(manipulator, geom)
     return geom

@@ -45,7 +45,7 @@ def leg_displacements(model: SubstructureModel, shapes: np.ndarray) -> np.ndarra
     """
     s = model.elements
     out = np.stack([t @ shapes for t in model.leg_maps])
-    return out.reshape(3, s + 1, 6, shapes.shape[1])
+    return out.reshape(len(model.leg_maps), s + 1, 6, shapes.shape[1])
 
 
 def platform_motion(model: SubstructureModel, shapes: np.ndarray) -> np.ndarray:
@@ -71,8 +71,9 @@ def leg_axis_displacements(model: SubstructureModel, leg_frames: np.ndarray,
     xi = t * s - element
     h1, h2 = 1 - 3 * xi**2 + 2 * xi**3, xi - 2 * xi**2 + xi**3
     h3, h4 = 3 * xi**2 - 2 * xi**3, -xi**2 + xi**3
-    out = np.empty((3, len(t), 3, shapes.shape[1]))
-    for i in range(3):
+    legs = len(model.leg_maps)
+    out = np.empty((legs, len(t), 3, shapes.shape[1]))
+    for i in range(legs):
         frame = leg_frames[i]
         length = np.linalg.norm(model.leg_nodes[i, -1] - model.leg_nodes[i, 0]) / s
         local_u = np.einsum("ba,kbn->kan", frame, nodal[i, :, :3, :])  # R_i^T u

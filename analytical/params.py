@@ -85,6 +85,12 @@ class Manipulator:
                                   doc="joint at the platform end of every leg (the paper's "
                                   "equations: S)")
 
+    def __post_init__(self) -> None:
+        if {self.base_joint, self.platform_joint} != {"R", "S"}:
+            raise ValueError(f"base_joint = {self.base_joint!r}, platform_joint = "
+                             f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
+                             "(R-P-S or S-P-R)")
+
     def scaled(self, length_factor: float) -> "Manipulator":
         """The same manipulator with every length multiplied by `length_factor`."""
         k = length_factor

@@ -14,7 +14,12 @@ The independent coordinates (Eq. 19), per leg i then for the platform, are
 
     q = [phi_1, u_in,1, Phi_A1, phi_2, u_in,2, Phi_A2, phi_3, u_in,3, Phi_A3, Delta_p, Phi_p]
 
-with 6s - 2 per leg and 6 for the platform: 18 s in all. Every constrained leg coordinate is a
+with 6s - 2 per leg and 6 for the platform: 18 s in all. With the joint order of the paper's
+Section 2 text (S at B_i, R at A_i with its axis fixed in the platform) the same count holds:
+per leg [Phi_Bi (3), u_in,i, phi_i (1)], the S joint's leg end fixed in translation with a free
+rotation, the R joint's leg end translating with the platform (Eq. 10) and turning with it
+plus phi_i about the joint axis. Each joint type maps to its block in `_joint_rows`; the
+kinematics hands every leg its chain of joints. Every constrained leg coordinate is a
 linear function of q, U_leg,i = T_i q, which plays the role of the product of the paper's H_i
 (Eq. 12) and Q (Eq. 21); K = sum T_i^T K_i T_i and M = sum T_i^T M_i T_i + T_p^T M_p T_p
 (Eqs. 13 and 22).
@@ -72,20 +77,52 @@ def r_joint_direction(axis: np.ndarray, form: str) -> np.ndarray:
     raise ValueError(f"r_joint_coordinate = {form!r}: expected axis or paper-eq18")
 
 
-def _leg_map(s: int, leg: int, axis_dir: np.ndarray, arm: np.ndarray) -> np.ndarray:
-    """T_i: leg nodal coordinates (base frame) in terms of q (Eqs. 10, 12, 17, 21)."""
+JOINT_COORDINATES = {"R": 1, "S": 3}  # independent rotations a joint leaves free
+
+
+def _joint_rows(joint, first: int, n_q: int, platform: int, arm: np.ndarray,
+                r_form: str) -> np.ndarray:
+    """(6, n_q): the six nodal coordinates (translation, rotation) of the leg end at `joint`
+    in terms of q, the joint's own coordinates starting at column `first`.
+
+    - body "base": Delta = 0 (Eqs. 14-16); body "platform": Delta = Delta_p + Phi_p x arm
+      (Eq. 10), arm = joint centre - o.
+    - "S": the leg end's rotation is free (three coordinates, Eq. 10).
+    - "R": the leg end turns with its body plus one rotation about the joint axis,
+      Phi = Phi_body + axis phi (Eqs. 16-17 on the fixed base, where Phi_body = 0).
+    """
+    rows = np.zeros((6, n_q))
+    if joint.body == "platform":
+        rows[:3, platform:platform + 3] = np.eye(3)
+        rows[:3, platform + 3:platform + 6] = -skew(arm)
+    if joint.type == "S":
+        rows[3:, first:first + 3] = np.eye(3)
+    else:
+        rows[3:, first] = r_joint_direction(joint.axis, r_form)
+        if joint.body == "platform":
+            rows[3:, platform + 3:platform + 6] = np.eye(3)
+    return rows
+
+
+def _leg_map(s: int, leg: int, joints, arm: np.ndarray, r_form: str) -> np.ndarray:
+    """T_i: leg nodal coordinates (base frame) in terms of q (Eqs. 10, 12, 17, 21).
+
+    Per leg, q holds the base joint's free rotations, the interior nodes' six coordinates and
+    the platform joint's free rotations: 6 s - 2 in all for an R and an S joint.
+    """
     n_q = 18 * s
     per_leg = 6 * s - 2
     first = leg * per_leg
-    t = np.zeros((6 * (s + 1), n_q))
-    t[3:6, first] = axis_dir  # R joint: Phi_B = axis * phi; Delta_B = 0
+    platform = 3 * per_leg
+    base, top = joints
+    nb = JOINT_COORDINATES[base.type]
     inner = 6 * (s - 1)
-    t[6:6 + inner, first + 1:first + 1 + inner] = np.eye(inner)  # interior nodes
-    top = 6 * s
-    p = 3 * per_leg
-    t[top:top + 3, p:p + 3] = np.eye(3)  # S joint, Eq. (10): Delta_A = Delta_p + Phi_p x arm
-    t[top:top + 3, p + 3:p + 6] = -skew(arm)
-    t[top + 3:top + 6, first + 1 + inner:first + 4 + inner] = np.eye(3)  # Phi_A free
+    if nb + inner + JOINT_COORDINATES[top.type] != per_leg:
+        raise ValueError(f"joints {base.type}-{top.type}: a leg needs one R and one S joint")
+    t = np.zeros((6 * (s + 1), n_q))
+    t[0:6] = _joint_rows(base, first, n_q, platform, arm, r_form)
+    t[6:6 + inner, first + nb:first + nb + inner] = np.eye(inner)  # interior nodes
+    t[6 * s:] = _joint_rows(top, first + nb + inner, n_q, platform, arm, r_form)
     return t
 
 
@@ -106,19 +143,20 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
     mat = manipulator.material
     section = Section.solid_circle(manipulator.leg_diameter, mat.poisson_ratio,
                                    options.shear_coefficient)
+    if geometry.leg_count != 3:
+        raise ValueError(f"{geometry.leg_count} legs: the substructure model is for three")
     n_q = 18 * s
     k_total = np.zeros((n_q, n_q))
     m_total = np.zeros((n_q, n_q))
     maps = []
-    nodes = np.empty((3, s + 1, 3))
+    nodes = np.empty((geometry.leg_count, s + 1, 3))
     stations = np.linspace(0.0, 1.0, s + 1)
-    for i in range(3):
+    for i in range(geometry.leg_count):
         k_local, m_local = assemble_beam(mat.youngs_modulus, mat.shear_modulus, mat.density,
                                          section, float(geometry.leg_lengths[i]), s,
                                          options.beam)
         arm = geometry.platform_points[i] - geometry.platform_centre
-        t = _leg_map(s, i, r_joint_direction(geometry.joint_axes[i],
-                                             options.r_joint_coordinate), arm)
+        t = _leg_map(s, i, geometry.leg_joints(i), arm, options.r_joint_coordinate)
         local = _to_limb_frame(t, geometry.leg_frames[i])  # u_i = T_i^T T q, Eqs. (5)-(6)
         k_total += local.T @ k_local @ local
         m_total += local.T @ m_local @ local

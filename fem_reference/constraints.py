@@ -5,12 +5,15 @@ independent coordinates q, and the reduced matrices are T^T K T and T^T M T (as 
 Q^T K_r Q, Eqs. 20-22). Each leg end face is tied to a reference point at its joint centre (the
 face centre): B_i for the base face, A_i for the top face.
 
-Joints (paper Section 3.2):
-- R joint at B_i (Eqs. 14-17): the reference point does not translate, Delta_Bi = 0, and only
-  its rotation about the joint axis a_i is free, Phi_Bi = a_i phi_i: one coordinate phi_i per
-  leg (the regular choice; the paper's Eq. (18) ratio form is singular for some layouts).
-- S joint at A_i (Eq. 10): the leg-top reference point translates with the platform,
-  Delta_Ai = Delta_p + Phi_p x (A_i - o) (rigid platform), and its rotation psi_i is free.
+Joints (paper Section 3.2), one block per joint of each leg's chain (the kinematics says which
+joint sits at which end; the paper's equations put R at B_i and S at A_i, its Section 2 text the
+other way round):
+- the reference point translates with the joint's body: not at all on the base (Eqs. 14-16),
+  with the platform on it, Delta = Delta_p + Phi_p x (x_ref - o) (Eq. 10, rigid platform);
+- R joint (Eqs. 16-17): the reference point turns with its body plus one rotation phi_i about
+  the joint axis a_i (the regular choice; the paper's Eq. (18) ratio form is singular for some
+  layouts);
+- S joint (Eq. 10): the reference point's rotation psi_i is free.
 
 Face coupling (how the face nodes follow the reference point):
 - "rigid" (RBE2-like, default): every face node moves rigidly with the reference point,
@@ -231,13 +234,15 @@ def patch_weights(disc: Discretisation, body: str, centre: np.ndarray, radius: f
     return nodes, w / w.sum()
 
 
-def build_constraints(disc: Discretisation, geometry, coupling: str = "rigid",
+def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = "rigid",
                       platform: str = "rigid", patch_radius: float | None = None
                       ) -> ConstraintMap:
-    """T for the 3-RPS joints on the meshed legs (and plate), see the module docstring.
+    """T for the joints of every leg on the meshed legs (and plate), see the module docstring.
 
-    `geometry` is an `analytical.kinematics.PoseGeometry`. With platform="rigid" the last six
-    coordinates are the platform's (Delta_p, Phi_p) at o, Eq. (7).
+    `geometry` is an `analytical.kinematics.PoseGeometry` (its chain of joints per leg);
+    `assembly` the `meshing.bodies.Assembly` that was meshed (its leg cylinders name the faces).
+    With platform="rigid" the last six coordinates are the platform's (Delta_p, Phi_p) at o,
+    Eq. (7).
     """
     if coupling not in COUPLINGS:
         raise ValueError(f"coupling = {coupling!r}: expected one of {', '.join(COUPLINGS)}")
@@ -246,51 +251,60 @@ def build_constraints(disc: Discretisation, geometry, coupling: str = "rigid",
     xyz = disc.node_xyz
     o = np.asarray(geometry.platform_centre, float)
     projections, references = {}, {}
-    n_legs = len(geometry.base_points)
+    legs = assembly.cylinders
+    if len(legs) != geometry.leg_count:
+        raise ValueError(f"{len(legs)} meshed legs for a pose of {geometry.leg_count}")
+    if platform != "rigid" and "R" == geometry.platform_joint:
+        raise ValueError("platform = 'elastic' with R joints on the platform: the rotation of "
+                         "an elastic plate at a joint is not defined here (use a rigid platform)")
     if coupling == "rigid":
-        phi = bld.add_extra("phi", n_legs)
-        psi = bld.add_extra("psi", 3 * n_legs).reshape(n_legs, 3)
+        phi = bld.add_extra("phi", len(legs))  # one rotation per R joint
+        psi = bld.add_extra("psi", 3 * len(legs)).reshape(len(legs), 3)  # three per S joint
     plat = bld.add_extra("platform", 6) if platform == "rigid" else None
-    for i in range(n_legs):
-        b_i = np.asarray(geometry.base_points[i], float)
-        a_i = np.asarray(geometry.platform_points[i], float)
-        axis = np.asarray(geometry.joint_axes[i], float)
-        base, top = f"leg{i + 1}_base", f"leg{i + 1}_top"
-        for face, ref in ((base, b_i), (top, a_i)):
+    for i, leg in enumerate(legs):
+        for face, joint in zip((leg.start_face, leg.end_face), geometry.leg_joints(i)):
+            ref = np.asarray(joint.centre, float)
             projections[face] = face_projection(disc, face, ref)
             references[face] = ref
-        # platform translation at A_i as (columns, 3 x n values, extra?)  -- Eq. (10)
-        if platform == "rigid":
-            t_cols, t_vals, t_extra = plat, np.hstack([np.eye(3), -skew(a_i - o)]), True
-        else:
-            radius = patch_radius if patch_radius is not None else _leg_radius(disc, i)
-            pn, pw = patch_weights(disc, "platform", a_i, radius)
-            t_cols = (3 * pn[None, :] + np.arange(3)[:, None]).ravel()  # component-major
-            t_vals = np.zeros((3, 3 * len(pn)))
-            for c in range(3):
-                t_vals[c, c * len(pn):(c + 1) * len(pn)] = pw
-            t_extra = False
-        if coupling == "rigid":
-            # R joint, Eqs. (16)-(17): Delta_B = 0, Phi_B = a_i phi_i
-            _rigid_face(bld, disc.face_nodes[base], xyz, b_i, None, None, True,
-                        phi[i:i + 1], axis[:, None])
-            # S joint, Eq. (10): Delta_A = platform motion at A_i, rotation psi_i free
-            _rigid_face(bld, disc.face_nodes[top], xyz, a_i, t_cols, t_vals, t_extra,
-                        psi[i], np.eye(3))
-        else:
-            pb = projections[base]
-            normal_rot = la.null_space(axis[None, :]).T  # (2, 3): rotations normal to a_i
-            c_base = np.vstack([pb.matrix[:3], normal_rot @ pb.matrix[3:]])
-            fd = (3 * pb.nodes[:, None] + np.arange(3)).ravel()
-            _eliminate(bld, fd, c_base, None, None, False)
-            pt = projections[top]
-            fd = (3 * pt.nodes[:, None] + np.arange(3)).ravel()
-            _eliminate(bld, fd, pt.matrix[:3], t_cols, t_vals, t_extra)
+            # translation of the reference point imposed by the joint's body: none on the base;
+            # the platform's motion at the joint centre, Eq. (10)
+            if joint.body == "base":
+                t_cols = t_vals = None
+                t_extra = True
+            elif platform == "rigid":
+                t_cols, t_vals, t_extra = plat, np.hstack([np.eye(3), -skew(ref - o)]), True
+            else:
+                radius = patch_radius if patch_radius is not None else leg.radius
+                pn, pw = patch_weights(disc, "platform", ref, radius)
+                t_cols = (3 * pn[None, :] + np.arange(3)[:, None]).ravel()  # component-major
+                t_vals = np.zeros((3, 3 * len(pn)))
+                for c in range(3):
+                    t_vals[c, c * len(pn):(c + 1) * len(pn)] = pw
+                t_extra = False
+            on_platform = joint.body == "platform"
+            if coupling == "rigid":
+                if joint.type == "S":  # Eq. (10): rotation free
+                    r_cols, r_map = psi[i], np.eye(3)
+                else:  # Eqs. (16)-(17): the body's rotation plus phi_i about the axis
+                    r_cols, r_map = phi[i:i + 1], np.asarray(joint.axis, float)[:, None]
+                    if on_platform:
+                        r_cols = np.concatenate([r_cols, plat[3:]])
+                        r_map = np.hstack([r_map, np.eye(3)])
+                _rigid_face(bld, disc.face_nodes[face], xyz, ref, t_cols, t_vals, t_extra,
+                            r_cols, r_map)
+                continue
+            proj = projections[face]
+            fd = (3 * proj.nodes[:, None] + np.arange(3)).ravel()
+            if joint.type == "S":
+                _eliminate(bld, fd, proj.matrix[:3], t_cols, t_vals, t_extra)
+                continue
+            # R: the face's mean rotation normal to the axis follows its body
+            normal_rot = la.null_space(np.asarray(joint.axis, float)[None, :]).T  # (2, 3)
+            c = np.vstack([proj.matrix[:3], normal_rot @ proj.matrix[3:]])
+            if not on_platform:
+                _eliminate(bld, fd, c, None, None, False)
+            else:
+                rhs = np.vstack([t_vals, np.hstack([np.zeros((2, 3)), normal_rot])])
+                _eliminate(bld, fd, c, plat, rhs, True)
     t, retained, columns = bld.finish()
     return ConstraintMap(t, n_raw, retained, columns, projections, references)
-
-
-def _leg_radius(disc: Discretisation, i: int) -> float:
-    p = disc.face_nodes[f"leg{i + 1}_base"]
-    x = disc.node_xyz[p]
-    return float(np.linalg.norm(x - x.mean(axis=0), axis=1).max())

@@ -112,6 +112,7 @@ class FemResult:
     n_elements: int
     options: FemOptions
     geometry: object = field(repr=False)  # analytical.kinematics.PoseGeometry
+    assembly: Assembly = field(repr=False)  # the meshed bodies (names of legs and faces)
     disc: Discretisation = field(repr=False)
     constraints: ConstraintMap = field(repr=False)
     modes_q: np.ndarray = field(repr=False)  # (n_free, modes), M-orthonormal
@@ -127,14 +128,15 @@ class FemResult:
         if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
             raise FemError(f"fractions = {np.asarray(fractions).tolist()!r}: need values in "
                            "[0, 1]")
-        g = self.geometry
-        out = np.zeros((len(g.base_points), len(t), 3, self.modes_raw.shape[1]))
-        for i, (b, a) in enumerate(zip(g.base_points, g.platform_points)):
+        legs = self.assembly.cylinders
+        out = np.zeros((len(legs), len(t), 3, self.modes_raw.shape[1]))
+        for i, leg in enumerate(legs):
+            b, a = np.asarray(leg.start), np.asarray(leg.end)
             inner = (t > 1e-9) & (t < 1 - 1e-9)
             if inner.any():
                 pts = b + t[inner, None] * (a - b)
-                out[i, inner] = probes.evaluate(self.disc, f"leg{i + 1}", pts, self.modes_raw)
-            for end, face in ((0.0, f"leg{i + 1}_base"), (1.0, f"leg{i + 1}_top")):
+                out[i, inner] = probes.evaluate(self.disc, leg.name, pts, self.modes_raw)
+            for end, face in ((0.0, leg.start_face), (1.0, leg.end_face)):
                 sel = np.abs(t - end) <= 1e-9
                 if sel.any():
                     out[i, sel] = self.constraints.reference_motion(face, self.modes_raw)[:3]
@@ -220,7 +222,10 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         raise FemError(f"mesh_size = {settings.size:g} m: {disc.n_dofs} dofs, above max_dofs = "
                        f"{runtime.max_dofs}")
     k, m = stiffness_and_mass(disc, manipulator.material)
-    cmap = build_constraints(disc, geometry, options.coupling, options.platform)
+    try:
+        cmap = build_constraints(disc, geometry, assembly, options.coupling, options.platform)
+    except ValueError as exc:
+        raise FemError(str(exc)) from None
     t_ = cmap.T
     kq = (t_.T @ k @ t_).tocsr()
     mq = (t_.T @ m @ t_).tocsr()
@@ -252,6 +257,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         n_elements=int(len(solid.tets)),
         options=options,
         geometry=geometry,
+        assembly=assembly,
         disc=disc,
         constraints=cmap,
         modes_q=vq,

@@ -27,6 +27,16 @@ class Cylinder:
     radius: float  # m
 
     @property
+    def start_face(self) -> str:
+        """Name of the planar end face at `start` (the base joint's face)."""
+        return f"{self.name}_base"
+
+    @property
+    def end_face(self) -> str:
+        """Name of the planar end face at `end` (the platform joint's face)."""
+        return f"{self.name}_top"
+
+    @property
     def length(self) -> float:
         return float(np.linalg.norm(np.subtract(self.end, self.start)))
 
@@ -118,6 +128,11 @@ def segment_distance(p0, p1, q0, q1) -> float:
     return float(np.linalg.norm((p0 + s * d1) - (q0 + t * d2)))
 
 
+def leg_name(index: int) -> str:
+    """Body name of leg `index` (0-based): "leg1", "leg2", ..."""
+    return f"leg{index + 1}"
+
+
 def leg_cylinders(base_points, platform_points, diameter: float) -> tuple[Cylinder, ...]:
     """Three leg cylinders B_i -> A_i, checked for zero length and for touching each other."""
     if not (isinstance(diameter, (int, float)) and math.isfinite(diameter) and diameter > 0):
@@ -130,7 +145,7 @@ def leg_cylinders(base_points, platform_points, diameter: float) -> tuple[Cylind
         if length < diameter / 2:
             raise GeometryError(f"leg {i + 1} length = {length:.6g} m: zero or shorter than the "
                                 f"leg radius {diameter / 2:g} m (degenerate leg)")
-        legs.append(Cylinder(f"leg{i + 1}", b, a, diameter / 2))
+        legs.append(Cylinder(leg_name(i), b, a, diameter / 2))
     for i in range(len(legs)):
         for j in range(i + 1, len(legs)):
             gap = segment_distance(legs[i].start, legs[i].end, legs[j].start, legs[j].end)

@@ -190,7 +190,7 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
     faces = {}  # name -> surface tag
     for cyl, (_, vtag) in zip(assembly.cylinders, volumes):
         base, top = _face_tags([(3, vtag)], cyl, model)
-        faces[f"{cyl.name}_base"], faces[f"{cyl.name}_top"] = base, top
+        faces[cyl.start_face], faces[cyl.end_face] = base, top
     for k, (name, vtag) in enumerate(volumes):
         model.setPhysicalName(3, model.addPhysicalGroup(3, [vtag], k + 1), name)
     face_names = sorted(faces)

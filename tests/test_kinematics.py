@@ -94,3 +94,59 @@ def test_irregular_leg_layout_is_refused(manipulator):
     m = replace(manipulator, leg_angles=(0.0, 2.0, 4.0))
     with pytest.raises(PoseError, match="120 degrees apart"):
         pose_geometry(m, Pose(0.55))
+
+
+# The joint order of the paper's Section 2 text: S at the base, R at the platform.
+
+def section2(manipulator):
+    return replace(manipulator, base_joint="S", platform_joint="R")
+
+
+@settings(max_examples=60)
+@given(angles, tilts, st.floats(0.45, 0.75))
+def test_section2_order_keeps_every_base_joint_in_its_platform_fixed_r_plane(manipulator, phi,
+                                                                            theta, z):
+    """R at A_i with its axis tangent to the platform circle: B_i - o is perpendicular to the
+    axis, the leg too, and the height and the rotation are the pose's."""
+    g = pose_geometry(section2(manipulator), Pose(z, phi, theta), check_limits=False)
+    assert np.abs(np.einsum("ij,ij->i", g.base_points - g.platform_centre,
+                            g.joint_axes)).max() < 1e-12
+    assert np.allclose(np.einsum("ij,ij->i", g.leg_directions, g.joint_axes), 0, atol=1e-12)
+    assert g.platform_centre[2] == pytest.approx(z, abs=1e-14)
+    np.testing.assert_allclose(g.rotation, tilt_torsion_rotation(phi, theta), atol=1e-15)
+    # the axes are fixed in the platform: tangent to its circle in the platform frame
+    local = g.joint_axes @ g.rotation
+    radial = (g.platform_points - g.platform_centre) @ g.rotation
+    np.testing.assert_allclose(local[:, 2], 0.0, atol=1e-14)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", local, radial), 0.0, atol=1e-14)
+
+
+@settings(max_examples=30)
+@given(angles, tilts)
+def test_section2_order_is_the_paper_mechanism_seen_from_the_platform(manipulator, phi, theta):
+    """Swapping fixed and moving bodies (radii r1 <-> r2, rotation R^T) maps one joint order
+    onto the other: the relative positions of the joints agree."""
+    m = section2(manipulator)
+    g = pose_geometry(m, Pose(0.55, phi, theta), check_limits=False)
+    b_seen = (g.base_points - g.platform_centre) @ g.rotation  # B_i in the platform frame
+    inverted = replace(manipulator, base_radius=m.platform_radius,
+                       platform_radius=m.base_radius)
+    # (the height only shifts the inverted mechanism along its normal: Eq. (2) does not use it)
+    gi = pose_geometry(inverted, Pose(0.55, phi, -theta), check_limits=False)
+    # the inverted mechanism's moving joints, relative to its centre, equal B_i seen from o
+    np.testing.assert_allclose(gi.platform_points - gi.platform_centre,
+                               b_seen - b_seen.mean(axis=0), atol=1e-12)
+    np.testing.assert_allclose(gi.platform_centre[:2], b_seen.mean(axis=0)[:2], atol=1e-12)
+
+
+def test_section2_level_pose_is_the_same_geometry(manipulator):
+    a = pose_geometry(manipulator, Pose(0.55))
+    b = pose_geometry(section2(manipulator), Pose(0.55))
+    np.testing.assert_allclose(a.platform_points, b.platform_points, atol=1e-15)
+    assert [j.type for j in b.leg_joints(0)] == ["S", "R"]
+    assert b.leg_joints(0)[1].body == "platform" and b.leg_joints(0)[1].axis is not None
+
+
+def test_a_leg_needs_one_r_and_one_s_joint(manipulator):
+    with pytest.raises(ValueError, match="base_joint = 'R', platform_joint = 'R'"):
+        replace(manipulator, platform_joint="R")

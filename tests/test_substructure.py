@@ -163,3 +163,40 @@ def test_axis_interpolation_hits_the_nodes_and_is_smooth(manipulator):
     fine_f = leg_axis_displacements(fine.model, fine.geometry.leg_frames, fine.modal.shapes, t)
     sign = np.sign(np.sum(coarse_f * fine_f))
     assert np.abs(coarse_f - sign * fine_f).max() < 0.02 * np.abs(fine_f).max()
+
+
+@pytest.mark.parametrize("beam", THEORIES)
+def test_section2_joint_order_keeps_symmetry_invariance_and_18s_coordinates(manipulator, beam):
+    """S at the base, R at the platform: the same coordinate count (Eq. 19), repeated pairs at
+    the symmetric pose, frequencies unchanged by a rigid motion of the whole manipulator."""
+    m = replace(manipulator, base_joint="S", platform_joint="R")
+    f = natural_frequencies(m, Pose(0.5436), ModelOptions(beam=beam, modes=6))
+    assert f[1] / f[0] - 1 < 1e-6 and f[5] / f[4] - 1 < 1e-6
+    opts = ModelOptions(beam=beam, elements=4, modes=10)
+    geom = pose_geometry(m, CASE2)
+    model = assemble(m, geom, opts)
+    assert model.stiffness.shape == (72, 72)
+    assert np.linalg.eigvalsh(model.stiffness).min() > 0
+    reference = analyse(m, CASE2, opts).frequencies_hz
+    turn = Rotation.from_rotvec([0.3, -1.1, 0.4]).as_matrix()
+    moved = analyse(m, CASE2, opts, geometry=geom.transformed(turn, (0.2, -0.1, 0.3)))
+    np.testing.assert_allclose(moved.frequencies_hz, reference, rtol=1e-9)
+
+
+def test_section2_r_joint_turns_with_the_platform(manipulator):
+    """The leg top at an R joint on the platform rotates as the platform plus phi about the
+    platform-fixed axis; the leg bottom at an S joint stays in place and rotates freely."""
+    m = replace(manipulator, base_joint="S", platform_joint="R")
+    geom = pose_geometry(m, CASE2)
+    res = analyse(m, CASE2, ModelOptions(elements=3, modes=6))
+    nodal = leg_displacements(res.model, res.modal.shapes)  # (3, s+1, 6, n)
+    plat = platform_motion(res.model, res.modal.shapes)
+    for i in range(3):
+        np.testing.assert_allclose(nodal[i, 0, :3], 0.0, atol=1e-12)
+        arm = geom.platform_points[i] - geom.platform_centre
+        np.testing.assert_allclose(nodal[i, -1, :3], plat[:3] + np.cross(plat[3:].T, arm).T,
+                                   atol=1e-12)
+        relative = nodal[i, -1, 3:] - plat[3:]
+        axis = geom.joint_axes[i]
+        np.testing.assert_allclose(relative - np.outer(axis, axis @ relative), 0.0,
+                                   atol=1e-12)
