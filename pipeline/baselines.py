@@ -30,7 +30,6 @@ from .scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = ROOT / "tests" / "baselines" / "error_tables.json"
-CASES = ("case1", "case2")
 ERROR_TOLERANCE_PP = 0.02
 MAC_TOLERANCE = 0.005
 FREQUENCY_TOLERANCE = 2e-4  # relative, on each model's own frequencies
@@ -49,7 +48,7 @@ def compute_tables(scene_path: str | Path, mesh_size: float, cache_dir: Path | N
     scene = replace(scene, analytical=replace(scene.analytical, **analytical_overrides))
     cache = ResultCache(cache_dir)
     out = {}
-    for name in CASES:
+    for name in scene.ci_cases:
         case = scene.case(name)
         geometry = pose_geometry(scene.manipulator, case.pose)
         fem = fem_case(scene, geometry, cache, mesh_size)

@@ -77,7 +77,8 @@ def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pipeline.bench")
     parser.add_argument("--scene", default="scenes/paper.toml")
-    parser.add_argument("--case", default="case2")
+    parser.add_argument("--case", default=None,
+                        help="case to time (default: the scene's last CI case)")
     parser.add_argument("--out", default="out/bench.json")
     parser.add_argument("--runs", type=int, default=200, help="analytical repetitions")
     parser.add_argument("--fem-runs", type=int, default=3, help="FEM repetitions per size")
@@ -85,6 +86,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         scene = load_scene(args.scene)
+        if args.case is None:
+            args.case = scene.ci_cases[-1]
         analytical = bench_analytical(scene, args.case, args.runs)
         result = {
             "machine": {"python": sys.version.split()[0], "platform": platform.platform(),

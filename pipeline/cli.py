@@ -51,7 +51,7 @@ def _positive_mm(text: str) -> float:
 
 def _scene_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scene", default="scenes/paper.toml", help="scene file (TOML)")
-    p.add_argument("--case", default="case1", help="case name in the scene")
+    p.add_argument("--case", default=None, help="case name in the scene (default: its first)")
     p.add_argument("--height", type=_finite, metavar="MM",
                    help="platform height z in mm (overrides the case's pose)")
     p.add_argument("--azimuth", type=_finite, metavar="DEG", help="tilt azimuth phi in degrees")
@@ -61,7 +61,7 @@ def _scene_args(p: argparse.ArgumentParser) -> None:
 
 def _case(scene, args):
     """The named case, its pose overridden by --height/--azimuth/--tilt (mm, deg at the edge)."""
-    case = scene.case(args.case)
+    case = scene.case(args.case if args.case is not None else next(iter(scene.cases)))
     pose = case.pose
     if args.height is not None:
         pose = replace(pose, height=args.height * 1e-3)

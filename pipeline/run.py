@@ -27,6 +27,7 @@ from analytical.kinematics import PoseError, pose_geometry
 
 from . import studies, tables
 from .cache import ResultCache
+from .joint_orders import joint_order_study
 from .compare import STATIONS, analytical_case, error_table, fem_case
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
@@ -273,7 +274,7 @@ def speed_vs_error(scene: Scene, case: Case, fem: dict, reference, refinement) -
 def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
              build_report: bool = True) -> dict:
     scene = load_scene(scene_path)
-    case_names = list(scene.cases) if profile == "full" else ["case1", "case2"]
+    case_names = list(scene.cases) if profile == "full" else list(scene.ci_cases)
     for name in case_names:  # every pose checked before any expensive work starts
         try:
             pose_geometry(scene.manipulator, scene.case(name).pose)
@@ -299,11 +300,10 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             task = bar.add_task("validation", total=len(case_names))
             for name in case_names:
                 case = scene.case(name)
-                with_paper = case.paper_theory_hz is not None
                 results["cases"].append(run_case(
                     scene, case, cache, scene.fem.mesh_size,
                     scene.fem_study.refinement if profile == "full" else None,
-                    variants=with_paper and profile == "full",
+                    variants=profile == "full",
                     progress=lambda text: bar.update(task, description=text)))
                 bar.advance(task)
         if "case1" in scene.cases and scene.case("case1").paper_theory_hz:
@@ -314,6 +314,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
                 scene, scene.case("case2"))
         if profile == "full":
             results["studies"]["workspace"] = studies.workspace_map(scene)
+            results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
         _write_outputs(results, stage)
         if build_report:
             from reports.build import build_report as render

@@ -78,6 +78,7 @@ class Scene:
     calibration_reason: str = ""
     platform_shape_reason: str = ""
     raw: dict = field(default_factory=dict, repr=False)
+    ci_cases: tuple[str, ...] = ()  # the cases of the CI profile and its regression baselines
 
     def case(self, name: str) -> Case:
         if name not in self.cases:
@@ -312,6 +313,10 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     cases_t.done()
     if not cases:
         raise SceneError(f"{where}.cases: the scene defines no case")
+    ci_cases = top._get("ci_cases", list(cases))
+    if not isinstance(ci_cases, list) or not ci_cases or any(c not in cases for c in ci_cases):
+        raise SceneError(f"{where}.ci_cases = {_short(ci_cases)}: expected a non-empty list of "
+                         f"case names (the scene has: {', '.join(cases)})")
     top.done()
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
-                 reason, shape_reason, raw)
+                 reason, shape_reason, raw, tuple(ci_cases))
