@@ -14,7 +14,7 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run setup test bench report readme clean update-baselines
+.PHONY: run setup test bench report readme docs clean update-baselines
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -38,6 +38,9 @@ report: $(STAMP)
 
 readme: $(STAMP)
 	$(PYTHON) -m pipeline readme --results out/results.json
+
+docs: $(STAMP)
+	$(PYTHON) -m pipeline scene-docs
 
 update-baselines: $(STAMP)
 	$(PYTHON) -m pipeline update-baselines --scene $(SCENE)

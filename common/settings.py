@@ -33,7 +33,8 @@ class Setting:
 
     doc: str
     unit: str | None = None  # unit at the edge
-    kind: type = float  # float, int, str, bool or tuple (of floats)
+    kind: type = float  # float, int, str, bool or tuple (of `item`)
+    item: type = float  # tuples: float (numbers) or str (names)
     minimum: float | None = None
     maximum: float | None = None
     exclusive_minimum: bool = False
@@ -80,7 +81,10 @@ class Setting:
                 return f"expected one of {', '.join(self.choices)}"
             return None
         if self.kind is tuple:
-            if not isinstance(value, tuple) or not all(_is_number(v) for v in value):
+            if self.item is str:
+                if not isinstance(value, tuple) or not all(isinstance(v, str) for v in value):
+                    return "expected a list of names"
+            elif not isinstance(value, tuple) or not all(_is_number(v) for v in value):
                 return "expected a list of numbers"
             if self.length is not None and len(value) != self.length:
                 return f"expected {self.length} numbers"

@@ -129,6 +129,8 @@ def build_parser() -> argparse.ArgumentParser:
     r = sub.add_parser("readme", help="refresh README.md's results block from results.json")
     r.add_argument("--results", default="out/results.json")
 
+    sub.add_parser("scene-docs", help="rewrite docs/scenes.md from the scene declarations")
+
     u = sub.add_parser("update-baselines", help="rewrite tests/baselines from a fresh CI run")
     u.add_argument("--scene", default="scenes/paper.toml")
     return parser
@@ -262,6 +264,9 @@ def main(argv: list[str] | None = None) -> int:
             from .tables import update_readme
             results = json.loads(Path(args.results).read_text(encoding="utf-8"))
             update_readme(Path("README.md"), results)
+        elif args.command == "scene-docs":
+            from .scene_docs import write
+            print(f"wrote {write()}")
         elif args.command == "update-baselines":
             from .baselines import update_command
             return update_command(args.scene)

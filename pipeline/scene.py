@@ -35,6 +35,54 @@ class FemStudy:
                                   doc="mesh size of the CI regression baselines")
 
 
+@dataclass(frozen=True)
+class SceneSettings:
+    """The scene file's top-level keys."""
+
+    name: str = setting("unnamed scene", kind=str, doc="title of the scene in reports")
+    ci_cases: tuple[str, ...] = setting(None, kind=tuple, item=str, min_length=1,
+                                        doc="cases of the CI profile and of the regression "
+                                        "baselines (default: every case)")
+
+
+@dataclass(frozen=True)
+class ManipulatorNotes:
+    """Free text beside the [manipulator] values."""
+
+    platform_shape_reason: str = setting("", kind=str,
+                                         doc="why this platform shape (when it is an assumption)")
+
+
+@dataclass(frozen=True)
+class CaseSettings:
+    """One pose of a [cases.NAME] table, and the paper's rows for it where there are any."""
+
+    height: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+                            doc='z of the platform centre o, or "calibrated" for '
+                            "[calibration.height]")
+    description: str = setting(None, kind=str, doc="title of the case (default: its name)")
+    azimuth: float = setting(0.0, unit="deg", doc="phi, direction of the tilt axis (Eq. 1)")
+    tilt: float = setting(0.0, unit="deg", minimum=-math.pi / 2, maximum=math.pi / 2,
+                          doc="theta, tilt of the platform (Eq. 1)")
+    paper_fea_hz: tuple[float, ...] | None = setting(
+        None, kind=tuple, minimum=0.0, exclusive_minimum=True,
+        doc="the paper's FEA frequencies for this pose (Table I), Hz")
+    paper_theory_hz: tuple[float, ...] | None = setting(
+        None, kind=tuple, minimum=0.0, exclusive_minimum=True,
+        doc="the paper's theoretical frequencies for this pose (Table I), Hz")
+    paper_error_percent: tuple[float, ...] | None = setting(
+        None, kind=tuple, doc="the paper's errors as printed (Table I), %")
+
+
+@dataclass(frozen=True)
+class HeightCalibration:
+    """[calibration.height]: a value the paper leaves wrong or open, with its reason."""
+
+    value: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+                           doc="the calibrated platform height")
+    reason: str = setting(kind=str, doc="why and how it was calibrated (required, non-empty)")
+
+
 # Defaults that follow the geometry: element sizes as fractions of the leg diameter d (measured
 # on the paper's 100 mm legs: 0.32 d gives <= 0.16 % estimated error on f1..f6, the sequence
 # 0.40 .. 0.20 d a <= 0.08 % reference; the rim zone 0.15 d).
@@ -42,6 +90,14 @@ MESH_SIZE_PER_DIAMETER = 0.32
 REFINEMENT_PER_DIAMETER = (0.40, 0.32, 0.25, 0.20)
 CI_MESH_SIZE_PER_DIAMETER = 0.40
 RIM_ZONE_PER_DIAMETER = 0.15
+
+
+GEOMETRY_DEFAULTS_TEXT = {
+    "size": f"{MESH_SIZE_PER_DIAMETER:g} d",
+    "refinement": "[" + ", ".join(f"{f:g} d" for f in REFINEMENT_PER_DIAMETER) + "]",
+    "ci_mesh_size": f"{CI_MESH_SIZE_PER_DIAMETER:g} d",
+    "rim_zone": f"{RIM_ZONE_PER_DIAMETER:g} d",
+}  # d: the leg diameter
 
 
 def geometry_defaults(manipulator: Manipulator) -> dict[str, object]:
@@ -189,7 +245,7 @@ class _Table:
         raw = typed = self._get(key, _REQUIRED)
         if spec.kind is tuple:
             if not isinstance(raw, list) or not raw:
-                raise SceneError(f"{self.where}.{key} = {_short(raw)}: expected a list of numbers")
+                raise SceneError(f"{self.where}.{key} = {_short(raw)}: expected a non-empty list")
             raw = tuple(raw)
         if spec.kind is float and isinstance(raw, int) and not isinstance(raw, bool):
             raw = float(raw)
@@ -239,14 +295,15 @@ def load_scene(path: str | Path) -> Scene:
 
 def parse_scene(raw: dict, where: str = "scene") -> Scene:
     top = _Table(raw, where)
-    name = top.text("name", "unnamed scene")
+    top_settings = top.settings(SceneSettings)
+    name = top_settings.name
 
     man = top.table("manipulator")
     mat = top.table("material")
     material = mat.settings(Material)
     mat.done()
     manipulator = man.settings(Manipulator, material=material)
-    shape_reason = man.text("platform_shape_reason", "")
+    shape_reason = man.settings(ManipulatorNotes).platform_shape_reason.strip()
     man.done()
     try:
         check_manipulator(manipulator)
@@ -275,8 +332,8 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     if "calibration" in raw:
         cal = top.table("calibration")
         h = cal.table("height")
-        calibrated = h.number("value_mm") * MM
-        reason = h.text("reason")
+        cal_settings = h.settings(HeightCalibration)
+        calibrated, reason = cal_settings.value, cal_settings.reason.strip()
         if not reason:
             raise SceneError(f"{where}.calibration.height.reason: a calibrated value needs "
                              "its reason")
@@ -287,36 +344,33 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     cases = {}
     for case_name in cases_t.data:
         c = cases_t.table(case_name)
-        height_value = c._get("height_mm", _REQUIRED)
-        if height_value == "calibrated":
+        if c.data.get("height_mm") == "calibrated":
             if calibrated is None:
                 raise SceneError(f"{where}.cases.{case_name}.height_mm = 'calibrated' but the "
                                  "scene has no [calibration.height]")
-            height, origin = calibrated, "calibrated"
+            c.used.add("height_mm")
+            spec = c.settings(CaseSettings, height=calibrated)
+            origin = "calibrated"
         else:
-            c.used.discard("height_mm")
-            height, origin = c.number("height_mm") * MM, "scene"
-        pose = Pose(height=height,
-                    azimuth=c.number("azimuth_deg", 0.0, positive=False) * DEG,
-                    tilt=c.number("tilt_deg", 0.0, positive=False,
-                                  minimum=-90.0, maximum=90.0) * DEG)
+            spec = c.settings(CaseSettings)
+            origin = "scene"
         cases[case_name] = Case(
             name=case_name,
-            description=c.text("description", case_name),
-            pose=pose,
+            description=(spec.description or case_name).strip(),
+            pose=Pose(height=spec.height, azimuth=spec.azimuth, tilt=spec.tilt),
             height_origin=origin,
-            paper_fea_hz=c.numbers("paper_fea_hz", _ABSENT),
-            paper_theory_hz=c.numbers("paper_theory_hz", _ABSENT),
-            paper_error_percent=c.numbers("paper_error_percent", _ABSENT),
+            paper_fea_hz=spec.paper_fea_hz,
+            paper_theory_hz=spec.paper_theory_hz,
+            paper_error_percent=spec.paper_error_percent,
         )
         c.done()
     cases_t.done()
     if not cases:
         raise SceneError(f"{where}.cases: the scene defines no case")
-    ci_cases = top._get("ci_cases", list(cases))
-    if not isinstance(ci_cases, list) or not ci_cases or any(c not in cases for c in ci_cases):
-        raise SceneError(f"{where}.ci_cases = {_short(ci_cases)}: expected a non-empty list of "
-                         f"case names (the scene has: {', '.join(cases)})")
+    ci_cases = top_settings.ci_cases or tuple(cases)
+    if any(c not in cases for c in ci_cases):
+        raise SceneError(f"{where}.ci_cases = {_short(list(ci_cases))}: every name must be a "
+                         f"case of the scene (it has: {', '.join(cases)})")
     top.done()
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
                  reason, shape_reason, raw, tuple(ci_cases))
