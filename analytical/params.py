@@ -133,7 +133,8 @@ class ModelOptions:
     r_joint_coordinate: str = setting("axis", kind=str, choices=R_JOINT_COORDINATES,
                                       doc="independent R-joint coordinate: rotation about the "
                                       "joint axis (regular), or the paper's Eq. (18) ratio form")
-    modes: int = setting(6, kind=int, minimum=1, doc="number of modes compared")
+    modes: int = setting(6, kind=int, minimum=1, scene=False,
+                         doc="number of modes solved for (a scene sets [fidelity] modes)")
     shear_coefficient: float | None = None  # None: Cowper's value for a solid circle
 
     def __post_init__(self) -> None:

@@ -28,6 +28,7 @@ from analytical.kinematics import PoseError, pose_geometry
 from . import studies, tables
 from .cache import ResultCache
 from .joint_orders import joint_order_study
+from .selection import resolve_fidelity
 from .compare import STATIONS, analytical_case, error_table, fem_case
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
@@ -297,7 +298,13 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
         with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                       console=console, transient=False, disable=not console.is_terminal
                       and "CI" in os.environ) as bar:
-            task = bar.add_task("validation", total=len(case_names))
+            task = bar.add_task("validation", total=len(case_names) + 1)
+            fidelity = resolve_fidelity(
+                scene, case_names, cache, refine=profile == "full",
+                step=lambda text: bar.update(task, description=f"fidelity: {text}"))
+            scene = fidelity.scene
+            results["fidelity"] = fidelity.summary()
+            bar.advance(task)
             for name in case_names:
                 case = scene.case(name)
                 results["cases"].append(run_case(
@@ -323,6 +330,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
     except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
         raise
+    console.print(f"fidelity: {results['fidelity']['reason']}")
     console.print(f"wrote {out}/results.json" + (", report.html, report.pdf"
                                                   if build_report else ""))
     return results

@@ -17,6 +17,8 @@ from common.settings import MISSING, Setting, declared, nested, setting
 from fem_reference.model import FemError, FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
 
+from .fidelity import FidelitySettings
+
 
 class SceneError(ValueError):
     """The scene file is unreadable or holds an invalid value."""
@@ -135,6 +137,9 @@ class Scene:
     platform_shape_reason: str = ""
     raw: dict = field(default_factory=dict, repr=False)
     ci_cases: tuple[str, ...] = ()  # the cases of the CI profile and its regression baselines
+    fidelity: FidelitySettings = FidelitySettings()
+    analytical_given: bool = False  # [analytical] in the file: an explicit override
+    fem_size_given: bool = False  # [fem] mesh_size_mm in the file: an explicit override
 
     def case(self, name: str) -> Case:
         if name not in self.cases:
@@ -313,13 +318,19 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         raise SceneError(f"{where}: manipulator.leg_diameter_mm = "
                          f"{manipulator.leg_diameter / MM:g}: legs would touch at the platform")
 
+    fid = top.table("fidelity", {})
+    fidelity = fid.settings(FidelitySettings)
+    fid.done()
+
+    analytical_given = "analytical" in raw
     ana = top.table("analytical", {})
-    analytical = ana.settings(ModelOptions)
+    analytical = ana.settings(ModelOptions, modes=fidelity.modes)
     ana.done()
 
     fem_t = top.table("fem", {})
+    fem_size_given = "mesh_size_mm" in fem_t.data
     defaults = geometry_defaults(manipulator)
-    fem = fem_t.settings(FemOptions, defaults, modes=analytical.modes)
+    fem = fem_t.settings(FemOptions, defaults, modes=fidelity.modes)
     study = fem_t.settings(FemStudy, defaults)
     refinement = [r / MM for r in study.refinement]
     if refinement != sorted(refinement, reverse=True) or len(set(refinement)) != len(refinement):
@@ -373,4 +384,5 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
                          f"case of the scene (it has: {', '.join(cases)})")
     top.done()
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
-                 reason, shape_reason, raw, tuple(ci_cases))
+                 reason, shape_reason, raw, tuple(ci_cases), fidelity, analytical_given,
+                 fem_size_given)

@@ -15,6 +15,7 @@ from common.settings import Setting, declared
 from fem_reference.model import FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
 
+from .fidelity import FidelitySettings
 from .scene import (GEOMETRY_DEFAULTS_TEXT, CaseSettings, FemStudy, HeightCalibration,
                     ManipulatorNotes, SceneSettings)
 
@@ -26,9 +27,13 @@ TABLES = (
     ("[manipulator]", "Geometry, joints and limits of the machine (paper Section 2, Eq. 25).",
      (Manipulator, ManipulatorNotes)),
     ("[material]", "One isotropic material for legs and platform.", (Material,)),
-    ("[analytical]", "Fidelity of the beam model (substructure synthesis, Eqs. 4-24).",
-     (ModelOptions,)),
-    ("[fem]", "Fidelity of the 3D solid reference, its refinement study and its guard.",
+    ("[fidelity]", "What accuracy the scene needs, on which modes. Where the scene leaves "
+     "[analytical] out, and mesh_size_mm out of [fem], the run chooses the cheapest models that "
+     "meet it, by measurement (pipeline/fidelity.py).", (FidelitySettings,)),
+    ("[analytical]", "Fidelity of the beam model (substructure synthesis, Eqs. 4-24); an "
+     "explicit choice that overrides the automatic one.", (ModelOptions,)),
+    ("[fem]", "Fidelity of the 3D solid reference, its refinement study and its guard; "
+     "mesh_size_mm overrides the automatic choice.",
      (MeshSettings, FemOptions, FemStudy, FemRuntime)),
     ("[calibration.height]", "A value the paper prints wrongly, recovered and labelled.",
      (HeightCalibration,)),

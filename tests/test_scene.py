@@ -30,7 +30,7 @@ def mutated(path, value):
     raw = copy.deepcopy(RAW)
     node = raw
     for key in path[:-1]:
-        node = node[key]
+        node = node.setdefault(key, {})
     if value is KeyError:
         del node[path[-1]]
     else:

@@ -1,0 +1,47 @@
+"""The fidelity choice: the cheapest models meeting the scene's tolerance, from measurements."""
+from __future__ import annotations
+
+import pytest
+
+from pipeline.fidelity import FEM_ERROR_SHARE, FidelitySettings, choose_analytical, choose_fem_size
+
+SIZES = [0.04, 0.032, 0.025, 0.02]
+
+
+def test_fem_size_is_the_coarsest_within_a_fifth_of_the_tolerance():
+    errors = [[[0.3, 0.2], [0.19, 0.15], [0.12, 0.1], [0.08, 0.05]],
+              [[0.25, 0.2], [0.21, 0.1], [0.1, 0.1], [0.07, 0.06]]]  # two cases
+    choice = choose_fem_size(SIZES, errors, tolerance_percent=1.0)
+    assert choice.met and choice.size == 0.025 and choice.worst_error_percent == 0.12
+    assert choice.worst_error_percent <= FEM_ERROR_SHARE * 1.0
+
+
+def test_fem_size_not_met_takes_the_finest_and_says_so():
+    errors = [[[0.3], [0.2], [0.15], [0.11]]]
+    choice = choose_fem_size(SIZES, errors, tolerance_percent=0.5)
+    assert not choice.met and choice.size == 0.02 and "finest" in choice.reason
+
+
+def test_analytical_choice_is_the_fastest_meeting_the_tolerance_over_every_case():
+    candidates = {
+        "EB, s=1": [{"seconds": 1e-4, "worst_error_percent": 5.0},
+                    {"seconds": 1e-4, "worst_error_percent": 0.5}],  # fails on one case
+        "EB, s=3": [{"seconds": 3e-4, "worst_error_percent": 0.9},
+                    {"seconds": 3e-4, "worst_error_percent": 0.95}],
+        "Timoshenko, s=3": [{"seconds": 3.1e-4, "worst_error_percent": 0.6},
+                            {"seconds": 3.1e-4, "worst_error_percent": 0.6}],  # a tie: better
+        "Timoshenko, s=10": [{"seconds": 3e-3, "worst_error_percent": 0.55},
+                             {"seconds": 3e-3, "worst_error_percent": 0.5}],
+    }
+    choice = choose_analytical(candidates, tolerance_percent=1.0)
+    assert choice.met and choice.setting == "Timoshenko, s=3"
+    strict = choose_analytical(candidates, tolerance_percent=0.1)
+    assert not strict.met and strict.setting == "Timoshenko, s=10"
+    assert "no analytical setting meets" in strict.reason
+
+
+@pytest.mark.parametrize("kwargs,needle", [({"modes": 0}, "modes = 0"),
+                                           ({"tolerance_percent": -1.0}, "tolerance_percent")])
+def test_fidelity_settings_are_validated(kwargs, needle):
+    with pytest.raises(ValueError, match=needle):
+        FidelitySettings(**kwargs)
