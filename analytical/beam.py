@@ -33,13 +33,26 @@ class Section:
 
     @classmethod
     def solid_circle(cls, diameter: float, poisson_ratio: float,
-                     shear_coefficient: float | None = None) -> "Section":
-        """A solid circular section; kappa defaults to Cowper's 6(1+nu)/(7+6nu)."""
+                     shear: str = "cowper") -> "Section":
+        """A solid circular section with the shear coefficient kappa of `shear`."""
         r = diameter / 2.0
         i = math.pi * r**4 / 4.0
-        kappa = (6.0 * (1.0 + poisson_ratio) / (7.0 + 6.0 * poisson_ratio)
-                 if shear_coefficient is None else shear_coefficient)
-        return cls(math.pi * r**2, i, i, 2.0 * i, 2.0 * i, kappa)
+        return cls(math.pi * r**2, i, i, 2.0 * i, 2.0 * i,
+                   circle_shear_coefficient(poisson_ratio, shear))
+
+
+SHEAR_COEFFICIENTS = ("cowper", "hutchinson")
+
+
+def circle_shear_coefficient(poisson_ratio: float, form: str = "cowper") -> float:
+    """Timoshenko shear coefficient of a solid circle: Cowper (J. Appl. Mech. 33, 1966)
+    6(1+nu)/(7+6nu), or Hutchinson (J. Appl. Mech. 68, 2001) 6(1+nu)^2/(7+12nu+4nu^2)."""
+    nu = poisson_ratio
+    if form == "cowper":
+        return 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu)
+    if form == "hutchinson":
+        return 6.0 * (1.0 + nu) ** 2 / (7.0 + 12.0 * nu + 4.0 * nu**2)
+    raise ValueError(f"shear = {form!r}: expected one of {', '.join(SHEAR_COEFFICIENTS)}")
 
 
 def _bending_stiffness(ei: float, length: float, shear_param: float) -> np.ndarray:

@@ -10,6 +10,8 @@ import math
 
 from common.settings import check_settings, nested_setting, setting
 
+from .beam import SHEAR_COEFFICIENTS
+
 BEAM_THEORIES = ("euler-bernoulli", "timoshenko")
 PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
@@ -135,7 +137,9 @@ class ModelOptions:
                                       "joint axis (regular), or the paper's Eq. (18) ratio form")
     modes: int = setting(6, kind=int, minimum=1, scene=False,
                          doc="number of modes solved for (a scene sets [fidelity] modes)")
-    shear_coefficient: float | None = None  # None: Cowper's value for a solid circle
+    shear: str = setting("cowper", kind=str, choices=SHEAR_COEFFICIENTS,
+                         doc="Timoshenko shear coefficient of the round legs: Cowper's "
+                         "6(1+nu)/(7+6nu) or Hutchinson's 6(1+nu)^2/(7+12nu+4nu^2)")
 
     def __post_init__(self) -> None:
         check_settings(self)

@@ -142,7 +142,7 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
     s = options.elements
     mat = manipulator.material
     section = Section.solid_circle(manipulator.leg_diameter, mat.poisson_ratio,
-                                   options.shear_coefficient)
+                                   options.shear)
     if geometry.leg_count != 3:
         raise ValueError(f"{geometry.leg_count} legs: the substructure model is for three")
     n_q = 18 * s

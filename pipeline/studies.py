@@ -37,7 +37,8 @@ def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli")
 
 
 def model_variants(scene: Scene) -> dict[str, ModelOptions]:
-    """The analytical settings compared throughout: the paper's and ours."""
+    """The analytical settings compared throughout: the paper's and ours. "Timoshenko" uses
+    Cowper's shear coefficient, "Timoshenko-Hutchinson" Hutchinson's (analytical.beam)."""
     base = scene.analytical
     return {
         "paper (EB, s=3, Eq. 8 inertia)": replace(base, elements=3, beam="euler-bernoulli",
@@ -46,6 +47,8 @@ def model_variants(scene: Scene) -> dict[str, ModelOptions]:
                                           platform_inertia="plate"),
         "Timoshenko, s=3, plate inertia": replace(base, elements=3, beam="timoshenko",
                                                   platform_inertia="plate"),
+        "Timoshenko-Hutchinson, s=3, plate inertia": replace(
+            base, elements=3, beam="timoshenko", shear="hutchinson", platform_inertia="plate"),
         "Timoshenko, s=10, plate inertia": replace(base, elements=10, beam="timoshenko",
                                                    platform_inertia="plate"),
     }
@@ -54,10 +57,12 @@ def model_variants(scene: Scene) -> dict[str, ModelOptions]:
 def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
     """Every analytical setting whose time and error the speed-vs-error plot shows."""
     out = {}
-    for beam, tag in (("euler-bernoulli", "EB"), ("timoshenko", "Timoshenko")):
+    for beam, shear, tag in (("euler-bernoulli", "cowper", "EB"),
+                             ("timoshenko", "cowper", "Timoshenko"),
+                             ("timoshenko", "hutchinson", "Timoshenko-Hutchinson")):
         for s in (1, 2, 3, 5, 10):
             out[f"{tag}, s={s}"] = replace(scene.analytical, elements=s, beam=beam,
-                                           platform_inertia="plate")
+                                           shear=shear, platform_inertia="plate")
     return out
 
 

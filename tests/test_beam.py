@@ -139,3 +139,14 @@ def test_each_bending_plane_uses_its_own_second_moment_and_shear_parameter():
         one_plane = Section(area, moment, moment, 1e-9, 2 * moment, 5 / 6)
         exact = timoshenko_simply_supported(1, L, one_plane)
         assert f == pytest.approx(exact, rel=2e-4)
+
+
+def test_shear_coefficients_of_a_solid_circle():
+    """Cowper 6(1+nu)/(7+6nu) and Hutchinson 6(1+nu)^2/(7+12nu+4nu^2): 0.8863 and 0.9249 at
+    nu = 0.2987 (Hutchinson, J. Appl. Mech. 68:87, 2001); both 6/7 at nu = 0."""
+    from analytical.beam import circle_shear_coefficient
+    assert circle_shear_coefficient(0.2987, "cowper") == pytest.approx(0.8863, abs=1e-4)
+    assert circle_shear_coefficient(0.2987, "hutchinson") == pytest.approx(0.9249, abs=1e-4)
+    assert circle_shear_coefficient(0.0, "cowper") == circle_shear_coefficient(0.0, "hutchinson")
+    with pytest.raises(ValueError, match="shear = 'x'"):
+        circle_shear_coefficient(0.3, "x")
