@@ -98,9 +98,10 @@ def resolve_fidelity(scene: Scene, case_names, cache: ResultCache, refine: bool,
         else:
             fem = choose_fem_size(list(sizes), errors, tol)
     else:
-        fem = FemChoice(scene.fem.mesh_size, None, True,
-                        f"h = {scene.fem.mesh_size * 1e3:.3g} mm without a refinement study "
-                        "(CI profile): the FEM's own error is not estimated")
+        size = scene.fem.mesh_size if scene.fem_size_given else scene.fem_study.ci_mesh_size
+        fem = FemChoice(size, None, True,
+                        f"h = {size * 1e3:.3g} mm without a refinement study (CI profile): "
+                        "the FEM's own error is not estimated")
     sized = replace(scene, fem=scene.fem.with_size(fem.size))
 
     candidates = dict(studies.speed_settings(sized))
