@@ -122,6 +122,11 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--profile", choices=("full", "ci"), default="full",
                    help="full: every study; ci: the CI-sized subset")
     v.add_argument("--no-report", action="store_true", help="skip the HTML/PDF report")
+    v.add_argument("--workers", type=_positive_int, default=None,
+                   help="local worker processes of the workspace sweep (default: the cores)")
+    v.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="send the sweep's poses to this running dask.distributed scheduler "
+                        "(e.g. tcp://10.0.0.5:8786) instead of local workers")
 
     c = sub.add_parser("check-baselines", help="compare error tables with tests/baselines")
     c.add_argument("--results", default=None)
@@ -256,7 +261,8 @@ def main(argv: list[str] | None = None) -> int:
         elif args.command == "validate":
             from .run import validate
             validate(args.scene, Path(args.out), Path(args.cache), args.profile,
-                     build_report=not args.no_report)
+                     build_report=not args.no_report, workers=args.workers,
+                     scheduler=args.scheduler)
         elif args.command == "check-baselines":
             from .baselines import check_command
             return check_command(args.results)

@@ -28,7 +28,7 @@ from analytical.kinematics import PoseError, pose_geometry
 from . import studies, tables
 from .cache import ResultCache
 from .joint_orders import joint_order_study
-from .selection import resolve_fidelity
+from .selection import validate_fidelity
 from .compare import STATIONS, analytical_case, error_table, fem_case
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
@@ -273,7 +273,8 @@ def speed_vs_error(scene: Scene, case: Case, fem: dict, reference, refinement) -
 
 
 def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
-             build_report: bool = True) -> dict:
+             build_report: bool = True, workers: int | None = None,
+             scheduler: str | None = None) -> dict:
     scene = load_scene(scene_path)
     case_names = list(scene.cases) if profile == "full" else list(scene.ci_cases)
     for name in case_names:  # every pose checked before any expensive work starts
@@ -282,6 +283,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
         except PoseError as exc:
             raise PoseError(f"case {name}: {exc}") from None
     cache = ResultCache(cache_dir)
+    workers = workers or min(os.cpu_count() or 1, 8)
     console = Console(stderr=True)
     stage = out.with_name(out.name + ".partial")
     shutil.rmtree(stage, ignore_errors=True)
@@ -299,11 +301,13 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
                       console=console, transient=False, disable=not console.is_terminal
                       and "CI" in os.environ) as bar:
             task = bar.add_task("validation", total=len(case_names) + 1)
-            fidelity = resolve_fidelity(
-                scene, case_names, cache, refine=profile == "full",
+            fidelity, workspace = validate_fidelity(
+                scene, case_names, cache, full=profile == "full", workers=workers,
+                scheduler=scheduler, console=console,
                 step=lambda text: bar.update(task, description=f"fidelity: {text}"))
             scene = fidelity.scene
             results["fidelity"] = fidelity.summary()
+            results["studies"]["workspace_validation"] = workspace
             bar.advance(task)
             for name in case_names:
                 case = scene.case(name)

@@ -7,15 +7,18 @@ speed-vs-error set (`studies.speed_settings`) against the FEM limit, timed per p
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+import math
 
 import numpy as np
 
 from analytical.kinematics import pose_geometry
+from analytical.params import Pose
 
 from . import studies
 from .cache import ResultCache
 from .compare import analytical_case, error_table, fem_case
-from .fidelity import AnalyticalChoice, FemChoice, choose_analytical, choose_fem_size
+from .fidelity import (FEM_ERROR_SHARE, AnalyticalChoice, FemChoice, choose_analytical,
+                       choose_fem_size)
 from .scene import Scene
 
 SCENE_SETTING = "scene's [analytical]"
@@ -71,13 +74,13 @@ def _fem_seconds(fid: Fidelity) -> float | None:
     return float(np.median(times)) if times else None
 
 
-def resolve_fidelity(scene: Scene, case_names, cache: ResultCache, refine: bool,
-                     step=lambda text: None) -> Fidelity:
-    """Choose (or check) the FEM size and the analytical setting for these cases."""
+def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
+               step=lambda text: None) -> tuple[Scene, FemChoice, dict]:
+    """The FEM size (chosen, or the scene's checked), the scene at that size, and every
+    case's refinement study (when refined)."""
     from .run import fem_refinement
 
     tol = scene.fidelity.tolerance_percent
-    count = scene.fidelity.modes
     refinements = {}
     if refine:
         sizes = tuple(sorted(set(scene.fem_study.refinement) | (
@@ -92,7 +95,7 @@ def resolve_fidelity(scene: Scene, case_names, cache: ResultCache, refine: bool,
         if scene.fem_size_given:
             k = sizes.index(scene.fem.mesh_size)
             worst = max(max(e[k]) for e in errors)
-            fem = FemChoice(scene.fem.mesh_size, worst, worst <= 0.2 * tol,
+            fem = FemChoice(scene.fem.mesh_size, worst, worst <= FEM_ERROR_SHARE * tol,
                             f"h = {scene.fem.mesh_size * 1e3:.3g} mm as the scene asks, "
                             f"estimated error {worst:.3g} %")
         else:
@@ -102,11 +105,25 @@ def resolve_fidelity(scene: Scene, case_names, cache: ResultCache, refine: bool,
         fem = FemChoice(size, None, True,
                         f"h = {size * 1e3:.3g} mm without a refinement study (CI profile): "
                         "the FEM's own error is not estimated")
-    sized = replace(scene, fem=scene.fem.with_size(fem.size))
+    return replace(scene, fem=scene.fem.with_size(fem.size)), fem, refinements
 
-    candidates = dict(studies.speed_settings(sized))
+
+def candidate_settings(scene: Scene) -> dict:
+    """Every analytical setting the choice is made among (the scene's own first, if given)."""
+    candidates = dict(studies.speed_settings(scene))
     if scene.analytical_given:
         candidates = {SCENE_SETTING: scene.analytical} | candidates
+    return candidates
+
+
+def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: ResultCache,
+                 refinements: dict, step=lambda text: None,
+                 extra_rows: dict | None = None) -> Fidelity:
+    """The analytical setting (chosen, or the scene's checked) over every case, plus
+    `extra_rows` (label -> rows, e.g. the workspace study's worst pose)."""
+    tol = scene.fidelity.tolerance_percent
+    count = scene.fidelity.modes
+    candidates = candidate_settings(scene)
     rows: dict[str, list[dict]] = {label: [] for label in candidates}
     for name in case_names:
         step(f"{name}: analytical candidates")
@@ -123,6 +140,10 @@ def resolve_fidelity(scene: Scene, case_names, cache: ResultCache, refine: bool,
                 "seconds": studies.time_model(sized, case, opts),
                 "worst_error_percent": max(abs(r["error_vs_reference_percent"])
                                            for r in table)})
+    for label, extra in (extra_rows or {}).items():
+        if label in rows:
+            seconds = sorted(r["seconds"] for r in rows[label])[len(rows[label]) // 2]
+            rows[label] += [dict(r, seconds=seconds) for r in extra]
     if scene.analytical_given:
         mine = rows[SCENE_SETTING]
         worst = max(r["worst_error_percent"] for r in mine)
@@ -136,3 +157,94 @@ def resolve_fidelity(scene: Scene, case_names, cache: ResultCache, refine: bool,
         chosen_opts = candidates[analytical.setting]
     chosen = replace(sized, analytical=replace(chosen_opts, modes=count))
     return Fidelity(chosen, fem, analytical, rows, refinements)
+
+
+def resolve_fidelity(scene: Scene, case_names, cache: ResultCache, refine: bool,
+                     step=lambda text: None) -> Fidelity:
+    """Choose (or check) the FEM size and the analytical setting for these cases."""
+    sized, fem, refinements = choose_fem(scene, case_names, cache, refine, step)
+    return choose_model(scene, sized, fem, case_names, cache, refinements, step)
+
+
+def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
+                      workers: int = 2, scheduler: str | None = None, console=None,
+                      step=lambda text: None) -> tuple[Fidelity, dict]:
+    """The fidelity step of a run, with the workspace validation study in between: the FEM
+    size from the cases' refinement studies; then the study over the workspace (every
+    candidate at every pose); then the analytical setting over the cases AND each candidate's
+    worst study pose (beam models are worst at compact poses, which two cases may miss)."""
+    from . import workspace_validation as wv
+
+    sized, fem, refinements = choose_fem(scene, case_names, cache, full, step)
+    models = candidate_settings(scene) | {
+        wv.PAPER_MODEL: studies.model_variants(scene)[wv.PAPER_MODEL]}
+    sizes = sorted(scene.fem_study.refinement, reverse=True)
+    coarser = [h for h in sizes if h > fem.size * (1 + 1e-9)]
+    coarse = min(coarser) if coarser else fem.size * 1.25
+    seconds = _fem_seconds_of(refinements, fem.size, coarse)
+
+    def announce(plan):
+        if console is not None and plan.to_compute:
+            eta = "" if plan.estimated_seconds is None else \
+                f", about {plan.estimated_seconds:.0f} s on {workers} worker(s)"
+            console.print(f"workspace validation: {plan.to_compute} of {plan.total} poses to "
+                          f"solve ({2 * plan.to_compute} FEM solves{eta})")
+
+    study = wv.run_study(sized, models, cache, coarse, wv.FULL if full else wv.SMALL,
+                         workers=workers, scheduler=scheduler, announce=announce,
+                         progress=lambda done, total: step(f"workspace pose {done}/{total}"),
+                         seconds_per_pose=seconds)
+    extra = worst_pose_rows(scene, sized, study, cache, full, step)
+    fidelity = choose_model(scene, sized, fem, case_names, cache, refinements, step, extra)
+    return fidelity, wv.summarise(study, fidelity.analytical.setting)
+
+
+def _fem_seconds_of(refinements: dict, *sizes) -> float | None:
+    total = []
+    for study in refinements.values():
+        try:
+            total.append(sum(study["seconds"][study["sizes_m"].index(h)] for h in sizes))
+        except ValueError:
+            return None
+    return float(np.median(total)) if total else None
+
+
+def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache, full: bool,
+                    step=lambda text: None) -> dict:
+    """Every candidate's error at the study's worst pose, against the FEM limit there.
+
+    The worst pose is where the candidate that is best over the study (least largest error)
+    is worst. In a full run the FEM is refined at that pose (the scene's sequence) and the
+    candidates are compared with the extrapolated limit, like the cases; in the CI profile
+    with the FEM of the study."""
+    from . import workspace_validation as wv
+    from .run import fem_refinement
+
+    labels = list(candidate_settings(scene))
+    ok = [p for p in study["poses"] if "models" in p]
+    if not ok:
+        return {}
+    best = min(labels, key=lambda lb: max(wv.worst_error(p["models"][lb]) for p in ok))
+    worst = wv.worst_pose(ok, best)
+    pose = Pose(worst["height_mm"] * 1e-3, math.radians(worst["azimuth_deg"]),
+                math.radians(worst["tilt_deg"]))
+    case = wv._PoseCase(pose, "workspace worst pose")
+    count = scene.fidelity.modes
+    geometry = pose_geometry(sized.manipulator, pose)
+    fem_result = fem_case(sized, geometry, cache, sized.fem.mesh_size)
+    reference = np.asarray(fem_result["frequencies_hz"][:count])
+    if full:
+        step("workspace worst pose: FEM refinement study")
+        sizes = tuple(sorted(set(scene.fem_study.refinement) | {sized.fem.mesh_size},
+                             reverse=True))
+        reference = np.asarray(fem_refinement(sized, case, geometry, cache,
+                                              sizes)["extrapolated_hz"])
+    where = (f"workspace worst pose (z = {worst['height_mm']:.0f} mm, tilt = "
+             f"{worst['tilt_deg']:.1f} deg, {worst['kind']})")
+    out = {}
+    for label, opts in candidate_settings(scene).items():
+        a = analytical_case(sized, case, opts)
+        table = error_table(a, fem_result, count, None, reference)
+        out[label] = [{"case": where, "worst_error_percent":
+                       max(abs(r["error_vs_reference_percent"]) for r in table)}]
+    return out
