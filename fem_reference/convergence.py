@@ -41,6 +41,19 @@ class ModeConvergence:
     orders_by_triplet: list[float | None] = field(default_factory=list)
 
 
+def sequence_ending_at(size: float, design) -> tuple[float, ...]:
+    """A refinement sequence (coarse -> fine, m) that holds `size`: the designed sequence when
+    it does, else the designed size ratios scaled so that the sequence ends at `size` (a
+    40-32-25-20 mm design asked at 10 mm gives 20-16-12.5-10 mm). An error estimate
+    extrapolated from meshes far coarser than the size asked says little about that size."""
+    design = tuple(float(h) for h in design)
+    if not (math.isfinite(size) and size > 0):
+        raise ValueError(f"size = {size!r}: expected a positive mesh size")
+    if any(math.isclose(size, h, rel_tol=1e-9) for h in design):
+        return design
+    return tuple(h * size / design[-1] for h in design[:-1]) + (float(size),)
+
+
 def observed_order(h, f) -> float | None:
     """Order p through three (h, f) points (h decreasing); None if it cannot be estimated."""
     h1, h2, h3 = h

@@ -189,6 +189,19 @@ def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
     return int(3 * nodes)
 
 
+def check_mesh_size(assembly: Assembly, settings: MeshSettings, runtime: FemRuntime) -> None:
+    """Refuse, before meshing, a size coarser than a leg or whose estimated dofs exceed the
+    DOF guard (FemError naming the size)."""
+    diameter = 2 * assembly.cylinders[0].radius
+    if settings.size > diameter:
+        raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
+                       f"{diameter:g} m (needs at least one element across a leg)")
+    estimate = estimate_raw_dofs(assembly, settings)
+    if estimate > runtime.max_dofs:
+        raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
+                       f"max_dofs = {runtime.max_dofs}")
+
+
 def solve_pose(manipulator, geometry, options: FemOptions,
                runtime: FemRuntime = FemRuntime()) -> FemResult:
     """Natural frequencies and modes of the 3D solid model of one pose."""
@@ -203,14 +216,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     except GeometryError as exc:
         raise FemError(str(exc)) from None
     settings = options.mesh
-    diameter = 2 * assembly.cylinders[0].radius
-    if settings.size > diameter:
-        raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
-                       f"{diameter:g} m (needs at least one element across a leg)")
-    estimate = estimate_raw_dofs(assembly, settings)
-    if estimate > runtime.max_dofs:
-        raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
-                       f"max_dofs = {runtime.max_dofs}")
+    check_mesh_size(assembly, settings, runtime)
     try:
         solid, hit = cached_mesh(assembly, settings, runtime.cache_dir, runtime.use_cache)
     except GmshFailure as exc:
