@@ -300,7 +300,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     result = solve_pose(scene.manipulator, geometry, options, runtime)
     seconds = time.perf_counter() - start
     if args.vtu:
-        result.write_vtu(args.vtu)
+        result.write_vtu(args.vtu, pvd=True)
     payload = {
         "case": case.name,
         "pose": _pose_payload(case.pose),

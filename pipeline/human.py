@@ -34,7 +34,8 @@ def number(key: str, x: float) -> str:
         return significant(x, 3)
     if key.endswith("seconds") or key.startswith("timings"):
         return significant(x, 3)
-    return significant(x, 4)
+    text = significant(x, 4)
+    return text.rstrip("0").rstrip(".") if "." in text else text
 
 
 def _flatten(payload: dict, prefix: str = ""):
