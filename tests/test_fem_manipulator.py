@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import replace
 import json
 
-import meshio
 import numpy as np
 import pytest
 
@@ -110,16 +109,6 @@ def test_result_api(case1_result, case1):
     json.dumps(r.to_dict())
     with pytest.raises(FemError, match="fractions"):
         r.leg_axis_displacements([1.5])
-
-
-def test_write_vtu(case1_result, tmp_path):
-    path = tmp_path / "out" / "modes.vtu"
-    case1_result.write_vtu(path)
-    m = meshio.read(path)
-    np.testing.assert_allclose(m.field_data["frequencies_hz"], case1_result.frequencies_hz)
-    assert [k for k in m.point_data] == [f"mode_{k}" for k in range(1, 7)]
-    assert m.point_data["mode_1"].shape == (case1_result.raw_dofs // 3, 3)
-    assert [p.name for p in path.parent.iterdir()] == ["modes.vtu"]
 
 
 @pytest.mark.parametrize("platform,coupling", [("rigid", "distributing"), ("elastic", "rigid")])
