@@ -136,7 +136,8 @@ class _Version(argparse.Action):
 
     def __call__(self, parser, namespace, values, option_string=None):
         from .version import describe
-        parser.exit(0, describe() + "\n")
+        print(describe())
+        parser.exit(0)
 
 
 def _fem_choices() -> tuple[tuple[str, ...] | None, tuple[str, ...] | None]:
@@ -187,8 +188,9 @@ def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
                         "platform) and a .pvd beside it (default: not written)")
     f.add_argument("--estimate-error", action="store_true",
                    help="also run a refinement study (cached) and report the estimated "
-                        "discretisation error of this size: the scene's refinement_mm if it "
-                        "holds the size, else the same ratios scaled to end at it")
+                        "discretisation error of this size: the scene's refinement_mm, with "
+                        "the size inserted, or its ratios scaled to the size when the size "
+                        "lies outside it")
     _cache_option(f)
 
     w = command("workspace", "f1..fN over the regular workspace (Fig. 6)")
@@ -275,7 +277,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
 def cmd_fem(args: argparse.Namespace) -> dict:
     from analytical.kinematics import pose_geometry
     from fem_reference import solve_pose
-    from fem_reference.convergence import sequence_ending_at
+    from fem_reference.convergence import sequence_around
     from fem_reference.model import check_mesh_size
     from meshing.bodies import pose_assembly
     from .cache import ResultCache
@@ -291,10 +293,10 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     geometry = pose_geometry(scene.manipulator, case.pose)
     cache = ResultCache(_cache_dir(args))
     runtime = fem_runtime(scene, cache)
-    sizes = sequence_ending_at(size, scene.fem_study.refinement) if args.estimate_error else ()
+    sizes = sequence_around(size, scene.fem_study.refinement) if args.estimate_error else ()
     assembly = pose_assembly(scene.manipulator, geometry,
                              elastic_platform=options.platform == "elastic")
-    for h in sizes:  # every size of the study refused up front, before any solve
+    for h in reversed(sizes):  # every size of the study checked up front, the finest first
         check_mesh_size(assembly, options.with_size(h).mesh, runtime)
     start = time.perf_counter()
     result = solve_pose(scene.manipulator, geometry, options, runtime)

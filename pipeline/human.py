@@ -108,7 +108,11 @@ def summary(results: dict, out: Path, report: bool) -> str:
         return "  ".join(c.ljust(w) if k in (0, len(cells) - 1) else c.rjust(w)
                          for k, (c, w) in enumerate(zip(cells, widths))).rstrip()
 
-    text = ["Analytical model against the FEM (|error|, %):", line(head)]
+    a = results["cases"][0]["analytical"] if results["cases"] else {}
+    model = (f" ({a['beam']}, s = {a['elements']}, {a['platform_inertia']} inertia)"
+             if {"beam", "elements", "platform_inertia"} <= set(a) else "")
+    text = [f"Analytical model{model} against the FEM, worst |error| per mode range:",
+            line(head)]
     text += [line(row) for row in body]
     if all(r["fem_error_percent"] is None for r in rows):
         text.append("FEM est. err: no refinement study in this profile (run the full profile).")

@@ -246,3 +246,16 @@ def test_folded_first_mesh_is_rebuilt_with_the_netgen_fallback(scene):
     mesh = build_mesh(asm, settings)
     again = _build_with(asm, settings, FALLBACK_OPTIONS)
     assert mesh.n_nodes == again.n_nodes and (mesh.points == again.points).all()
+
+
+@pytest.mark.parametrize("size, expected", [
+    (0.032, (0.040, 0.032, 0.025, 0.020)),  # in the design: the design
+    (0.030, (0.040, 0.032, 0.030, 0.025, 0.020)),  # between its sizes: inserted
+    (0.010, (0.020, 0.016, 0.0125, 0.010)),  # finer: the design's ratios, ending at it
+    (0.050, (0.050, 0.040, 0.03125, 0.025)),  # coarser: the design's ratios, starting at it
+])
+def test_refinement_sequence_around_a_size(size, expected):
+    from fem_reference.convergence import sequence_around
+    sizes = sequence_around(size, (0.040, 0.032, 0.025, 0.020))
+    assert sizes == pytest.approx(expected, rel=1e-12)
+    assert size in sizes and list(sizes) == sorted(sizes, reverse=True)
