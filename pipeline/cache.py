@@ -133,8 +133,8 @@ def clear(directory: Path) -> dict:
     for _, path in list(_entry_files(directory)):
         path.unlink(missing_ok=True)
     directory = Path(directory)
-    for kind in info["kinds"]:
-        with contextlib.suppress(OSError):
+    for kind in sorted(set(info["kinds"]) | {"tmp", "meshes"}):
+        with contextlib.suppress(OSError):  # only if empty
             (directory / kind).rmdir()
     with contextlib.suppress(OSError):
         directory.rmdir()

@@ -420,8 +420,9 @@ def main(argv: list[str] | None = None) -> int:
         print("error: interrupted; nothing partial was kept", file=sys.stderr)
         return 130
     except ModuleNotFoundError as exc:
+        extras = "fem,report" if args.command == "validate" else "fem"
         print(f"error: {exc.name} is not installed; `{prog} {args.command}` needs "
-              f"pip install '{DISTRIBUTION}[fem,report]'", file=sys.stderr)
+              f"pip install '{DISTRIBUTION}[{extras}]'", file=sys.stderr)
         return EXIT_BAD_INPUT
     except (ValueError, RuntimeError, OSError) as exc:
         message = " ".join(str(exc).split()) or type(exc).__name__

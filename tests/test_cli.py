@@ -183,6 +183,7 @@ def test_cache_info_and_clear_touch_only_cache_entries(tmp_path):
     (cache / "meshes" / f"{'ab' * 32}.vtu").write_bytes(b"0" * 1000)
     (cache / "notes.txt").write_text("mine")
     (cache / "fem" / "notes.txt").write_text("mine too")
+    (cache / "tmp").mkdir()  # left empty by an earlier run
     info = json.loads(run("cache", "info", "--cache", str(cache), "--json").stdout)
     assert info["entries"] == 2 and info["kinds"]["meshes"]["bytes"] >= 1002
     proc = run("cache", "clear", "--cache", str(cache))
