@@ -41,6 +41,27 @@ class ModeConvergence:
     orders_by_triplet: list[float | None] = field(default_factory=list)
 
 
+def sequence_around(size: float, design) -> tuple[float, ...]:
+    """A refinement sequence (coarse -> fine, m) that holds `size`, for estimating its error.
+
+    The designed sequence when it holds the size, or with the size inserted when it lies
+    between the designed sizes; outside them, the designed size ratios scaled to the size: ending
+    at it when it is finer (a 40-32-25-20 mm design asked at 10 mm gives 20-16-12.5-10 mm),
+    starting at it when it is coarser (at 50 mm: 50-40-31.25-25 mm, since coarser meshes would
+    not resolve a leg). An error extrapolated from meshes far from the size says little about it.
+    """
+    design = tuple(float(h) for h in design)
+    if not (math.isfinite(size) and size > 0):
+        raise ValueError(f"size = {size!r}: expected a positive mesh size")
+    if any(math.isclose(size, h, rel_tol=1e-9) for h in design):
+        return design
+    if size < design[-1]:
+        return tuple(h * size / design[-1] for h in design[:-1]) + (float(size),)
+    if size > design[0]:
+        return (float(size),) + tuple(h * size / design[0] for h in design[1:])
+    return tuple(sorted(design + (float(size),), reverse=True))
+
+
 def observed_order(h, f) -> float | None:
     """Order p through three (h, f) points (h decreasing); None if it cannot be estimated."""
     h1, h2, h3 = h

@@ -21,7 +21,7 @@ import scipy.sparse as sp
 from common.plate import plate_inertia, plate_mass, rigid_mass_matrix
 from common.rigid_body import rigid_fit
 from common.settings import check_settings, nested_setting, setting
-from meshing.bodies import Assembly, GeometryError, pose_assembly
+from meshing.bodies import Assembly, GeometryError, Plate, platform_plate, pose_assembly
 from meshing.cache import cached_mesh
 from meshing.geometry import GmshFailure, MeshSettings
 
@@ -29,7 +29,7 @@ from .assembly import stiffness_and_mass
 from .constraints import COUPLINGS, ConstraintMap, build_constraints
 from .discretisation import Discretisation, discretise
 from .eigen import BACKENDS, EigenError, Modes, lowest_modes
-from .export import write_modes_vtu
+from .export import write_mode_collection, write_modes_vtu
 from . import probes
 
 PLATFORMS = ("rigid", "elastic")
@@ -118,6 +118,7 @@ class FemResult:
     modes_q: np.ndarray = field(repr=False)  # (n_free, modes), M-orthonormal
     modes_raw: np.ndarray = field(repr=False)  # (raw_dofs, modes) = T modes_q
     mass_matrix: object = field(default=None, repr=False)  # raw consistent mass (CSR)
+    plate: Plate | None = field(default=None, repr=False)  # the platform (meshed or rigid)
 
     def leg_axis_displacements(self, fractions) -> np.ndarray:
         """Translation of the leg axis points B_i + t (A_i - B_i), t in `fractions`, per mode:
@@ -155,8 +156,16 @@ class FemResult:
         return rigid_fit(self.disc.node_xyz[nodes], u, self.geometry.platform_centre,
                          mass=self.mass_matrix[dofs][:, dofs])
 
-    def write_vtu(self, path) -> None:
-        write_modes_vtu(path, self.disc, self.modes_raw, self.frequencies_hz)
+    def write_vtu(self, path, pvd: bool = False) -> None:
+        """Mode shapes for ParaView (fem_reference.export): legs and platform in one VTU, each
+        mode named with its frequency and scaled for display; with `pvd`, also the .pvd
+        collection beside it to step through the modes."""
+        rigid = "platform" not in self.disc.bodies
+        write_modes_vtu(path, self.disc, self.modes_raw, self.frequencies_hz,
+                        plate=self.plate if rigid else None,
+                        platform_motion=self.platform_motion if rigid else None)
+        if pvd:
+            write_mode_collection(path)
 
     def to_dict(self) -> dict:
         return {
@@ -189,6 +198,19 @@ def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
     return int(3 * nodes)
 
 
+def check_mesh_size(assembly: Assembly, settings: MeshSettings, runtime: FemRuntime) -> None:
+    """Refuse, before meshing, a size coarser than a leg or whose estimated dofs exceed the
+    DOF guard (FemError naming the size)."""
+    diameter = 2 * assembly.cylinders[0].radius
+    if settings.size > diameter:
+        raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
+                       f"{diameter:g} m (needs at least one element across a leg)")
+    estimate = estimate_raw_dofs(assembly, settings)
+    if estimate > runtime.max_dofs:
+        raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
+                       f"max_dofs = {runtime.max_dofs}")
+
+
 def solve_pose(manipulator, geometry, options: FemOptions,
                runtime: FemRuntime = FemRuntime()) -> FemResult:
     """Natural frequencies and modes of the 3D solid model of one pose."""
@@ -203,14 +225,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     except GeometryError as exc:
         raise FemError(str(exc)) from None
     settings = options.mesh
-    diameter = 2 * assembly.cylinders[0].radius
-    if settings.size > diameter:
-        raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
-                       f"{diameter:g} m (needs at least one element across a leg)")
-    estimate = estimate_raw_dofs(assembly, settings)
-    if estimate > runtime.max_dofs:
-        raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
-                       f"max_dofs = {runtime.max_dofs}")
+    check_mesh_size(assembly, settings, runtime)
     try:
         solid, hit = cached_mesh(assembly, settings, runtime.cache_dir, runtime.use_cache)
     except GmshFailure as exc:
@@ -263,6 +278,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         modes_q=vq,
         modes_raw=v_raw,
         mass_matrix=m,
+        plate=assembly.plate or platform_plate(manipulator, geometry),
     )
     return result
 

@@ -156,24 +156,28 @@ def leg_cylinders(base_points, platform_points, diameter: float) -> tuple[Cylind
     return tuple(legs)
 
 
+def platform_plate(manipulator, geometry) -> Plate:
+    """The platform of a pose as a plate: thickness h centred on o with normal R[:, 2]."""
+    normal = np.asarray(geometry.rotation, float)[:, 2]
+    plate = Plate(
+        name="platform",
+        centre=_finite_point("platform centre o", geometry.platform_centre),
+        normal=tuple(float(v) for v in normal / np.linalg.norm(normal)),
+        thickness=float(manipulator.platform_thickness),
+        shape=manipulator.platform_shape,
+        radius=float(manipulator.platform_radius),
+        corners=tuple(_finite_point(f"A{i + 1}", a)
+                      for i, a in enumerate(geometry.platform_points)),
+    )
+    if plate.shape not in ("disk", "triangle"):
+        raise GeometryError(f"platform_shape = {plate.shape!r}: expected disk or triangle")
+    return plate
+
+
 def pose_assembly(manipulator, geometry, elastic_platform: bool = False) -> Assembly:
     """The bodies of a manipulator (`analytical.params.Manipulator`) in one pose
     (`analytical.kinematics.PoseGeometry`); the plate only for the elastic-platform option."""
     legs = leg_cylinders(geometry.base_points, geometry.platform_points,
                          manipulator.leg_diameter)
-    plate = None
-    if elastic_platform:
-        normal = np.asarray(geometry.rotation, float)[:, 2]
-        plate = Plate(
-            name="platform",
-            centre=_finite_point("platform centre o", geometry.platform_centre),
-            normal=tuple(float(v) for v in normal / np.linalg.norm(normal)),
-            thickness=float(manipulator.platform_thickness),
-            shape=manipulator.platform_shape,
-            radius=float(manipulator.platform_radius),
-            corners=tuple(_finite_point(f"A{i + 1}", a)
-                          for i, a in enumerate(geometry.platform_points)),
-        )
-        if plate.shape not in ("disk", "triangle"):
-            raise GeometryError(f"platform_shape = {plate.shape!r}: expected disk or triangle")
+    plate = platform_plate(manipulator, geometry) if elastic_platform else None
     return Assembly(legs, plate)

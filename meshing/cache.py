@@ -19,13 +19,15 @@ from pathlib import Path
 import meshio
 
 from common.atomic import atomic_write
+from common.locations import cache_root
 
 from .bodies import Assembly
 from .geometry import PINNED_OPTIONS, MeshSettings, build_mesh, gmsh_version
 from .mesh import MeshFormatError, SolidMesh
 
 FORMAT_VERSION = 1
-DEFAULT_DIR = Path(__file__).resolve().parents[1] / ".cache" / "meshes"
+# <checkout>/.cache/meshes, or the user cache directory when installed: never site-packages
+DEFAULT_DIR = cache_root() / "meshes"
 
 
 def cache_key(assembly: Assembly, settings: MeshSettings) -> str:

@@ -19,6 +19,7 @@ from analytical.kinematics import pose_geometry
 from analytical.model import analyse
 
 from common.atomic import write_json_atomic
+from common.locations import default_scene
 from .compare import fem_options, fem_runtime
 from .scene import load_scene
 
@@ -76,7 +77,8 @@ def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pipeline.bench")
-    parser.add_argument("--scene", default="scenes/paper.toml")
+    parser.add_argument("--scene", default=str(default_scene()),
+                        help="scene file (default: the paper's scene)")
     parser.add_argument("--case", default=None,
                         help="case to time (default: the scene's last CI case)")
     parser.add_argument("--out", default="out/bench.json")

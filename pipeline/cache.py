@@ -7,10 +7,10 @@ and recomputed, never trusted.
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
-import shutil
 from functools import lru_cache
 from pathlib import Path
 from typing import Any, Callable
@@ -95,5 +95,47 @@ class ResultCache:
         return value, key, False
 
 
-def clear(directory: Path) -> None:
-    shutil.rmtree(directory, ignore_errors=True)
+def _entry_files(directory: Path):
+    """(kind, file) of every file this project's caches write under `directory`: entries
+    `<kind>/<hex key>.<suffix>` (result kinds, and `meshes` of meshing.cache), temporary files
+    `tmp/*` and atomic-write leftovers `<kind>/.<name>.*.tmp`. Nothing else is touched, so
+    pointing --cache at a directory that holds other files cannot lose them."""
+    directory = Path(directory)
+    if not directory.is_dir():
+        return
+    for kind in sorted(p for p in directory.iterdir() if p.is_dir() and not p.is_symlink()):
+        for path in sorted(kind.iterdir()):
+            if not path.is_file() or path.is_symlink():
+                continue
+            stem = path.name.split(".")[0]
+            leftover = path.name.startswith(".") and path.name.endswith(".tmp")
+            if kind.name == "tmp" or leftover or (len(stem) >= 16 and all(
+                    c in "0123456789abcdef" for c in stem)):
+                yield kind.name, path
+
+
+def cache_info(directory: Path) -> dict:
+    """Directory, entries (committed `.json` records) and bytes, per kind and in total."""
+    kinds: dict[str, dict] = {}
+    for kind, path in _entry_files(directory):
+        part = kinds.setdefault(kind, {"entries": 0, "bytes": 0})
+        part["entries"] += path.suffix == ".json"
+        part["bytes"] += path.stat().st_size
+    return {"directory": str(Path(directory).resolve()), "exists": Path(directory).is_dir(),
+            "kinds": kinds, "entries": sum(k["entries"] for k in kinds.values()),
+            "bytes": sum(k["bytes"] for k in kinds.values())}
+
+
+def clear(directory: Path) -> dict:
+    """Delete every cache file under `directory` (and the directories left empty); returns
+    what was removed, as `cache_info` counts it."""
+    info = cache_info(directory)
+    for _, path in list(_entry_files(directory)):
+        path.unlink(missing_ok=True)
+    directory = Path(directory)
+    for kind in sorted(set(info["kinds"]) | {"tmp", "meshes"}):
+        with contextlib.suppress(OSError):  # only if empty
+            (directory / kind).rmdir()
+    with contextlib.suppress(OSError):
+        directory.rmdir()
+    return info

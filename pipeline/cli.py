@@ -1,4 +1,6 @@
-"""Command line: `python -m pipeline {analytical,fem,validate,update-baselines} ...`.
+"""Command line: `rps` (or `python -m pipeline`) with the subcommands analytical, fem,
+workspace, validate, cache, and the developer commands check-baselines, update-baselines,
+readme, scene-docs. Lengths in mm and angles in degrees at this edge; SI inside.
 
 Every expected failure (bad scene value, unreachable pose, solver failure) prints one line on
 stderr naming the offending value and exits with status 2, without a traceback.
@@ -10,14 +12,15 @@ import json
 import math
 import signal
 import sys
+import textwrap
 import time
 from dataclasses import replace
 from pathlib import Path
 
 from analytical.params import BEAM_THEORIES, PLATFORM_INERTIAS
+from common.locations import DISTRIBUTION, cache_root, checkout_root, default_scene
 
-from fem_reference.constraints import COUPLINGS as FEM_COUPLINGS
-from fem_reference.model import PLATFORMS as FEM_PLATFORMS
+from . import human
 
 EXIT_BAD_INPUT = 2
 
@@ -49,14 +52,36 @@ def _positive_mm(text: str) -> float:
     return value
 
 
+def _scene_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scene", metavar="TOML", default=str(default_scene()),
+                   help="scene file: manipulator, poses, fidelity")
+
+
 def _scene_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--scene", default="scenes/paper.toml", help="scene file (TOML)")
-    p.add_argument("--case", default=None, help="case name in the scene (default: its first)")
+    _scene_option(p)
+    p.add_argument("--case", metavar="NAME",
+                   help="case of the scene (default: the scene's first case)")
     p.add_argument("--height", type=_finite, metavar="MM",
-                   help="platform height z in mm (overrides the case's pose)")
-    p.add_argument("--azimuth", type=_finite, metavar="DEG", help="tilt azimuth phi in degrees")
-    p.add_argument("--tilt", type=_finite, metavar="DEG", help="tilt theta in degrees")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+                   help="platform height z, mm (default: the case's)")
+    p.add_argument("--azimuth", type=_finite, metavar="DEG",
+                   help="tilt azimuth phi, degrees (default: the case's)")
+    p.add_argument("--tilt", type=_finite, metavar="DEG",
+                   help="tilt theta, degrees (default: the case's)")
+    p.add_argument("--json", action="store_true", help="print one JSON object, exact values")
+
+
+def _cache_option(p: argparse.ArgumentParser) -> None:
+    try:
+        where = str(cache_root())
+    except RuntimeError:  # without the [fem] extra there is nothing to cache
+        where = "the user cache directory"
+    p.add_argument("--cache", metavar="DIR", type=Path,
+                   help=f"result and mesh cache (default: {where}; the checkout's .cache/ "
+                        "when run from the repository)")
+
+
+def _cache_dir(args: argparse.Namespace) -> Path:
+    return args.cache if args.cache is not None else cache_root()
 
 
 def _case(scene, args):
@@ -85,59 +110,138 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"error: {self.prog}: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="python -m pipeline", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+class _Help(argparse.RawDescriptionHelpFormatter):
+    """Help with every option's default beside its text (units are in the text and the
+    metavars: MM, DEG); an option without a fixed default says what it defaults to."""
 
-    a = sub.add_parser("analytical", help="substructure model of one case")
+    def __init__(self, prog):
+        super().__init__(prog, max_help_position=30, width=100)
+
+    def _split_lines(self, text, width):
+        return textwrap.wrap(" ".join(text.split()), width, break_on_hyphens=False)
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if ("default" in text or not action.option_strings or action.default is None
+                or action.default is False or action.default is argparse.SUPPRESS):
+            return text
+        return f"{text} (default: %(default)s)"
+
+
+class _Version(argparse.Action):
+    """--version: the project's version and commit, worked out only when asked."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, **kwargs):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from .version import describe
+        print(describe())
+        parser.exit(0)
+
+
+def _fem_choices() -> tuple[tuple[str, ...] | None, tuple[str, ...] | None]:
+    """The FEM's platform and coupling options; (None, None) without the [fem] extra (then
+    the fem command says which extra to install)."""
+    try:
+        from fem_reference.constraints import COUPLINGS
+        from fem_reference.model import PLATFORMS
+    except ImportError:
+        return None, None
+    return PLATFORMS, COUPLINGS
+
+
+def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
+    parser = _Parser(prog=prog, description=__doc__, formatter_class=_Help)
+    parser.add_argument("--version", action=_Version,
+                        help="print the project's version and git commit, and exit")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser,
+                                metavar="COMMAND", title="commands")
+
+    def command(name: str, text: str) -> argparse.ArgumentParser:
+        return sub.add_parser(name, help=text, description=text, formatter_class=_Help)
+
+    a = command("analytical", "substructure model of one case (Gong & Lou's Eqs. 1-25)")
     _scene_args(a)
-    a.add_argument("--elements", type=_positive_int, help="beam elements per leg (s)")
-    a.add_argument("--beam", choices=BEAM_THEORIES)
-    a.add_argument("--platform-inertia", choices=PLATFORM_INERTIAS)
-    a.add_argument("--modes", type=_positive_int)
+    a.add_argument("--elements", type=_positive_int, metavar="N",
+                   help="beam elements per leg s (default: the scene's)")
+    a.add_argument("--beam", choices=BEAM_THEORIES, help="beam theory (default: the scene's)")
+    a.add_argument("--platform-inertia", choices=PLATFORM_INERTIAS,
+                   help="platform inertia: the plate's own, or Eq. (8)'s m r2^2 "
+                        "(default: the scene's)")
+    a.add_argument("--modes", type=_positive_int, metavar="N",
+                   help="number of modes (default: the scene's)")
 
-    f = sub.add_parser("fem", help="3D solid FEM reference of one case")
+    platforms, couplings = _fem_choices()
+    f = command("fem", "3D solid FEM reference of one case")
     _scene_args(f)
-    f.add_argument("--size", type=_positive_mm, help="mesh size in mm (overrides the scene)")
-    f.add_argument("--platform", choices=FEM_PLATFORMS)
-    f.add_argument("--coupling", choices=FEM_COUPLINGS)
-    f.add_argument("--modes", type=_positive_int)
-    f.add_argument("--vtu", help="write the mode shapes to this VTU file")
+    f.add_argument("--size", type=_positive_mm, metavar="MM",
+                   help="global element size, mm (default: the scene's mesh_size_mm)")
+    f.add_argument("--platform", choices=platforms,
+                   help="rigid platform or elastic plate (default: the scene's)")
+    f.add_argument("--coupling", choices=couplings,
+                   help="joint-face coupling (default: the scene's)")
+    f.add_argument("--modes", type=_positive_int, metavar="N",
+                   help="number of modes (default: the scene's)")
+    f.add_argument("--vtu", metavar="PATH",
+                   help="also write the mode shapes for ParaView: PATH (.vtu, legs and "
+                        "platform) and a .pvd beside it (default: not written)")
     f.add_argument("--estimate-error", action="store_true",
-                   help="also run the scene's refinement sequence (cached) and report the "
-                        "estimated discretisation error of this size")
+                   help="also run a refinement study (cached) and report the estimated "
+                        "discretisation error of this size: the scene's refinement_mm, with "
+                        "the size inserted, or its ratios scaled to the size when the size "
+                        "lies outside it")
+    _cache_option(f)
 
-    w = sub.add_parser("workspace", help="f1..fN over the regular workspace (Fig. 6)")
-    w.add_argument("--scene", default="scenes/paper.toml")
-    w.add_argument("--layers", type=_positive_int, default=8, help="height layers")
-    w.add_argument("--rings", type=_positive_int, default=6, help="tilt rings per layer")
-    w.add_argument("--azimuths", type=_positive_int, default=36, help="azimuths per ring")
-    w.add_argument("--modes", type=_positive_int, default=3)
-    w.add_argument("--json", action="store_true")
+    w = command("workspace", "f1..fN over the regular workspace (Fig. 6)")
+    _scene_option(w)
+    w.add_argument("--layers", type=_positive_int, default=8, metavar="N",
+                   help="height layers")
+    w.add_argument("--rings", type=_positive_int, default=6, metavar="N",
+                   help="tilt rings per layer")
+    w.add_argument("--azimuths", type=_positive_int, default=36, metavar="N",
+                   help="azimuths per ring")
+    w.add_argument("--modes", type=_positive_int, default=3, metavar="N",
+                   help="modes per pose")
+    w.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 
-    v = sub.add_parser("validate", help="run the whole validation of a scene into out/")
-    v.add_argument("--scene", default="scenes/paper.toml")
-    v.add_argument("--out", default="out")
-    v.add_argument("--cache", default=".cache")
+    v = command("validate", "run the whole validation of a scene: results, tables, report")
+    _scene_option(v)
+    v.add_argument("--out", metavar="DIR", type=Path, default=Path("out"),
+                   help="output directory: results.json, tables/, modes/, report.html/.pdf")
+    _cache_option(v)
     v.add_argument("--profile", choices=("full", "ci"), default="full",
-                   help="full: every study; ci: the CI-sized subset")
+                   help="full: every case and study; ci: the scene's ci_cases only, no "
+                        "refinement study or variants")
     v.add_argument("--no-report", action="store_true", help="skip the HTML/PDF report")
     v.add_argument("--workers", type=_positive_int, default=None,
-                   help="local worker processes of the workspace sweep (default: the cores)")
+                   help="local worker processes of the workspace sweep (default: the number "
+                        "of cores)")
     v.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="send the sweep's poses to this running dask.distributed scheduler "
-                        "(e.g. tcp://10.0.0.5:8786) instead of local workers")
+                        "(e.g. tcp://10.0.0.5:8786) instead of local workers (default: none)")
 
-    c = sub.add_parser("check-baselines", help="compare error tables with tests/baselines")
-    c.add_argument("--results", default=None)
+    k = command("cache", "where the caches are and how big; clear them")
+    k.add_argument("action", choices=("info", "clear"),
+                   help="info: directory, entries and size; clear: delete every entry")
+    _cache_option(k)
+    k.add_argument("--json", action="store_true", help="print one JSON object (info)")
 
-    r = sub.add_parser("readme", help="refresh README.md's results block from results.json")
-    r.add_argument("--results", default="out/results.json")
+    c = command("check-baselines", "recompute the CI error tables and compare them with "
+                "tests/baselines (checkout only)")
+    c.add_argument("--results", metavar="PATH", help="ignored; the tables are recomputed at "
+                   "the baseline's own mesh size (default: none)")
 
-    sub.add_parser("scene-docs", help="rewrite docs/scenes.md from the scene declarations")
+    r = command("readme", "refresh README.md's results block from results.json (checkout "
+                "only)")
+    r.add_argument("--results", metavar="PATH", type=Path, default=Path("out/results.json"),
+                   help="results file of a full run")
 
-    u = sub.add_parser("update-baselines", help="rewrite tests/baselines from a fresh CI run")
-    u.add_argument("--scene", default="scenes/paper.toml")
+    command("scene-docs", "rewrite docs/scenes.md from the scene declarations (checkout only)")
+
+    u = command("update-baselines", "rewrite tests/baselines from a fresh CI run (checkout "
+                "only)")
+    _scene_option(u)
     return parser
 
 
@@ -145,10 +249,7 @@ def _emit(payload: dict, as_json: bool) -> None:
     if as_json:
         print(json.dumps(payload, indent=None))
         return
-    for key, value in payload.items():
-        if key == "frequencies_hz":
-            value = ", ".join(f"{x:.2f}" for x in value)
-        print(f"{key:>18}: {value}")
+    print("\n".join(human.payload_lines(payload)))
 
 
 def cmd_analytical(args: argparse.Namespace) -> dict:
@@ -182,6 +283,9 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
 def cmd_fem(args: argparse.Namespace) -> dict:
     from analytical.kinematics import pose_geometry
     from fem_reference import solve_pose
+    from fem_reference.convergence import sequence_around
+    from fem_reference.model import check_mesh_size
+    from meshing.bodies import pose_assembly
     from .cache import ResultCache
     from .compare import fem_options, fem_runtime
     from .scene import load_scene
@@ -193,12 +297,18 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     options = fem_options(scene, size, platform=args.platform, coupling=args.coupling,
                           modes=count)
     geometry = pose_geometry(scene.manipulator, case.pose)
+    cache = ResultCache(_cache_dir(args))
+    runtime = fem_runtime(scene, cache)
+    sizes = sequence_around(size, scene.fem_study.refinement) if args.estimate_error else ()
+    assembly = pose_assembly(scene.manipulator, geometry,
+                             elastic_platform=options.platform == "elastic")
+    for h in reversed(sizes):  # every size of the study checked up front, the finest first
+        check_mesh_size(assembly, options.with_size(h).mesh, runtime)
     start = time.perf_counter()
-    result = solve_pose(scene.manipulator, geometry, options,
-                        fem_runtime(scene, ResultCache(Path(".cache"))))
+    result = solve_pose(scene.manipulator, geometry, options, runtime)
     seconds = time.perf_counter() - start
     if args.vtu:
-        result.write_vtu(args.vtu)
+        result.write_vtu(args.vtu, pvd=True)
     payload = {
         "case": case.name,
         "pose": _pose_payload(case.pose),
@@ -211,17 +321,46 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         "timings": {k: float(v) for k, v in result.timings.items()},
         "seconds": seconds,
     }
-    if args.estimate_error:
+    if sizes:
         from .run import fem_refinement
-        sizes = tuple(sorted(set(scene.fem_study.refinement) | {size}, reverse=True))
         study = fem_refinement(replace(scene, fem=replace(scene.fem, platform=options.platform,
                                                           coupling=options.coupling)),
-                               case, geometry, ResultCache(Path(".cache")), sizes)
-        k = study["sizes_m"].index(size)
+                               case, geometry, cache, sizes)
+        k = min(range(len(sizes)), key=lambda i: abs(sizes[i] - size))
+        payload["refinement_mm"] = [h * 1e3 for h in sizes]
         payload["estimated_error_percent"] = study["estimated_error_percent"][k]
         payload["extrapolated_hz"] = study["extrapolated_hz"]
         payload["observed_order"] = study["observed_order"]
     return payload
+
+
+def cmd_cache(args: argparse.Namespace) -> int:
+    from .cache import cache_info, clear
+
+    directory = _cache_dir(args)
+    if args.action == "clear":
+        removed = clear(directory)
+        print(f"cleared {directory}: {removed['entries']} entries, "
+              f"{removed['bytes'] / 1e6:.1f} MB")
+        return 0
+    info = cache_info(directory)
+    if args.json:
+        print(json.dumps(info))
+        return 0
+    print(f"cache: {info['directory']}" + ("" if info["exists"] else " (empty, not created)"))
+    for kind, part in info["kinds"].items():
+        print(f"  {kind:<10} {part['entries']:>6} entries  {part['bytes'] / 1e6:9.1f} MB")
+    print(f"  {'total':<10} {info['entries']:>6} entries  {info['bytes'] / 1e6:9.1f} MB")
+    return 0
+
+
+def _checkout(command: str) -> Path:
+    """The repository checkout, which the developer commands write into."""
+    root = checkout_root()
+    if root is None:
+        raise ValueError(f"{command}: writes into the repository checkout; run it from a "
+                         f"clone of {DISTRIBUTION} (pip install -e .)")
+    return root
 
 
 def _terminate(signum, frame):
@@ -240,7 +379,8 @@ def _print_workspace(fmap: dict) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, _terminate)
-    parser = build_parser()
+    prog = "rps" if Path(sys.argv[0]).name == "rps" else "python -m pipeline"
+    parser = build_parser(prog)
     args = parser.parse_args(argv)
     try:
         if args.command == "analytical":
@@ -260,25 +400,37 @@ def main(argv: list[str] | None = None) -> int:
                 _print_workspace(fmap)
         elif args.command == "validate":
             from .run import validate
-            validate(args.scene, Path(args.out), Path(args.cache), args.profile,
-                     build_report=not args.no_report, workers=args.workers,
-                     scheduler=args.scheduler)
+            results = validate(args.scene, args.out, _cache_dir(args), args.profile,
+                               build_report=not args.no_report, workers=args.workers,
+                               scheduler=args.scheduler)
+            print(human.summary(results, args.out, report=not args.no_report))
+        elif args.command == "cache":
+            return cmd_cache(args)
         elif args.command == "check-baselines":
+            _checkout(args.command)
             from .baselines import check_command
             return check_command(args.results)
         elif args.command == "readme":
             from .tables import update_readme
+            readme = _checkout(args.command) / "README.md"
             results = json.loads(Path(args.results).read_text(encoding="utf-8"))
-            update_readme(Path("README.md"), results)
+            update_readme(readme, results)
         elif args.command == "scene-docs":
+            _checkout(args.command)
             from .scene_docs import write
             print(f"wrote {write()}")
         elif args.command == "update-baselines":
+            _checkout(args.command)
             from .baselines import update_command
             return update_command(args.scene)
     except KeyboardInterrupt:
         print("error: interrupted; nothing partial was kept", file=sys.stderr)
         return 130
+    except ModuleNotFoundError as exc:
+        extras = "fem,report" if args.command == "validate" else "fem"
+        print(f"error: {exc.name} is not installed; `{prog} {args.command}` needs "
+              f"pip install '{DISTRIBUTION}[{extras}]'", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except (ValueError, RuntimeError, OSError) as exc:
         message = " ".join(str(exc).split()) or type(exc).__name__
         print(f"error: {message}", file=sys.stderr)

@@ -24,6 +24,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from analytical.kinematics import PoseError, pose_geometry
+from fem_reference.export import write_mode_collection
 
 from . import studies, tables
 from .cache import ResultCache
@@ -349,6 +350,7 @@ def _write_outputs(results: dict, stage: Path) -> None:
             target = modes / f"{case['name']}_fem.vtu"
             shutil.copyfile(source, target)
             case["fem"]["vtu"] = str(target.relative_to(stage))
+            case["fem"]["pvd"] = str(write_mode_collection(target).relative_to(stage))
     (stage / "results.json").write_text(json.dumps(results, indent=1) + "\n")
     tables.write_tables(results, stage)
 

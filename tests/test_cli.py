@@ -1,8 +1,10 @@
 """The command line contract (DESIGN.md) and its behaviour on bad input."""
 from __future__ import annotations
 
+import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -126,3 +128,96 @@ def test_absurd_values_are_refused_in_one_line(args, needle):
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and needle in lines[0], proc.stderr
+
+
+def test_version_names_the_project_and_its_commit():
+    proc = run("--version")
+    assert proc.returncode == 0, proc.stderr
+    assert re.fullmatch(r"rps-elastodynamics \d+\.\d+\.\d+\S* \(commit [0-9a-f]{7,}(-dirty)?\)",
+                        proc.stdout.strip()), proc.stdout
+
+
+def test_help_lists_every_command_and_every_option_default_and_unit():
+    from pipeline.cli import _Help, build_parser
+
+    parser = build_parser()
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    top = run("--help").stdout
+    for name, sub in commands.choices.items():
+        assert re.search(rf"^\s+{re.escape(name)}\b", top, re.M), name
+        for action in sub._actions:
+            if action.option_strings and action.nargs != 0 and action.dest != "help":
+                text = _Help("x")._get_help_string(action)
+                assert "default" in text, (name, action.option_strings)
+            if action.dest in ("height", "size"):
+                assert action.metavar == "MM"
+            if action.dest in ("azimuth", "tilt"):
+                assert action.metavar == "DEG"
+    assert "(default: 8)" in run("workspace", "--help").stdout
+
+
+def test_the_default_scene_does_not_depend_on_the_working_directory(tmp_path):
+    proc = run("analytical", "--case", "case1", "--json", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["case"] == "case1"
+
+
+def test_human_output_is_rounded_and_json_is_exact():
+    human = run("analytical", "--case", "case2")
+    assert human.returncode == 0, human.stderr
+    assert not re.search(r"\d\.\d{6,}", human.stdout), human.stdout
+    assert "frequencies_hz: " in human.stdout
+    exact = json.loads(run("analytical", "--case", "case2", "--json").stdout)
+    shown = re.search(r"frequencies_hz: (.*)", human.stdout).group(1).split(", ")
+    assert shown == [f"{f:.2f}" for f in exact["frequencies_hz"]]
+    assert any(len(repr(f).split(".")[1]) > 6 for f in exact["frequencies_hz"])
+
+
+def test_cache_info_and_clear_touch_only_cache_entries(tmp_path):
+    from pipeline.cache import ResultCache
+
+    cache = tmp_path / "cache"
+    ResultCache(cache).put("fem", "0123456789abcdef01234567", {"x": 1})
+    (cache / "meshes").mkdir()
+    (cache / "meshes" / f"{'ab' * 32}.json").write_text("{}")
+    (cache / "meshes" / f"{'ab' * 32}.vtu").write_bytes(b"0" * 1000)
+    (cache / "notes.txt").write_text("mine")
+    (cache / "fem" / "notes.txt").write_text("mine too")
+    (cache / "tmp").mkdir()  # left empty by an earlier run
+    info = json.loads(run("cache", "info", "--cache", str(cache), "--json").stdout)
+    assert info["entries"] == 2 and info["kinds"]["meshes"]["bytes"] >= 1002
+    proc = run("cache", "clear", "--cache", str(cache))
+    assert proc.returncode == 0 and "2 entries" in proc.stdout
+    assert sorted(p.relative_to(cache).as_posix() for p in cache.rglob("*")) == [
+        "fem", "fem/notes.txt", "notes.txt"]
+    assert json.loads(run("cache", "info", "--cache", str(cache), "--json").stdout)[
+        "entries"] == 0
+
+
+def test_estimate_error_refuses_a_size_beyond_the_dof_guard_before_any_work(tmp_path):
+    proc = run("fem", "--case", "case1", "--size", "3", "--estimate-error", "--cache",
+               str(tmp_path / "cache"))
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "0.003 m" in lines[0] and "max_dofs" in lines[0]
+    assert not (tmp_path / "cache").exists()
+
+
+def test_estimate_error_refines_around_a_size_outside_the_scenes_sequence(tmp_path):
+    """The scene refines 40-32-25-20 mm; asked at 50 mm, the study keeps those ratios and starts
+    at 50 mm (coarse meshes: seconds)."""
+    proc = run("fem", "--case", "case1", "--size", "50", "--estimate-error", "--json",
+               "--cache", str(tmp_path / "cache"))
+    assert proc.returncode == 0, proc.stderr
+    payload = json.loads(proc.stdout)
+    assert payload["refinement_mm"] == pytest.approx([50.0, 40.0, 31.25, 25.0])
+    assert len(payload["estimated_error_percent"]) == 6
+
+
+def test_developer_commands_refuse_to_run_outside_a_checkout(monkeypatch, capsys):
+    import pipeline.cli as cli
+
+    monkeypatch.setattr(cli, "checkout_root", lambda: None)
+    assert cli.main(["scene-docs"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "repository checkout" in err[0]

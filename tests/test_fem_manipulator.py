@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import replace
 import json
 
-import meshio
 import numpy as np
 import pytest
 
@@ -110,16 +109,6 @@ def test_result_api(case1_result, case1):
     json.dumps(r.to_dict())
     with pytest.raises(FemError, match="fractions"):
         r.leg_axis_displacements([1.5])
-
-
-def test_write_vtu(case1_result, tmp_path):
-    path = tmp_path / "out" / "modes.vtu"
-    case1_result.write_vtu(path)
-    m = meshio.read(path)
-    np.testing.assert_allclose(m.field_data["frequencies_hz"], case1_result.frequencies_hz)
-    assert [k for k in m.point_data] == [f"mode_{k}" for k in range(1, 7)]
-    assert m.point_data["mode_1"].shape == (case1_result.raw_dofs // 3, 3)
-    assert [p.name for p in path.parent.iterdir()] == ["modes.vtu"]
 
 
 @pytest.mark.parametrize("platform,coupling", [("rigid", "distributing"), ("elastic", "rigid")])
@@ -257,3 +246,16 @@ def test_folded_first_mesh_is_rebuilt_with_the_netgen_fallback(scene):
     mesh = build_mesh(asm, settings)
     again = _build_with(asm, settings, FALLBACK_OPTIONS)
     assert mesh.n_nodes == again.n_nodes and (mesh.points == again.points).all()
+
+
+@pytest.mark.parametrize("size, expected", [
+    (0.032, (0.040, 0.032, 0.025, 0.020)),  # in the design: the design
+    (0.030, (0.040, 0.032, 0.030, 0.025, 0.020)),  # between its sizes: inserted
+    (0.010, (0.020, 0.016, 0.0125, 0.010)),  # finer: the design's ratios, ending at it
+    (0.050, (0.050, 0.040, 0.03125, 0.025)),  # coarser: the design's ratios, starting at it
+])
+def test_refinement_sequence_around_a_size(size, expected):
+    from fem_reference.convergence import sequence_around
+    sizes = sequence_around(size, (0.040, 0.032, 0.025, 0.020))
+    assert sizes == pytest.approx(expected, rel=1e-12)
+    assert size in sizes and list(sizes) == sorted(sizes, reverse=True)
