@@ -261,9 +261,9 @@ def main(argv: list[str] | None = None) -> int:
             from .baselines import check_command
             return check_command(args.results)
         elif args.command == "readme":
-            from .tables import update_readme
-            results = json.loads(Path(args.results).read_text(encoding="utf-8"))
-            update_readme(Path("README.md"), results)
+            from reports.readme import update_readme
+            from .results import read
+            update_readme(Path("README.md"), read(args.results))
         elif args.command == "scene-docs":
             from .scene_docs import write
             print(f"wrote {write()}")
