@@ -121,9 +121,9 @@ def refinement_table(results: dict, i: int, c: Cells) -> dict | None:
     return {"head": [head(*labels)], "rows": rows, "cls": "refinement"}
 
 
-def repeated_limit_notes(case: dict) -> list[str]:
-    """A sentence for every repeated FEM pair whose members extrapolate to different limits
-    (as printed), set against the members' estimated error: equal modes should share one."""
+def repeated_limit_notes(case: dict) -> list[tuple[str, bool]]:
+    """(sentence, beyond the estimate) for every repeated FEM pair whose members extrapolate to
+    different limits: equal modes have one limit, so the spread is part of the FEM's error."""
     ref = case["fem_refinement"]
     if not ref:
         return []
@@ -135,15 +135,16 @@ def repeated_limit_notes(case: dict) -> list[str]:
     for modes in groups.values():
         modes = sorted(modes)
         limits = [ref["extrapolated_hz"][k - 1] for k in modes]
-        if len({f"{f:.2f}" for f in limits}) == 1:
-            continue
         spread = 100 * (max(limits) / min(limits) - 1)
+        if spread < 1e-7:
+            continue
         estimate = min(case["fem_estimated_error_percent"][k - 1] for k in modes)
-        verdict = (f"within their estimated error ({estimate:.3f} %)" if spread <= estimate else
-                   f"more than their estimated error ({estimate:.3f} %): the extrapolation of "
-                   f"this pair is less certain than that estimate says")
-        notes.append(f"FEM modes {' and '.join(map(str, modes))} are a repeated pair (one "
-                     f"frequency in the limit) but extrapolate to "
-                     f"{' and '.join(f'{f:.2f}' for f in limits)} Hz, {spread:.3f} % apart: "
-                     f"{verdict}.")
+        beyond = spread > estimate
+        verdict = (f"more than their estimated error ({estimate:.3f} %), so that estimate is "
+                   f"too small for this pair" if beyond else
+                   f"within their estimated error ({estimate:.3f} %)")
+        notes.append((f"FEM modes {' and '.join(map(str, modes))} are a repeated pair (one "
+                      f"frequency in the limit) but extrapolate to "
+                      f"{' and '.join(f'{f:.3f}' for f in limits)} Hz, {spread:.3f} % apart: "
+                      f"{verdict}.", beyond))
     return notes

@@ -97,13 +97,16 @@ def fem_refinement(ref: dict, path: Path, scene_size_m: float | None = None) -> 
 
 
 def _limit_note(ref: dict, k: int) -> str:
-    """What the star of mode k is when the extrapolation did not run as usual."""
+    """What the star of mode k is when the extrapolation did not run as usual: the finest
+    mesh's value, or an extrapolation at a capped order."""
     status, order = ref["status"][k], ref["observed_order"][k]
     if status == "ok":
         return ""
     if ref["extrapolated_hz"][k] == ref["frequencies_hz"][-1][k]:
-        return f"{status}: limit = finest mesh"
-    return f"{status}: extrapolated at p = {order:.2g}" if order is not None else status
+        return f"{status}: limit = finest"
+    if status == "order capped" and order is not None:
+        return f"p capped at {order:.2g}"
+    return status
 
 
 def mac_matrix(mac, pairs, path: Path, title: str = "") -> None:

@@ -36,7 +36,7 @@ def workspace_polar(ws: dict, path: Path, layers: int = 3, modes: int = 3) -> li
     # cell edges in azimuth (closed circle) and tilt
     dphi = (phi[1] - phi[0]) if len(phi) > 1 else 2 * math.pi
     phi_edges = np.concatenate([phi - dphi / 2, [phi[-1] + dphi / 2]])
-    fig = plt.figure(figsize=(WIDTH, 1.65 * modes + 0.2))
+    fig = plt.figure(figsize=(WIDTH, 1.5 * modes + 0.2))
     for k in range(modes):
         for c, iz in enumerate(pick):
             values = _layer_array(ws, iz, k)
