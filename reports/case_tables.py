@@ -135,9 +135,9 @@ def repeated_limit_notes(case: dict) -> list[tuple[str, bool]]:
     for modes in groups.values():
         modes = sorted(modes)
         limits = [ref["extrapolated_hz"][k - 1] for k in modes]
-        spread = 100 * (max(limits) / min(limits) - 1)
-        if spread < 1e-7:
+        if len({f"{f:.3f}" for f in limits}) == 1:  # one limit, as far as printed
             continue
+        spread = 100 * (max(limits) / min(limits) - 1)
         estimate = min(case["fem_estimated_error_percent"][k - 1] for k in modes)
         beyond = spread > estimate
         verdict = (f"more than their estimated error ({estimate:.3f} %), so that estimate is "
@@ -145,6 +145,6 @@ def repeated_limit_notes(case: dict) -> list[tuple[str, bool]]:
                    f"within their estimated error ({estimate:.3f} %)")
         notes.append((f"FEM modes {' and '.join(map(str, modes))} are a repeated pair (one "
                       f"frequency in the limit) but extrapolate to "
-                      f"{' and '.join(f'{f:.3f}' for f in limits)} Hz, {spread:.3f} % apart: "
+                      f"{' and '.join(f'{f:.3f}' for f in limits)} Hz, {spread:.2g} % apart: "
                       f"{verdict}.", beyond))
     return notes

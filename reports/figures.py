@@ -85,7 +85,7 @@ def fem_refinement(ref: dict, path: Path, scene_size_m: float | None = None) -> 
         ax.set_xlim(-2, h.max() * 1.08)
         note = _limit_note(ref, k)
         ax.set_title(f"$f_{k + 1}$" + (f" ({note})" if note else ""), pad=2,
-                     fontsize=8 if note else 9)
+                     fontsize=7 if note else 9)
         ax.ticklabel_format(axis="y", useOffset=False)
         if k % cols == 0:
             ax.set_ylabel("frequency (Hz)")
@@ -103,7 +103,7 @@ def _limit_note(ref: dict, k: int) -> str:
     if status == "ok":
         return ""
     if ref["extrapolated_hz"][k] == ref["frequencies_hz"][-1][k]:
-        return f"{status}: limit = finest"
+        return f"{status}, limit = finest"
     if status == "order capped" and order is not None:
         return f"p capped at {order:.2g}"
     return status
