@@ -5,9 +5,11 @@
   rounding): each numeric cell names its source by JSON pointer (data-src),
 - every referenced image exists and is a non-empty PNG,
 - the PDF has the expected sections (pdftotext),
-- a results file of the CI profile (no studies) still builds,
-- a bad or missing results file gives a one-line ValueError naming the path, a failed render a
-  one-line ReportError, and neither leaves partial output.
+- a results file of the CI profile (no studies) still builds, omitting the sections it has no
+  data for; results without the paper's rows show nothing of the paper,
+- the report names the project version, the commit and the scene file's sha256,
+- a bad, missing or outdated results file gives a one-line ValueError naming the path, a failed
+  render a one-line ReportError, and neither leaves partial output.
 """
 from __future__ import annotations
 
@@ -27,8 +29,8 @@ from reports.results import resolve
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 RESULTS = FIXTURES / "report_results.json"
 SECTIONS = ("1 Summary", "2 Scene and set-up", "3 Table I reproduction", "4 Convergence",
-            "5 Mode shapes", "6 Speed vs error", "7 Workspace maps",
-            "8 Case 2 angle conventions and height calibration")
+            "5 Mode shapes", "6 Speed vs error", "7 Workspace maps", "8 Both joint orders",
+            "9 Reading the paper: angle conventions and height calibration", "10 Other cases")
 NUMBER = re.compile(r"^[+\-\u2212]?[\d\u2009]+(\.\d+)?$")
 
 
@@ -165,7 +167,7 @@ def test_sections_in_html_and_pdf(built):
         pytest.skip("pdftotext (poppler-utils) not installed")
     text = subprocess.run(["pdftotext", "-layout", str(built["pdf"]), "-"], check=True,
                           capture_output=True, text=True).stdout
-    for title in SECTIONS + ("9 Other cases", "Case 1: symmetric pose", "Case 2: tilted pose",
+    for title in SECTIONS + ("Case 1: symmetric pose", "Case 2: tilted pose",
                              "Calibrated values", "Environment", "page 1 of"):
         assert title in text, title
     assert "\f" in text  # more than one page
@@ -175,19 +177,19 @@ def _ci_profile(results: dict) -> dict:
     """What a CI-profile run writes: case1/case2, no refinement, variants or studies."""
     ci = copy.deepcopy(results)
     ci["profile"] = "ci"
-    ci["studies"] = {}
+    ci["studies"] = {"height_calibration": None, "angle_conventions": [], "workspace": None,
+                     "joint_orders": []}
     ci["cases"] = [c for c in ci["cases"] if c["name"] in ("case1", "case2")]
     for case in ci["cases"]:
         for key in ("fem_refinement", "models", "element_convergence", "fem_variants",
-                    "speed_vs_error"):
-            case.pop(key, None)
-        case["fem_estimated_error_percent"] = case["fem_reference_hz"] = None
+                    "fem_variant_errors", "speed_vs_error", "fem_estimated_error_percent",
+                    "fem_reference_hz"):
+            case[key] = None
         for pair in case["pairs"]:
             for key in ("fem_estimated_error_percent", "f_reference_hz",
                         "error_vs_reference_percent"):
-                pair.pop(key, None)
-    ci["cases"][1]["fem"].pop("vtu")  # and one case without its mode file
-    ci["cases"][1]["analytical"].pop("leg_axis_shapes")
+                pair[key] = None
+    ci["cases"][1]["fem"]["vtu"] = None  # and one case without its mode file
     return ci
 
 
@@ -200,6 +202,9 @@ def test_ci_profile_results_build(tmp_path):
     assert "No element-convergence study in this results file" in page
     assert "No workspace map in this results file" in page
     assert "names no FEM mode file" in page
+    headings = _parse(page).headings
+    for absent in ("Speed vs error", "Both joint orders", "Reading the paper"):  # omitted
+        assert not any(absent in h for h in headings), absent
     assert pdf.stat().st_size > 10_000
     parsed = _parse(page)
     for cell in parsed.cells:
@@ -219,10 +224,10 @@ def _assert_untouched(out: Path, before: dict[str, bytes]) -> None:
 @pytest.mark.parametrize("content, message", [
     (None, "results file not found"),
     ("{ not json", "not valid JSON"),
-    ('{"schema": 99, "cases": []}', "schema 99"),
-    ('{"schema": 1, "cases": []}', "'cases' must be a non-empty list"),
-    ('{"schema": 1, "scene": {}, "environment": {}, "cases": [{"name": "case1"}]}',
-     "lacks 'pose'"),
+    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 2"),
+    ('{"schema": 1, "cases": []}', "results schema 1, this version reads schema 2: rerun `make`"),
+    ('{"cases": []}', "results schema None"),
+    ('{"schema": 2, "cases": []}', "profile: field required"),
 ])
 def test_bad_results_file(tmp_path, content, message):
     path = tmp_path / "results.json"
@@ -241,8 +246,25 @@ def test_bad_value_names_the_field(tmp_path):
     results["cases"][0]["pairs"][2]["mac"] = "high"
     path = tmp_path / "results.json"
     path.write_text(json.dumps(results))
-    with pytest.raises(ValueError, match=r"cases\[0\]\.pairs\[2\]\.mac must be a number"):
+    with pytest.raises(ValueError, match=r"cases\[0\]\.pairs\[2\]\.mac: input should be a "
+                                         r"valid number, got 'high'"):
         build_report(path, tmp_path / "out")
+
+
+def test_results_without_cases_or_with_an_unknown_field_are_refused(tmp_path):
+    results = json.loads(RESULTS.read_text())
+    for change, message in ((lambda r: r.update(cases=[]), "cases: the results hold no case"),
+                            (lambda r: r["cases"][0]["pose"].pop("centre_mm"),
+                             "cases[0].pose.centre_mm: field required"),
+                            (lambda r: r["cases"][0]["fem"].update(colour="red"),
+                             "cases[0].fem.colour: extra inputs are not permitted")):
+        broken = copy.deepcopy(results)
+        change(broken)
+        path = tmp_path / "results.json"
+        path.write_text(json.dumps(broken))
+        with pytest.raises(ValueError) as info:
+            build_report(path, tmp_path / "out")
+        assert message in str(info.value) and "\n" not in str(info.value)
 
 
 def test_failed_render_keeps_the_previous_report(tmp_path):
