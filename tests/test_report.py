@@ -292,3 +292,82 @@ def test_cli_one_line_error(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and str(missing) in err and err.startswith("error: ")
     assert not (tmp_path / "out").exists()
+
+
+def test_report_names_version_commit_and_scene_digest(built):
+    srcs = {c["attrs"]["data-src"] for c in built["page"].cells if "data-src" in c["attrs"]}
+    assert {"/environment/project_version", "/environment/git_commit", "/scene/sha256"} <= srcs
+    env = built["results"]["environment"]
+    head = built["html"].read_text(encoding="utf-8").split("</header>")[0]
+    assert f"rps-elastodynamics {env['project_version']}" in head
+    assert env["git_commit"][:12] in head
+
+
+def test_repeated_pair_with_two_limits_is_flagged(built):
+    from reports.case_tables import repeated_limit_notes
+
+    case = next(c for c in built["results"]["cases"] if c["fem_refinement"]
+                and any(p["repeated"] for p in c["pairs"]))
+    notes = repeated_limit_notes(case)
+    assert notes and all("are a repeated pair" in text for text, _ in notes)
+    for text, _ in notes:
+        assert text in html_text(built)
+    # members 1 and 2 drawn apart by far more than their estimated error: said so
+    wide = copy.deepcopy(case)
+    group = [p["fem_mode"] for p in wide["pairs"] if p["repeated"]][:2]
+    limits = wide["fem_refinement"]["extrapolated_hz"]
+    limits[group[1] - 1] = limits[group[0] - 1] * 1.01
+    flagged = [n for n in repeated_limit_notes(wide) if n[1]]
+    assert flagged and "more than their estimated error" in flagged[0][0]
+
+
+def html_text(built) -> str:
+    import html as html_lib
+    return html_lib.unescape(built["html"].read_text(encoding="utf-8"))
+
+
+def test_convergence_panels_say_what_the_limit_is():
+    from reports.figures import _limit_note
+
+    ref = {"status": ["ok", "order capped", "non-monotone"], "observed_order": [2.5, 4.0, None],
+           "extrapolated_hz": [99.0, 98.0, 100.5], "frequencies_hz": [[101, 101, 101],
+                                                                      [100, 99, 100.5]]}
+    assert _limit_note(ref, 0) == ""
+    assert _limit_note(ref, 1) == "p capped at 4"  # extrapolated, not the finest mesh
+    assert _limit_note(ref, 2) == "non-monotone, limit = finest"
+
+
+def _without_paper(results: dict) -> dict:
+    bare = copy.deepcopy(results)
+    for case in bare["cases"]:
+        case["paper"] = None
+        case["description"] = case["name"]  # the scene's titles name the paper's table
+    bare["scene"]["calibrated"] = []  # whose reasons cite the paper
+    bare["studies"]["angle_conventions"] = []
+    bare["studies"]["height_calibration"] = None
+    return bare
+
+
+def test_results_without_paper_rows_show_nothing_of_the_paper(tmp_path):
+    results = _without_paper(json.loads(RESULTS.read_text()))
+    (tmp_path / "results.json").write_text(json.dumps(results))
+    shutil.copytree(FIXTURES / "modes", tmp_path / "modes")
+    html, _ = build_report(tmp_path / "results.json", tmp_path)
+    page = html.read_text(encoding="utf-8")
+    headings = _parse(page).headings
+    assert "3 Analytical vs FEM" in headings and "6 Speed vs error" in headings
+    for absent in ("Table I", "paper FEA", "Reading the paper", "the paper's 0.82 s",
+                   "Section 2 text"):
+        assert absent not in page, absent
+
+
+def test_tables_drop_the_paper_columns_without_paper_rows():
+    from reports.tables import case_csv, case_markdown
+
+    case = json.loads(RESULTS.read_text())["cases"][0]
+    assert case_csv(case).startswith("mode,paper_fea_hz,paper_theory_hz,paper_error_percent,")
+    bare = dict(case, paper=None)
+    assert case_csv(bare).startswith("mode,fem_hz,fem_estimated_error_percent,analytical_hz")
+    assert "paper" not in case_markdown(bare)
+    rows = case_csv(bare).splitlines()
+    assert len(rows) == len(case["pairs"]) + 1 and all(r.count(",") == 5 for r in rows)
