@@ -193,11 +193,16 @@ def _ci_profile(results: dict) -> dict:
     return ci
 
 
+def _build_variant(results: dict, folder: Path) -> tuple[Path, Path]:
+    """The report of a changed copy of the fixture, built beside the fixture's mode files."""
+    (folder / "results.json").write_text(json.dumps(results))
+    shutil.copytree(FIXTURES / "modes", folder / "modes")
+    return build_report(folder / "results.json", folder)
+
+
 def test_ci_profile_results_build(tmp_path):
     results = _ci_profile(json.loads(RESULTS.read_text()))
-    (tmp_path / "results.json").write_text(json.dumps(results))
-    shutil.copytree(FIXTURES / "modes", tmp_path / "modes")
-    html, pdf = build_report(tmp_path / "results.json", tmp_path)
+    html, pdf = _build_variant(results, tmp_path)
     page = html.read_text(encoding="utf-8")
     assert "No element-convergence study in this results file" in page
     assert "No workspace map in this results file" in page
@@ -349,10 +354,7 @@ def _without_paper(results: dict) -> dict:
 
 
 def test_results_without_paper_rows_show_nothing_of_the_paper(tmp_path):
-    results = _without_paper(json.loads(RESULTS.read_text()))
-    (tmp_path / "results.json").write_text(json.dumps(results))
-    shutil.copytree(FIXTURES / "modes", tmp_path / "modes")
-    html, _ = build_report(tmp_path / "results.json", tmp_path)
+    html, _ = _build_variant(_without_paper(json.loads(RESULTS.read_text())), tmp_path)
     page = html.read_text(encoding="utf-8")
     headings = _parse(page).headings
     assert "3 Analytical vs FEM" in headings and "6 Speed vs error" in headings
