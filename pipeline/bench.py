@@ -122,11 +122,15 @@ def main(argv: list[str] | None = None) -> int:
 
 def _estimated_errors(results_path: Path, case_name: str) -> dict | None:
     """The refinement study's estimated error per size, if a validation run left one."""
+    from .results import read
+
     try:
-        results = json.loads(results_path.read_text())
-        case = next(c for c in results["cases"] if c["name"] == case_name)
-        study = case["fem_refinement"]
-    except (OSError, KeyError, ValueError, StopIteration):
+        results = read(results_path)
+    except ValueError:  # none, or of another schema
+        return None
+    case = next((c for c in results["cases"] if c["name"] == case_name), None)
+    study = case and case["fem_refinement"]
+    if not study:
         return None
     return {f"{s * 1e3:g}mm": e for s, e in zip(study["sizes_m"],
                                                  study["estimated_error_percent_max"])}

@@ -325,7 +325,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         from .run import fem_refinement
         study = fem_refinement(replace(scene, fem=replace(scene.fem, platform=options.platform,
                                                           coupling=options.coupling)),
-                               case, geometry, cache, sizes)
+                               geometry, cache, sizes)
         k = min(range(len(sizes)), key=lambda i: abs(sizes[i] - size))
         payload["refinement_mm"] = [h * 1e3 for h in sizes]
         payload["estimated_error_percent"] = study["estimated_error_percent"][k]
@@ -411,10 +411,10 @@ def main(argv: list[str] | None = None) -> int:
             from .baselines import check_command
             return check_command(args.results)
         elif args.command == "readme":
-            from .tables import update_readme
+            from reports.readme import update_readme
+            from .results import read
             readme = _checkout(args.command) / "README.md"
-            results = json.loads(Path(args.results).read_text(encoding="utf-8"))
-            update_readme(readme, results)
+            update_readme(readme, read(args.results))
         elif args.command == "scene-docs":
             _checkout(args.command)
             from .scene_docs import write

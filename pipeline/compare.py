@@ -3,18 +3,19 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from analytical.kinematics import PoseGeometry
-from analytical.modal import leg_axis_displacements
+from analytical.modal import leg_axis_displacements, platform_motion
 from analytical.model import analyse
 from analytical.params import ModelOptions
 
 from common.settings import as_dict
 
+from . import results
 from .cache import ResultCache
 from .pairing import pair_modes
 from .scene import Case, Scene
@@ -24,24 +25,42 @@ STATIONS = np.linspace(0.0, 1.0, 11)
 EXTRA_MODES = 4  # asked beyond the reported ones, so a pair split across the cut is found
 
 
-def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> dict:
-    """Frequencies, sampled shapes and wall time of the substructure model."""
+@dataclass(frozen=True)
+class Solve:
+    """One model's modes at one pose: its results record (every computed mode) and its shapes
+    sampled at the STATIONS of every leg axis, (legs * stations * 3, modes), for the pairing."""
+
+    record: dict  # results.AnalyticalRecord or results.FemRecord
+    station_shapes: np.ndarray
+    vtu: Path | None = None  # the FEM's mode file in the cache
+
+    def reported(self, count: int) -> dict:
+        """The record cut to the first `count` modes."""
+        return self.record | {
+            "frequencies_hz": self.record["frequencies_hz"][:count],
+            "platform_motion": [row[:count] for row in self.record["platform_motion"]]}
+
+    def leg_axis_shapes(self, count: int) -> list:
+        """[leg][station][xyz][mode] of the first `count` modes."""
+        shapes = self.station_shapes[:, :count]
+        return shapes.reshape(-1, len(STATIONS), 3, shapes.shape[-1]).tolist()
+
+
+def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
+    """Frequencies, platform motion, sampled shapes and wall time of the substructure model."""
     opts = replace(options, modes=min(options.modes + EXTRA_MODES, 18 * options.elements))
     start = time.perf_counter()
     res = analyse(scene.manipulator, case.pose, opts)
     seconds = time.perf_counter() - start
     shapes = leg_axis_displacements(res.model, res.geometry.leg_frames, res.modal.shapes,
                                     STATIONS)
-    return {
-        "elements": options.elements,
-        "beam": options.beam,
-        "platform_inertia": options.platform_inertia,
-        "frequencies_hz": [float(f) for f in res.frequencies_hz],
-        "seconds": seconds,
-        "timings": {"total": seconds},
-        "dofs": int(res.model.stiffness.shape[0]),
-        "station_shapes": shapes.reshape(-1, shapes.shape[-1]).tolist(),
-    }
+    record = results.AnalyticalRecord(
+        elements=options.elements, beam=options.beam,
+        platform_inertia=options.platform_inertia,
+        frequencies_hz=[float(f) for f in res.frequencies_hz],
+        timings={"total": seconds}, dofs=int(res.model.stiffness.shape[0]),
+        platform_motion=platform_motion(res.model, res.modal.shapes).tolist())
+    return Solve(record, shapes.reshape(-1, shapes.shape[-1]))
 
 
 def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | None = None,
@@ -62,7 +81,7 @@ def fem_runtime(scene: Scene, cache: ResultCache | None = None, use_cache: bool 
 
 
 def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size: float,
-             platform: str | None = None, coupling: str | None = None) -> dict:
+             platform: str | None = None, coupling: str | None = None) -> Solve:
     """The FEM reference of one pose at one mesh size, through the result cache.
 
     The cache key is every input that changes the answer, taken whole: the manipulator, the
@@ -89,19 +108,25 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
             "coupling": options.coupling,
             "timings": {k: float(v) for k, v in result.timings.items()},
             "mesh_cache_hit": bool(result.cache_hit),  # then "mesh" timed a cache read
+            "platform_motion": result.platform_motion.tolist(),
             "station_shapes": shapes.reshape(-1, shapes.shape[-1]).tolist(),
         }
         return value, {".vtu": vtu}
 
     try:
-        value, key, hit = cache.get_or_compute(
-            "fem", payload, compute, required=("frequencies_hz", "station_shapes", "timings", "mesh_cache_hit"))
+        value, key, hit = cache.get_or_compute("fem", payload, compute, required=FEM_CACHED)
     finally:
         for leftover in (cache.directory / "tmp").glob(f"mode-{os.getpid()}-*.vtu"):
             leftover.unlink(missing_ok=True)
-    value = dict(value, cache_hit=hit)
-    value["vtu_cache_path"] = str(cache.side_file("fem", key, ".vtu"))
-    return value
+    record = results.FemRecord(**{k: value[k] for k in FEM_CACHED if k != "station_shapes"},
+                               cache_hit=hit)
+    return Solve(record, np.asarray(value["station_shapes"]),
+                 cache.side_file("fem", key, ".vtu"))
+
+
+# what a cached FEM value holds (an entry lacking any of them is recomputed)
+FEM_CACHED = ("frequencies_hz", "dofs", "raw_dofs", "mesh_size_m", "platform", "coupling",
+              "timings", "mesh_cache_hit", "platform_motion", "station_shapes")
 
 
 def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
@@ -110,30 +135,24 @@ def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
             "options": as_dict(options), "stations": STATIONS.tolist()}
 
 
-def error_table(analytical: dict, fem: dict, count: int, fem_error_percent=None,
+def error_table(analytical: Solve, fem: Solve, count: int, fem_error_percent=None,
                 reference_hz=None) -> list[dict]:
-    """Rows of the comparison: FEM mode k paired with the analytical mode of the same shape."""
-    a_hz = np.asarray(analytical["frequencies_hz"])
-    f_hz = np.asarray(fem["frequencies_hz"])
-    pairs = pair_modes(np.asarray(analytical["station_shapes"]), a_hz,
-                       np.asarray(fem["station_shapes"]), f_hz, count)
+    """Rows of the comparison (results.Pair): FEM mode k paired with the analytical mode of the
+    same shape; against the FEM's h -> 0 limit too when `reference_hz` is given."""
+    a_hz = np.asarray(analytical.record["frequencies_hz"])
+    f_hz = np.asarray(fem.record["frequencies_hz"])
+    pairs = pair_modes(analytical.station_shapes, a_hz, fem.station_shapes, f_hz, count)
     rows = []
     for p in pairs:
-        row = {
-            "fem_mode": p.reference_mode + 1,
-            "analytical_mode": p.model_mode + 1,
-            "f_fem_hz": float(f_hz[p.reference_mode]),
-            "f_analytical_hz": float(a_hz[p.model_mode]),
-            "error_percent": p.error_percent(a_hz, f_hz),
-            "mac": p.mac,
-            "repeated": p.repeated,
-            "group": p.group,
-        }
-        if fem_error_percent is not None:
-            row["fem_estimated_error_percent"] = float(fem_error_percent[p.reference_mode])
-        if reference_hz is not None:
-            row["f_reference_hz"] = float(reference_hz[p.reference_mode])
-            row["error_vs_reference_percent"] = float(
-                100 * (a_hz[p.model_mode] / reference_hz[p.reference_mode] - 1))
-        rows.append(row)
+        k, j = p.reference_mode, p.model_mode
+        rows.append(results.Pair(
+            fem_mode=k + 1, analytical_mode=j + 1,
+            f_fem_hz=float(f_hz[k]), f_analytical_hz=float(a_hz[j]),
+            error_percent=float(p.error_percent(a_hz, f_hz)), mac=float(p.mac),
+            repeated=bool(p.repeated), group=int(p.group),
+            fem_estimated_error_percent=(None if fem_error_percent is None
+                                         else float(fem_error_percent[k])),
+            f_reference_hz=None if reference_hz is None else float(reference_hz[k]),
+            error_vs_reference_percent=(None if reference_hz is None else
+                                        float(100 * (a_hz[j] / reference_hz[k] - 1)))))
     return rows

@@ -12,6 +12,7 @@ from dataclasses import replace
 
 from analytical.kinematics import pose_geometry
 
+from . import results
 from .cache import ResultCache
 from .compare import analytical_case, error_table, fem_case
 from .scene import Scene
@@ -31,9 +32,11 @@ def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict
         for base, top in ORDERS:
             m = replace(scene.manipulator, base_joint=base, platform_joint=top)
             ordered = replace(scene, manipulator=m)
-            entry = {"base_joint": base, "platform_joint": top,
-                     "scene_order": (base, top) == (scene.manipulator.base_joint,
-                                                    scene.manipulator.platform_joint)}
+            entry = results.JointOrderReading(
+                base_joint=base, platform_joint=top,
+                scene_order=(base, top) == (scene.manipulator.base_joint,
+                                            scene.manipulator.platform_joint),
+                error=None, fem_hz=None, models=None)
             try:
                 geometry = pose_geometry(m, case.pose)
                 fem = fem_case(ordered, geometry, cache, scene.fem.mesh_size)
@@ -41,15 +44,15 @@ def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict
                 entry["error"] = " ".join(str(exc).split())
                 readings.append(entry)
                 continue
-            entry["fem_hz"] = fem["frequencies_hz"][:count]
+            entry["fem_hz"] = fem.record["frequencies_hz"][:count]
             entry["models"] = {}
             for label, settings in MODELS.items():
                 a = analytical_case(ordered, case, replace(scene.analytical, **settings))
                 rows = error_table(a, fem, count)
-                entry["models"][label] = {
-                    "frequencies_hz": [r["f_analytical_hz"] for r in rows],
-                    "error_percent": [r["error_percent"] for r in rows],
-                    "mac": [r["mac"] for r in rows]}
+                entry["models"][label] = results.JointOrderModel(
+                    frequencies_hz=[r["f_analytical_hz"] for r in rows],
+                    error_percent=[r["error_percent"] for r in rows],
+                    mac=[r["mac"] for r in rows])
             readings.append(entry)
-        out.append({"case": name, "readings": readings})
+        out.append(results.JointOrderCase(case=name, readings=readings))
     return out

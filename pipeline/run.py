@@ -9,13 +9,12 @@ from __future__ import annotations
 
 import datetime as dt
 import hashlib
-import json
 import math
 import os
 import platform
 import shutil
+import subprocess
 import sys
-from dataclasses import replace
 from importlib import metadata
 from pathlib import Path
 
@@ -25,16 +24,18 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from analytical.kinematics import PoseError, pose_geometry
 from fem_reference.export import write_mode_collection
+from reports.tables import write_tables
 
-from . import studies, tables
-from .cache import ResultCache
+from . import results as schema
+from . import studies
+from .cache import ROOT, ResultCache
 from .joint_orders import joint_order_study
 from .selection import validate_fidelity
-from .compare import STATIONS, analytical_case, error_table, fem_case
+from .compare import STATIONS, Solve, analytical_case, error_table, fem_case
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
 
-SCHEMA_VERSION = 1
+PROJECT = "rps-elastodynamics"
 
 
 def environment() -> dict:
@@ -45,102 +46,116 @@ def environment() -> dict:
             versions[dist] = metadata.version(dist)
         except metadata.PackageNotFoundError:
             versions[dist] = None
-    return {
-        "python": sys.version.split()[0],
-        "platform": platform.platform(),
-        "machine": platform.machine(),
-        "cpu_count": os.cpu_count(),
-        "date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        "versions": versions,
-    }
+    try:
+        version = metadata.version(PROJECT)
+    except metadata.PackageNotFoundError:
+        version = None
+    return schema.Environment(
+        project_version=version,
+        git_commit=git_commit(),
+        python=sys.version.split()[0],
+        platform=platform.platform(),
+        machine=platform.machine(),
+        cpu_count=os.cpu_count(),
+        date=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        versions=versions,
+    )
+
+
+def git_commit() -> str | None:
+    """The commit of the source tree the run used, marked when it had local changes; None
+    outside a git checkout."""
+    def git(*args) -> str:
+        return subprocess.run(["git", "-C", str(ROOT), *args], capture_output=True, text=True,
+                              check=True, timeout=20).stdout.strip()
+    try:
+        commit = git("rev-parse", "HEAD")
+        changed = git("status", "--porcelain", "--untracked-files=no")
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return commit + (" + local changes" if changed else "")
 
 
 def scene_summary(scene: Scene, path: str) -> dict:
     m = scene.manipulator
-    return {
-        "name": scene.name,
-        "path": path,
-        "sha256": hashlib.sha256(Path(path).read_bytes()).hexdigest(),
-        "manipulator": {
-            "base_radius_mm": m.base_radius * 1e3,
-            "platform_radius_mm": m.platform_radius * 1e3,
-            "leg_diameter_mm": m.leg_diameter * 1e3,
-            "platform_thickness_mm": m.platform_thickness * 1e3,
-            "platform_shape": m.platform_shape,
-            "leg_angles_deg": [math.degrees(a) for a in m.leg_angles],
-            "actuator_range_mm": [m.actuator_min * 1e3, m.actuator_max * 1e3],
-            "s_joint_max_deg": math.degrees(m.s_joint_max),
-            "r_joint_max_deg": math.degrees(m.r_joint_max),
-            "youngs_modulus_gpa": m.material.youngs_modulus / 1e9,
-            "shear_modulus_gpa": m.material.shear_modulus / 1e9,
-            "poisson_ratio": m.material.poisson_ratio,
-            "density_kg_m3": m.material.density,
-        },
-        "analytical": {"elements": scene.analytical.elements, "beam": scene.analytical.beam,
-                       "platform_inertia": scene.analytical.platform_inertia,
-                       "modes": scene.analytical.modes},
-        "fem": {"mesh_size_mm": scene.fem.mesh_size * 1e3,
-                "refinement_mm": [s * 1e3 for s in scene.fem_study.refinement],
-                "rim_factor": scene.fem.mesh.rim_factor,
-                "rim_zone_mm": scene.fem.mesh.rim_zone * 1e3,
-                "platform": scene.fem.platform, "coupling": scene.fem.coupling},
-        "calibrated": [] if scene.calibrated_height is None else [{
-            "name": "platform height z",
-            "value": f"{scene.calibrated_height * 1e3:.1f} mm",
-            "reason": " ".join(scene.calibration_reason.split()),
-        }] + ([{"name": "platform shape", "value": m.platform_shape,
-                "reason": " ".join(scene.platform_shape_reason.split())}]
-              if scene.platform_shape_reason else []),
-    }
+    return schema.SceneSummary(
+        name=scene.name,
+        path=path,
+        sha256=hashlib.sha256(Path(path).read_bytes()).hexdigest(),
+        manipulator=schema.Manipulator(
+            base_radius_mm=m.base_radius * 1e3,
+            platform_radius_mm=m.platform_radius * 1e3,
+            leg_diameter_mm=m.leg_diameter * 1e3,
+            platform_thickness_mm=m.platform_thickness * 1e3,
+            platform_shape=m.platform_shape,
+            leg_angles_deg=[math.degrees(a) for a in m.leg_angles],
+            actuator_range_mm=[m.actuator_min * 1e3, m.actuator_max * 1e3],
+            s_joint_max_deg=math.degrees(m.s_joint_max),
+            r_joint_max_deg=math.degrees(m.r_joint_max),
+            base_joint=m.base_joint,
+            platform_joint=m.platform_joint,
+            youngs_modulus_gpa=m.material.youngs_modulus / 1e9,
+            shear_modulus_gpa=m.material.shear_modulus / 1e9,
+            poisson_ratio=m.material.poisson_ratio,
+            density_kg_m3=m.material.density),
+        analytical=schema.AnalyticalSettings(
+            elements=scene.analytical.elements, beam=scene.analytical.beam,
+            platform_inertia=scene.analytical.platform_inertia, modes=scene.analytical.modes),
+        fem=schema.FemSettings(
+            mesh_size_mm=scene.fem.mesh_size * 1e3,
+            refinement_mm=[s * 1e3 for s in scene.fem_study.refinement],
+            rim_factor=scene.fem.mesh.rim_factor, rim_zone_mm=scene.fem.mesh.rim_zone * 1e3,
+            platform=scene.fem.platform, coupling=scene.fem.coupling),
+        calibrated=[] if scene.calibrated_height is None else [schema.Calibrated(
+            name="platform height z", value=f"{scene.calibrated_height * 1e3:.1f} mm",
+            reason=" ".join(scene.calibration_reason.split()))] + (
+            [schema.Calibrated(name="platform shape", value=m.platform_shape,
+                               reason=" ".join(scene.platform_shape_reason.split()))]
+            if scene.platform_shape_reason else []),
+    )
 
 
 def pose_summary(scene: Scene, case: Case) -> dict:
     g = pose_geometry(scene.manipulator, case.pose)
-    return {
-        "height_mm": case.pose.height * 1e3,
-        "height_origin": case.height_origin,
-        "azimuth_deg": math.degrees(case.pose.azimuth),
-        "tilt_deg": math.degrees(case.pose.tilt),
-        "centre_mm": (g.platform_centre * 1e3).tolist(),
-        "base_points_mm": (g.base_points * 1e3).tolist(),
-        "platform_points_mm": (g.platform_points * 1e3).tolist(),
-        "leg_lengths_mm": (g.leg_lengths * 1e3).tolist(),
-        "s_joint_angles_deg": np.degrees(g.s_joint_angles).tolist(),
-        "r_joint_angles_deg": np.degrees(g.r_joint_angles).tolist(),
-    }
+    return schema.Pose(
+        height_mm=case.pose.height * 1e3,
+        height_origin=case.height_origin,
+        azimuth_deg=math.degrees(case.pose.azimuth),
+        tilt_deg=math.degrees(case.pose.tilt),
+        centre_mm=(g.platform_centre * 1e3).tolist(),
+        base_points_mm=(g.base_points * 1e3).tolist(),
+        platform_points_mm=(g.platform_points * 1e3).tolist(),
+        leg_lengths_mm=(g.leg_lengths * 1e3).tolist(),
+        s_joint_angles_deg=np.degrees(g.s_joint_angles).tolist(),
+        r_joint_angles_deg=np.degrees(g.r_joint_angles).tolist(),
+    )
 
 
 def paper_rows(case: Case) -> dict | None:
     if case.paper_theory_hz is None and case.paper_fea_hz is None:
         return None
-    out = {"fea_hz": case.paper_fea_hz and list(case.paper_fea_hz),
-           "theory_hz": case.paper_theory_hz and list(case.paper_theory_hz)}
+    recomputed = None
     if case.paper_fea_hz and case.paper_theory_hz:
-        out["error_percent"] = [100 * (t / f - 1) for t, f in
-                                zip(case.paper_theory_hz, case.paper_fea_hz)]
-    if case.paper_error_percent:
-        out["printed_error_percent"] = list(case.paper_error_percent)
-        notes = []
-        for k, (printed, ours) in enumerate(zip(case.paper_error_percent,
-                                                out.get("error_percent", []))):
-            # printed values carry two decimals; inputs carry two decimals in Hz
-            if abs(printed - ours) > 0.015:
-                notes.append(f"f{k + 1}: printed {printed:.2f} %, (theory/FEA - 1) gives "
-                             f"{ours:.2f} %")
-        if notes:
-            out["printed_error_note"] = ("The paper's printed errors do not all follow from "
-                                         "its own frequencies: " + "; ".join(notes) + ".")
-    return out
-
-
-def _strip(d: dict) -> dict:
-    """A model result without its bulky sampled shapes."""
-    return {k: v for k, v in d.items() if k not in ("station_shapes", "vtu_cache_path")}
+        recomputed = [100 * (t / f - 1) for t, f in zip(case.paper_theory_hz, case.paper_fea_hz)]
+    notes = []
+    for k, (printed, ours) in enumerate(zip(case.paper_error_percent or (), recomputed or ())):
+        # printed values carry two decimals; inputs carry two decimals in Hz
+        if abs(printed - ours) > 0.015:
+            notes.append(f"f{k + 1}: printed {printed:.2f} %, (theory/FEA - 1) gives "
+                         f"{ours:.2f} %")
+    return schema.Paper(
+        fea_hz=case.paper_fea_hz and list(case.paper_fea_hz),
+        theory_hz=case.paper_theory_hz and list(case.paper_theory_hz),
+        error_percent=recomputed,
+        printed_error_percent=case.paper_error_percent and list(case.paper_error_percent),
+        printed_error_note=("The paper's printed errors do not all follow from its own "
+                            "frequencies: " + "; ".join(notes) + ".") if notes else None)
 
 
 def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
-             refinement: tuple[float, ...] | None, variants: bool, progress=None) -> dict:
-    """Everything the report needs about one case."""
+             refinement: tuple[float, ...] | None, variants: bool, progress=None
+             ) -> tuple[dict, Path | None]:
+    """Everything the report needs about one case (a results.Case), and the FEM's mode file."""
     count = scene.analytical.modes
     geometry = pose_geometry(scene.manipulator, case.pose)
     step = (lambda text: progress(f"{case.name}: {text}")) if progress else (lambda text: None)
@@ -151,48 +166,43 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
     refinement_study = None
     if refinement:
         step("FEM refinement study")
-        refinement_study = fem_refinement(scene, case, geometry, cache, refinement)
+        refinement_study = fem_refinement(scene, geometry, cache, refinement)
         reference = np.asarray(refinement_study["extrapolated_hz"])
         if mesh_size in refinement_study["sizes_m"]:
             k = refinement_study["sizes_m"].index(mesh_size)
             fem_error = np.asarray(refinement_study["estimated_error_percent"][k])
         else:
-            fem_error = 100 * np.abs(np.asarray(fem["frequencies_hz"][:count]) / reference - 1)
+            fem_error = 100 * np.abs(np.asarray(fem.record["frequencies_hz"][:count])
+                                     / reference - 1)
 
     step("analytical models")
     analytical = analytical_case(scene, case, scene.analytical)
-    pairs = error_table(analytical, fem, count, fem_error, reference)
-    entry = {
-        "name": case.name,
-        "description": case.description,
-        "pose": pose_summary(scene, case),
-        "analytical": _strip(analytical) | {
-            "frequencies_hz": analytical["frequencies_hz"][:count],
-            # translations of each leg axis at `leg_axis_stations` (fractions B_i -> A_i):
-            # [leg][station][x, y, z][mode], base coordinates, mass-normalised modes
-            "leg_axis_stations": STATIONS.tolist(),
-            "leg_axis_shapes": np.asarray(analytical["station_shapes"])[:, :count].reshape(
-                3, len(STATIONS), 3, count).tolist()},
-        "fem": _strip(fem) | {"frequencies_hz": fem["frequencies_hz"][:count]},
-        "pairs": pairs,
-        "paper": paper_rows(case),
-        "fem_vtu": fem["vtu_cache_path"],
-        "fem_estimated_error_percent": None if fem_error is None else fem_error.tolist(),
-        "fem_reference_hz": None if reference is None else reference.tolist(),
-    }
-    if refinement_study:
-        entry["fem_refinement"] = refinement_study
+    entry = schema.Case(
+        name=case.name,
+        description=case.description,
+        pose=pose_summary(scene, case),
+        analytical=schema.CaseAnalytical(
+            **analytical.reported(count), leg_axis_stations=STATIONS.tolist(),
+            leg_axis_shapes=analytical.leg_axis_shapes(count)),
+        fem=schema.CaseFem(**fem.reported(count), vtu=None, pvd=None),  # set when written
+        pairs=error_table(analytical, fem, count, fem_error, reference),
+        paper=paper_rows(case),
+        mac_matrix=mac_matrix(analytical.station_shapes[:, :count],
+                              fem.station_shapes[:, :count]).tolist(),
+        fem_estimated_error_percent=None if fem_error is None else fem_error.tolist(),
+        fem_reference_hz=None if reference is None else reference.tolist(),
+        fem_refinement=refinement_study,
+        models=None, element_convergence=None, fem_variants=None, fem_variant_errors=None,
+        speed_vs_error=None,
+    )
     if variants:
         entry.update(variant_studies(scene, case, geometry, cache, mesh_size, fem, fem_error,
                                      reference, refinement_study, step))
-    mac_a = np.asarray(analytical["station_shapes"])
-    mac_f = np.asarray(fem["station_shapes"])
-    entry["mac_matrix"] = mac_matrix(mac_a[:, :count], mac_f[:, :count]).tolist()
-    return entry
+    return entry, fem.vtu
 
 
 def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh_size: float,
-                    fem: dict, fem_error, reference, refinement_study, step) -> dict:
+                    fem: Solve, fem_error, reference, refinement_study, step) -> dict:
     """Model variants, element convergence, FEM idealisations, speed vs error of one case."""
     count = scene.analytical.modes
     entry: dict = {}
@@ -200,76 +210,80 @@ def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh
     entry["models"] = {}
     for label, opts in studies.model_variants(scene).items():
         a = analytical_case(scene, case, opts)
-        entry["models"][label] = _strip(a) | {
-            "frequencies_hz": a["frequencies_hz"][:count],
-            "median_seconds": studies.time_model(scene, case, opts),
-            "pairs": error_table(a, fem, count, fem_error, reference)}
+        entry["models"][label] = schema.ModelVariant(
+            **a.reported(count), median_seconds=studies.time_model(scene, case, opts),
+            pairs=error_table(a, fem, count, fem_error, reference))
     step("element convergence")
     entry["element_convergence"] = {
         beam: studies.element_convergence(scene, case, beam)
         for beam in ("euler-bernoulli", "timoshenko")}
     step("FEM joint and platform idealisations")
-    entry["fem_variants"] = {}
+    entry["fem_variants"], entry["fem_variant_errors"] = {}, {}
     for label, kwargs in {"elastic platform": {"platform": "elastic"},
                           "distributing coupling": {"coupling": "distributing"}}.items():
         try:
             v = fem_case(scene, geometry, cache, mesh_size, **kwargs)
         except (ValueError, RuntimeError) as exc:
-            entry["fem_variants"][label] = {"error": " ".join(str(exc).split())}
+            entry["fem_variant_errors"][label] = " ".join(str(exc).split())
             continue
         # paired by shape with the default FEM: an elastic plate adds modes of its own
         shifted = error_table(v, fem, count)
-        entry["fem_variants"][label] = _strip(v) | {
-            "frequencies_hz": v["frequencies_hz"][:count],
-            "pairs": shifted,
-            "shift_percent": [r["error_percent"] for r in shifted]}
+        entry["fem_variants"][label] = schema.FemVariant(
+            **v.reported(count), pairs=shifted,
+            shift_percent=[r["error_percent"] for r in shifted])
     step("speed vs error")
     entry["speed_vs_error"] = speed_vs_error(scene, case, fem, reference, refinement_study)
     return entry
 
 
-def fem_refinement(scene: Scene, case: Case, geometry, cache: ResultCache,
+def fem_refinement(scene: Scene, geometry, cache: ResultCache,
                    sizes: tuple[float, ...]) -> dict:
     """Solve at every size (each through the cache) and extrapolate every frequency
-    (Richardson with the observed order, fem_reference.convergence)."""
+    (Richardson with the observed order, fem_reference.convergence): a results.Refinement."""
     from fem_reference.convergence import study_from_values
     from meshing.bodies import pose_assembly
 
-    solves = [fem_case(scene, geometry, cache, size) for size in sizes]
+    solves = [fem_case(scene, geometry, cache, size).record for size in sizes]
     count = scene.analytical.modes
     volume = pose_assembly(scene.manipulator, geometry,
                            elastic_platform=scene.fem.platform == "elastic").volume
     study = study_from_values(sizes, [s["frequencies_hz"][:count] for s in solves],
                               [s["dofs"] for s in solves], [s["raw_dofs"] for s in solves],
                               [s["timings"] for s in solves], volume)
-    out = study.to_dict()
-    out["seconds"] = [t.get("total", sum(t.values())) for t in out["timings"]]
-    out["mesh_cache_hit"] = [s.get("mesh_cache_hit") for s in solves]
-    out["estimated_error_percent"] = (100 * study.relative_errors).tolist()
-    out["estimated_error_percent_max"] = [100 * study.max_error(k) for k in range(len(sizes))]
-    return out
+    return schema.Refinement(
+        sizes_m=study.sizes, effective_sizes_m=study.effective_sizes,
+        frequencies_hz=study.frequencies_hz, dofs=study.dofs, raw_dofs=study.raw_dofs,
+        timings=study.timings,
+        seconds=[t.get("total", sum(t.values())) for t in study.timings],
+        mesh_cache_hit=[s["mesh_cache_hit"] for s in solves],
+        observed_order=study.orders,
+        orders_by_triplet=[m.orders_by_triplet for m in study.modes],
+        status=[m.status for m in study.modes],
+        extrapolated_hz=study.extrapolated_hz,
+        estimated_error_percent=(100 * study.relative_errors).tolist(),
+        estimated_error_percent_max=[100 * study.max_error(k) for k in range(len(sizes))])
 
 
-def speed_vs_error(scene: Scene, case: Case, fem: dict, reference, refinement) -> list[dict]:
+def speed_vs_error(scene: Scene, case: Case, fem: Solve, reference, refinement
+                   ) -> list[dict]:
     """Wall time per pose against the worst |error| of f1..f6, for every setting."""
     count = scene.analytical.modes
-    ref = np.asarray(reference if reference is not None else fem["frequencies_hz"][:count])
+    ref = np.asarray(reference if reference is not None else fem.record["frequencies_hz"][:count])
     out = []
     for label, opts in studies.speed_settings(scene).items():
-        a = analytical_case(scene, case, opts)
-        rows = error_table(a, fem, count, None, ref)
-        key = "error_vs_reference_percent" if reference is not None else "error_percent"
-        out.append({"model": "analytical", "setting": label,
-                    "seconds": studies.time_model(scene, case, opts),
-                    "worst_error_percent": max(abs(r[key]) for r in rows)})
+        rows = error_table(analytical_case(scene, case, opts), fem, count, None, ref)
+        out.append(schema.SpeedPoint(
+            model="analytical", setting=label, seconds=studies.time_model(scene, case, opts),
+            worst_error_percent=max(abs(schema.best_error(r)) for r in rows),
+            single_run=False, mesh_from_cache=None))
     if refinement:
         for size, secs, err, cached in zip(refinement["sizes_m"], refinement["seconds"],
-                                           refinement.get("estimated_error_percent_max", []),
+                                           refinement["estimated_error_percent_max"],
                                            refinement["mesh_cache_hit"]):
             # one run, as computed when the result cache was filled (medians: make bench)
-            out.append({"model": "fem", "setting": f"h = {size * 1e3:g} mm",
-                        "seconds": secs, "worst_error_percent": err, "single_run": True,
-                        "mesh_from_cache": cached})
+            out.append(schema.SpeedPoint(
+                model="fem", setting=f"h = {size * 1e3:g} mm", seconds=secs,
+                worst_error_percent=err, single_run=True, mesh_from_cache=cached))
     return out
 
 
@@ -290,14 +304,14 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
     shutil.rmtree(stage, ignore_errors=True)
     stage.mkdir(parents=True)
     try:
-        results = {
-            "schema": SCHEMA_VERSION,
-            "profile": profile,
-            "scene": scene_summary(scene, scene_path),
-            "environment": environment(),
-            "cases": [],
-            "studies": {},
-        }
+        results = schema.Results(
+            schema=schema.SCHEMA_VERSION, profile=profile,
+            scene=scene_summary(scene, scene_path), environment=environment(), cases=[],
+            studies=schema.Studies(height_calibration=None, angle_conventions=[],
+                                   workspace=None, joint_orders=[],
+                                   workspace_validation=None), fidelity=None,
+            fixture_note=None)
+        mode_files = {}
         with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                       console=console, transient=False, disable=not console.is_terminal
                       and "CI" in os.environ) as bar:
@@ -312,22 +326,23 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             bar.advance(task)
             for name in case_names:
                 case = scene.case(name)
-                results["cases"].append(run_case(
+                entry, mode_files[name] = run_case(
                     scene, case, cache, scene.fem.mesh_size,
                     scene.fem_study.refinement if profile == "full" else None,
                     variants=profile == "full",
-                    progress=lambda text: bar.update(task, description=text)))
+                    progress=lambda text: bar.update(task, description=text))
+                results["cases"].append(entry)
                 bar.advance(task)
-        if "case1" in scene.cases and scene.case("case1").paper_theory_hz:
+        calibrated = studies.calibration_case(scene)
+        if calibrated is not None:
             results["studies"]["height_calibration"] = studies.height_calibration(
-                scene, scene.case("case1"))
-        if "case2" in scene.cases and scene.case("case2").paper_theory_hz:
-            results["studies"]["case2_conventions"] = studies.case2_conventions(
-                scene, scene.case("case2"))
+                scene, calibrated)
+        results["studies"]["angle_conventions"] = [
+            studies.angle_conventions(scene, c) for c in studies.convention_cases(scene)]
         if profile == "full":
             results["studies"]["workspace"] = studies.workspace_map(scene)
             results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
-        _write_outputs(results, stage)
+        results = _write_outputs(results, mode_files, stage)
         if build_report:
             from reports.build import build_report as render
             render(stage / "results.json", stage)
@@ -341,18 +356,22 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
     return results
 
 
-def _write_outputs(results: dict, stage: Path) -> None:
+def _write_outputs(results: dict, mode_files: dict, stage: Path) -> dict:
+    """Copy the FEM mode files in, check the results against the schema and write them with
+    their tables; the checked results are returned."""
     modes = stage / "modes"
     modes.mkdir(exist_ok=True)
     for case in results["cases"]:
-        source = Path(case.pop("fem_vtu"))
-        if source.is_file():
+        source = mode_files.get(case["name"])
+        if source is not None and source.is_file():
             target = modes / f"{case['name']}_fem.vtu"
             shutil.copyfile(source, target)
             case["fem"]["vtu"] = str(target.relative_to(stage))
             case["fem"]["pvd"] = str(write_mode_collection(target).relative_to(stage))
-    (stage / "results.json").write_text(json.dumps(results, indent=1) + "\n")
-    tables.write_tables(results, stage)
+    results = schema.validated(results)
+    (stage / "results.json").write_text(schema.dumps(results))
+    write_tables(results, stage)
+    return results
 
 
 def _commit_stage(stage: Path, out: Path) -> None:

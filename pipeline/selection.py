@@ -88,7 +88,7 @@ def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
         for name in case_names:
             step(f"{name}: FEM refinement study")
             case = scene.case(name)
-            refinements[name] = fem_refinement(scene, case,
+            refinements[name] = fem_refinement(scene,
                                                pose_geometry(scene.manipulator, case.pose),
                                                cache, sizes)
         errors = [study["estimated_error_percent"] for study in refinements.values()]
@@ -131,7 +131,7 @@ def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: 
         fem_result = fem_case(sized, pose_geometry(sized.manipulator, case.pose), cache,
                               fem.size)
         reference = (np.asarray(refinements[name]["extrapolated_hz"]) if name in refinements
-                     else np.asarray(fem_result["frequencies_hz"][:count]))
+                     else np.asarray(fem_result.record["frequencies_hz"][:count]))
         for label, opts in candidates.items():
             a = analytical_case(sized, case, opts)
             table = error_table(a, fem_result, count, None, reference)
@@ -221,7 +221,7 @@ def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache,
     from .run import fem_refinement
 
     labels = list(candidate_settings(scene))
-    ok = [p for p in study["poses"] if "models" in p]
+    ok = [p for p in study["poses"] if p.get("models")]
     if not ok:
         return {}
     best = min(labels, key=lambda lb: max(wv.worst_error(p["models"][lb]) for p in ok))
@@ -232,13 +232,12 @@ def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache,
     count = scene.fidelity.modes
     geometry = pose_geometry(sized.manipulator, pose)
     fem_result = fem_case(sized, geometry, cache, sized.fem.mesh_size)
-    reference = np.asarray(fem_result["frequencies_hz"][:count])
+    reference = np.asarray(fem_result.record["frequencies_hz"][:count])
     if full:
         step("workspace worst pose: FEM refinement study")
         sizes = tuple(sorted(set(scene.fem_study.refinement) | {sized.fem.mesh_size},
                              reverse=True))
-        reference = np.asarray(fem_refinement(sized, case, geometry, cache,
-                                              sizes)["extrapolated_hz"])
+        reference = np.asarray(fem_refinement(sized, geometry, cache, sizes)["extrapolated_hz"])
     where = (f"workspace worst pose (z = {worst['height_mm']:.0f} mm, tilt = "
              f"{worst['tilt_deg']:.1f} deg, {worst['kind']})")
     out = {}

@@ -2,8 +2,11 @@
 
 - element convergence s = 1..10 (the paper's Fig. 3),
 - Euler-Bernoulli vs Timoshenko, true plate inertia vs Eq. (8),
-- Case 2 angle conventions: which reading of (phi, theta) best reproduces the paper's row,
+- angle conventions: which reading of (phi, theta) best reproduces the paper's row of a
+  tilted case,
 - the height calibration, recomputed from the code so the scene value can be checked.
+Which cases the paper studies run for is read from the scene (`calibration_case`,
+`convention_cases`), never from case names.
 """
 from __future__ import annotations
 
@@ -18,6 +21,7 @@ from analytical.kinematics import rotation_y
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions, Pose
 
+from . import results
 from .scene import Case, Scene
 
 ELEMENT_RANGE = tuple(range(1, 11))
@@ -33,7 +37,8 @@ def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli")
     for s in ELEMENT_RANGE:
         opts = replace(scene.analytical, elements=s, beam=beam)
         rows.append(_hz(natural_frequencies(scene.manipulator, case.pose, opts)))
-    return {"elements": list(ELEMENT_RANGE), "beam": beam, "frequencies_hz": rows}
+    return results.ElementConvergence(elements=list(ELEMENT_RANGE), beam=beam,
+                                      frequencies_hz=rows)
 
 
 def model_variants(scene: Scene) -> dict[str, ModelOptions]:
@@ -84,11 +89,24 @@ def _tilt_azimuth(rotation: np.ndarray) -> tuple[float, float]:
     return math.atan2(normal[1], normal[0]), math.acos(max(-1.0, min(1.0, normal[2])))
 
 
-def case2_conventions(scene: Scene, case: Case) -> list[dict]:
-    """Plausible readings of the paper's (phi = 10 deg, theta = -12 deg) for the tilted case.
+def convention_cases(scene: Scene) -> list[Case]:
+    """The tilted cases with the paper's theoretical row: where the reading of its angles
+    matters (a level pose reads the same in every convention)."""
+    return [c for c in scene.cases.values()
+            if c.paper_theory_hz and (c.pose.tilt != 0.0 or c.pose.azimuth != 0.0)]
 
-    Each reading maps the printed numbers to our Eq. (1) parameters; none is fitted.
-    """
+
+def calibration_case(scene: Scene) -> Case | None:
+    """The case the scene's calibrated height is checked on: the first case at the calibrated
+    height that carries the paper's theoretical row (None when there is none)."""
+    return next((c for c in scene.cases.values()
+                 if c.height_origin == "calibrated" and c.paper_theory_hz), None)
+
+
+def angle_conventions(scene: Scene, case: Case) -> dict:
+    """Plausible readings of the paper's printed (phi, theta) of a tilted case, each mapped to
+    our Eq. (1) parameters (none fitted), against the paper's theoretical row: a
+    results.AngleConventions."""
     phi, theta = case.pose.azimuth, case.pose.tilt
     rx = lambda a: np.array([[1, 0, 0], [0, math.cos(a), -math.sin(a)],
                              [0, math.sin(a), math.cos(a)]])
@@ -105,34 +123,36 @@ def case2_conventions(scene: Scene, case: Case) -> list[dict]:
     out = []
     for name, (azimuth, tilt) in readings.items():
         pose = Pose(case.pose.height, azimuth, tilt)
-        entry = {"reading": name, "azimuth_deg": math.degrees(azimuth),
-                 "tilt_deg": math.degrees(tilt)}
+        entry = results.ConventionReading(
+            reading=name, azimuth_deg=math.degrees(azimuth), tilt_deg=math.degrees(tilt),
+            frequencies_hz=None, deviation_percent=None, worst_percent=None, note=None)
         try:
             f = natural_frequencies(scene.manipulator, pose,
                                     replace(scene.analytical, modes=len(target)))
         except ValueError as exc:
-            entry.update(frequencies_hz=None, deviation_percent=None, worst_percent=None,
-                         note=str(exc))
+            entry["note"] = " ".join(str(exc).split())
         else:
             dev = 100 * (f / target - 1)
             entry.update(frequencies_hz=_hz(f), deviation_percent=_hz(dev),
                          worst_percent=float(np.abs(dev).max()))
         out.append(entry)
-    return out
+    return results.AngleConventions(case=case.name, azimuth_deg=math.degrees(phi),
+                                    tilt_deg=math.degrees(theta), readings=out)
 
 
 def height_calibration(scene: Scene, case: Case) -> dict:
-    """Recompute the Case 1 calibration and say how the scene's value compares."""
+    """Recompute the height calibration on `case`'s theoretical row and say how the scene's
+    value compares: a results.HeightCalibration."""
     opts = replace(scene.analytical, elements=3, beam="euler-bernoulli", platform_inertia="plate")
     cal = calibrate_height(scene.manipulator, case.pose, case.paper_theory_hz, opts)
-    return {
-        "computed_height_mm": cal.height * 1e3,
-        "scene_height_mm": None if scene.calibrated_height is None
-        else scene.calibrated_height * 1e3,
-        "worst_deviation_percent": 100 * cal.worst_deviation,
-        "deviation_percent": _hz(100 * cal.deviations),
-        "settings": "Euler-Bernoulli, s = 3, disk plate inertia",
-    }
+    return results.HeightCalibration(
+        case=case.name,
+        computed_height_mm=cal.height * 1e3,
+        scene_height_mm=(None if scene.calibrated_height is None
+                         else scene.calibrated_height * 1e3),
+        worst_deviation_percent=100 * cal.worst_deviation,
+        deviation_percent=_hz(100 * cal.deviations),
+        settings=f"Euler-Bernoulli, s = 3, {scene.manipulator.platform_shape} plate inertia")
 
 
 def workspace_map(scene: Scene, layers: int = 8, rings: int = 6, azimuths: int = 36,
@@ -146,13 +166,12 @@ def workspace_map(scene: Scene, layers: int = 8, rings: int = 6, azimuths: int =
     z_high = math.sqrt(m.actuator_max**2 - lean**2) - 0.05 * m.actuator_max
     heights = np.linspace(z_low, z_high, layers)
     fmap = frequency_map(m, replace(scene.analytical, modes=modes), heights, rings, azimuths)
-    return {
-        "heights_mm": (fmap.heights * 1e3).tolist(),
-        "regular_tilt_deg": np.degrees(fmap.radii).tolist(),
-        "tilts_deg": np.degrees(fmap.tilts).tolist(),
-        "azimuths_deg": np.degrees(fmap.azimuths).tolist(),
-        "frequencies_hz": np.where(np.isnan(fmap.frequencies_hz), None,
-                                   fmap.frequencies_hz).tolist(),
-        "settings": f"{scene.analytical.beam}, s = {scene.analytical.elements}, "
-                    f"{scene.analytical.platform_inertia} inertia",
-    }
+    return results.Workspace(
+        heights_mm=(fmap.heights * 1e3).tolist(),
+        regular_tilt_deg=np.degrees(fmap.radii).tolist(),
+        tilts_deg=np.degrees(fmap.tilts).tolist(),
+        azimuths_deg=np.degrees(fmap.azimuths).tolist(),
+        frequencies_hz=np.where(np.isnan(fmap.frequencies_hz), None,
+                                fmap.frequencies_hz).tolist(),
+        settings=f"{scene.analytical.beam}, s = {scene.analytical.elements}, "
+                 f"{scene.analytical.platform_inertia} inertia")

@@ -61,7 +61,7 @@ def run_sweep(fn: TaskFn, tasks: list, payloads: list, cache: ResultCache, kind:
     def store(i: int, value: dict) -> None:
         nonlocal done
         results[i] = value
-        if "error" not in value:
+        if not value.get("error"):
             cache.put(kind, keys[i], value)
         done += 1
         if progress is not None:

@@ -136,7 +136,8 @@ def validate_pose(task: dict) -> dict:
     geometry = pose_geometry(scene.manipulator, pose)
     fine = fem_case(scene, geometry, cache, task["size"])
     coarse = fem_case(scene, geometry, cache, task["coarse_size"])
-    errors = two_mesh_error(fine["frequencies_hz"][:count], coarse["frequencies_hz"][:count],
+    errors = two_mesh_error(fine.record["frequencies_hz"][:count],
+                            coarse.record["frequencies_hz"][:count],
                             task["coarse_size"] / task["size"])
     models = {}
     case = _PoseCase(pose)
@@ -145,11 +146,15 @@ def validate_pose(task: dict) -> dict:
         rows = sorted(error_table(a, fine, count), key=lambda r: r["fem_mode"])
         models[label] = [r["error_percent"] if r["mac"] >= MAC_MIN else None for r in rows]
     leg = np.asarray(geometry.leg_lengths) / scene.manipulator.leg_diameter
-    return {"fem_hz": fine["frequencies_hz"][:count],
+    return {"error": None, "fem_hz": fine.record["frequencies_hz"][:count],
             "fem_estimated_error_percent": errors.tolist(),
-            "fem_seconds": fine["timings"].get("total"),
+            "fem_seconds": fine.record["timings"].get("total"),
             "slenderness": [float(leg.min()), float(leg.max())],
             "models": models}
+
+
+FAILED_POSE = {"fem_hz": None, "fem_estimated_error_percent": None, "fem_seconds": None,
+               "slenderness": None, "models": None}  # beside its "error"
 
 
 @dataclass(frozen=True)
@@ -172,7 +177,7 @@ def task_payload(task: dict) -> dict:
 def percentiles(poses: list[dict], labels) -> dict:
     """Per model and mode: median, p95 and max of |error vs FEM| (%) over the poses."""
     out = {}
-    ok = [p for p in poses if "models" in p]
+    ok = [p for p in poses if p.get("models")]
     for label in labels:
         errs = np.abs(np.array([[np.nan if e is None else e for e in p["models"][label]]
                                 for p in ok], float))  # (n, modes), NaN: unpaired
@@ -195,7 +200,7 @@ def worst_error(errors) -> float:
 
 
 def worst_pose(poses: list[dict], label: str) -> dict | None:
-    ok = [p for p in poses if "models" in p]
+    ok = [p for p in poses if p.get("models")]
     if not ok:
         return None
     return max(ok, key=lambda p: worst_error(p["models"][label]))
@@ -219,12 +224,13 @@ def run_study(scene, models: dict[str, ModelOptions], cache: ResultCache, coarse
     rows = []
     for p, r in zip(poses, results):
         rows.append({"height_mm": p["height"] * 1e3, "azimuth_deg": math.degrees(p["azimuth"]),
-                     "tilt_deg": math.degrees(p["tilt"]), "kind": p["kind"]} | r)
+                     "tilt_deg": math.degrees(p["tilt"]), "kind": p["kind"]}
+                    | (FAILED_POSE | r if r.get("error") else r))
     return {"poses": rows, "per_mode": percentiles(rows, list(models)),
             "models": {k: as_dict(v) for k, v in models.items()},
             "fem_mesh_size_mm": scene.fem.mesh_size * 1e3,
             "fem_coarse_size_mm": coarse_size * 1e3,
-            "failed": sum(1 for r in rows if "error" in r)}
+            "failed": sum(1 for r in rows if r.get("error"))}
 
 
 def summarise(study: dict, default: str) -> dict:

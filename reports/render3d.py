@@ -11,6 +11,7 @@ import math
 import os
 import re
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -21,6 +22,18 @@ _MODE_NAME = re.compile(r"mode\D{0,3}(\d+)", re.I)
 
 class RenderError(RuntimeError):
     """A mode-shape picture could not be made (message is one line)."""
+
+
+class Platform(NamedTuple):
+    """The platform as the pictures draw it when the mode file has no platform solid (a rigid
+    platform is not meshed): a disk through the joint centres A_i about its centre o, moved in
+    each mode by the FEM's own platform motion."""
+
+    joints: np.ndarray  # (legs, 3) A_i, m
+    centre: np.ndarray  # (3,) o, m
+    radius: float
+    thickness: float
+    motion: dict  # mode (1-based) -> (translation of o (3,), rotation (3,))
 
 
 def _quiet_vtk():
@@ -73,12 +86,11 @@ def read_modes(path: Path):
 
 
 def render_modes(path: Path, modes: list[int], labels: dict[int, str], out: dict[int, Path],
-                 scale_fraction: float = 0.1, platform=None) -> list[float] | None:
-    """One PNG per requested mode: deformed (scaled) over the undeformed surface.
+                 scale_fraction: float = 0.1, platform: Platform | None = None
+                 ) -> list[float] | None:
+    """One PNG per requested mode: deformed (scaled) over the undeformed surface, with the
+    `platform` disk when the file has no platform solid.
 
-    platform: optional (A (3, 3) S-joint centres, radius, thickness) in m. When the file has no
-    platform solid (a rigid platform is not meshed), the platform is drawn as a disk moved by
-    the rigid motion that best fits the leg-end translations at the S-joints.
     Returns the frequencies stored in the file (None if it has none).
     """
     os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
@@ -95,9 +107,9 @@ def render_modes(path: Path, modes: list[int], labels: dict[int, str], out: dict
         outline = surface.extract_feature_edges(feature_angle=35, boundary_edges=True,
                                                 non_manifold_edges=False,
                                                 manifold_edges=False)
-        disk, near = None, None
+        disk = None
         if platform is not None and not _covers_platform(surface, platform):
-            disk, near = _platform_disk(surface, platform)
+            disk = _platform_disk(platform)
         plotter = pv.Plotter(off_screen=True, window_size=WINDOW)
         try:
             for k in modes:
@@ -115,11 +127,9 @@ def render_modes(path: Path, modes: list[int], labels: dict[int, str], out: dict
                                  show_scalar_bar=False, smooth_shading=True)
                 if disk is not None:
                     moved = disk.copy()
-                    t, w = _rigid_fit(platform[0], np.array([u[ix].mean(axis=0)
-                                                             for ix in near]),
-                                      platform[0].mean(axis=0))
+                    t, w = platform.motion[k]
                     moved.points = disk.points + scale * (
-                        t + np.cross(w, disk.points - platform[0].mean(axis=0)))
+                        t + np.cross(w, disk.points - platform.centre))
                     plotter.add_mesh(disk, color="#bbbbbb", opacity=0.18, lighting=False)
                     plotter.add_mesh(moved, color="#8a8fa0", smooth_shading=True)
                 _camera(plotter, surface)
@@ -138,38 +148,22 @@ def render_modes(path: Path, modes: list[int], labels: dict[int, str], out: dict
     return file_hz
 
 
-def _covers_platform(surface, platform) -> bool:
+def _covers_platform(surface, platform: Platform) -> bool:
     """Is the platform meshed (solid material at its centre)?"""
-    centre = platform[0].mean(axis=0)
-    return float(np.linalg.norm(surface.points - centre, axis=1).min()) < 0.25 * platform[1]
+    gap = np.linalg.norm(surface.points - platform.centre, axis=1).min()
+    return float(gap) < 0.25 * platform.radius
 
 
-def _platform_disk(surface, platform):
-    """The rigid platform as a pyvista disk and the surface points at each S-joint."""
+def _platform_disk(platform: Platform):
+    """The platform as a pyvista disk on the joint centres' plane."""
     import pyvista as pv
 
-    points, radius, thickness = platform
-    centre = points.mean(axis=0)
-    normal = np.cross(points[1] - points[0], points[2] - points[0])
+    a = platform.joints
+    normal = np.cross(a[1] - a[0], a[2] - a[0])
     normal /= np.linalg.norm(normal)
-    disk = pv.Cylinder(center=centre + 0.5 * thickness * normal, direction=normal,
-                       radius=radius, height=thickness, resolution=60).triangulate()
-    near = []
-    for a in points:
-        d = np.linalg.norm(surface.points - a, axis=1)
-        near.append(np.flatnonzero(d <= max(d.min() * 1.5, d.min() + 0.02)))
-    return disk, near
-
-
-def _rigid_fit(points: np.ndarray, disp: np.ndarray, centre: np.ndarray):
-    """Least-squares small rigid motion u(x) = t + w x (x - c) through the given points."""
-    rows = []
-    for p in points:
-        r = p - centre
-        rows.append(np.hstack([np.eye(3), np.array([[0, r[2], -r[1]], [-r[2], 0, r[0]],
-                                                    [r[1], -r[0], 0]])]))
-    sol = np.linalg.lstsq(np.vstack(rows), np.asarray(disp).ravel(), rcond=None)[0]
-    return sol[:3], sol[3:]
+    return pv.Cylinder(center=platform.centre + 0.5 * platform.thickness * normal,
+                       direction=normal, radius=platform.radius, height=platform.thickness,
+                       resolution=60).triangulate()
 
 
 def _save_labelled(image: np.ndarray, label: str, path: Path, margin: int = 8) -> None:

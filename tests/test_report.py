@@ -5,9 +5,11 @@
   rounding): each numeric cell names its source by JSON pointer (data-src),
 - every referenced image exists and is a non-empty PNG,
 - the PDF has the expected sections (pdftotext),
-- a results file of the CI profile (no studies) still builds,
-- a bad or missing results file gives a one-line ValueError naming the path, a failed render a
-  one-line ReportError, and neither leaves partial output.
+- a results file of the CI profile (no studies) still builds, omitting the sections it has no
+  data for; results without the paper's rows show nothing of the paper,
+- the report names the project version, the commit and the scene file's sha256,
+- a bad, missing or outdated results file gives a one-line ValueError naming the path, a failed
+  render a one-line ReportError, and neither leaves partial output.
 """
 from __future__ import annotations
 
@@ -26,9 +28,11 @@ from reports.results import resolve
 
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 RESULTS = FIXTURES / "report_results.json"
-SECTIONS = ("1 Summary", "2 Scene and set-up", "3 Table I reproduction", "4 Convergence",
-            "5 Mode shapes", "6 Speed vs error", "7 Workspace maps",
-            "8 Case 2 angle conventions and height calibration")
+SECTIONS = ("1 Summary", "2 Fidelity: what the scene asked, what was chosen",
+            "3 Scene and set-up", "4 Table I reproduction", "5 Convergence",
+            "6 Mode shapes", "7 Speed vs error", "8 Workspace maps",
+            "9 The model against the FEM over the workspace", "10 Both joint orders",
+            "11 Reading the paper: angle conventions and height calibration", "12 Other cases")
 NUMBER = re.compile(r"^[+\-\u2212]?[\d\u2009]+(\.\d+)?$")
 
 
@@ -165,7 +169,7 @@ def test_sections_in_html_and_pdf(built):
         pytest.skip("pdftotext (poppler-utils) not installed")
     text = subprocess.run(["pdftotext", "-layout", str(built["pdf"]), "-"], check=True,
                           capture_output=True, text=True).stdout
-    for title in SECTIONS + ("9 Other cases", "Case 1: symmetric pose", "Case 2: tilted pose",
+    for title in SECTIONS + ("Case 1: symmetric pose", "Case 2: tilted pose",
                              "Calibrated values", "Environment", "page 1 of"):
         assert title in text, title
     assert "\f" in text  # more than one page
@@ -175,31 +179,39 @@ def _ci_profile(results: dict) -> dict:
     """What a CI-profile run writes: case1/case2, no refinement, variants or studies."""
     ci = copy.deepcopy(results)
     ci["profile"] = "ci"
-    ci["studies"] = {}
+    ci["studies"] = {"height_calibration": None, "angle_conventions": [], "workspace": None,
+                     "joint_orders": [], "workspace_validation": None}
     ci["cases"] = [c for c in ci["cases"] if c["name"] in ("case1", "case2")]
     for case in ci["cases"]:
         for key in ("fem_refinement", "models", "element_convergence", "fem_variants",
-                    "speed_vs_error"):
-            case.pop(key, None)
-        case["fem_estimated_error_percent"] = case["fem_reference_hz"] = None
+                    "fem_variant_errors", "speed_vs_error", "fem_estimated_error_percent",
+                    "fem_reference_hz"):
+            case[key] = None
         for pair in case["pairs"]:
             for key in ("fem_estimated_error_percent", "f_reference_hz",
                         "error_vs_reference_percent"):
-                pair.pop(key, None)
-    ci["cases"][1]["fem"].pop("vtu")  # and one case without its mode file
-    ci["cases"][1]["analytical"].pop("leg_axis_shapes")
+                pair[key] = None
+    ci["cases"][1]["fem"]["vtu"] = None  # and one case without its mode file
     return ci
+
+
+def _build_variant(results: dict, folder: Path) -> tuple[Path, Path]:
+    """The report of a changed copy of the fixture, built beside the fixture's mode files."""
+    (folder / "results.json").write_text(json.dumps(results))
+    shutil.copytree(FIXTURES / "modes", folder / "modes")
+    return build_report(folder / "results.json", folder)
 
 
 def test_ci_profile_results_build(tmp_path):
     results = _ci_profile(json.loads(RESULTS.read_text()))
-    (tmp_path / "results.json").write_text(json.dumps(results))
-    shutil.copytree(FIXTURES / "modes", tmp_path / "modes")
-    html, pdf = build_report(tmp_path / "results.json", tmp_path)
+    html, pdf = _build_variant(results, tmp_path)
     page = html.read_text(encoding="utf-8")
     assert "No element-convergence study in this results file" in page
     assert "No workspace map in this results file" in page
     assert "names no FEM mode file" in page
+    headings = _parse(page).headings
+    for absent in ("Speed vs error", "Both joint orders", "Reading the paper"):  # omitted
+        assert not any(absent in h for h in headings), absent
     assert pdf.stat().st_size > 10_000
     parsed = _parse(page)
     for cell in parsed.cells:
@@ -219,10 +231,10 @@ def _assert_untouched(out: Path, before: dict[str, bytes]) -> None:
 @pytest.mark.parametrize("content, message", [
     (None, "results file not found"),
     ("{ not json", "not valid JSON"),
-    ('{"schema": 99, "cases": []}', "schema 99"),
-    ('{"schema": 1, "cases": []}', "'cases' must be a non-empty list"),
-    ('{"schema": 1, "scene": {}, "environment": {}, "cases": [{"name": "case1"}]}',
-     "lacks 'pose'"),
+    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 2"),
+    ('{"schema": 1, "cases": []}', "results schema 1, this version reads schema 2: rerun `make`"),
+    ('{"cases": []}', "results schema None"),
+    ('{"schema": 2, "cases": []}', "profile: field required"),
 ])
 def test_bad_results_file(tmp_path, content, message):
     path = tmp_path / "results.json"
@@ -241,8 +253,25 @@ def test_bad_value_names_the_field(tmp_path):
     results["cases"][0]["pairs"][2]["mac"] = "high"
     path = tmp_path / "results.json"
     path.write_text(json.dumps(results))
-    with pytest.raises(ValueError, match=r"cases\[0\]\.pairs\[2\]\.mac must be a number"):
+    with pytest.raises(ValueError, match=r"cases\[0\]\.pairs\[2\]\.mac: input should be a "
+                                         r"valid number, got 'high'"):
         build_report(path, tmp_path / "out")
+
+
+def test_results_without_cases_or_with_an_unknown_field_are_refused(tmp_path):
+    results = json.loads(RESULTS.read_text())
+    for change, message in ((lambda r: r.update(cases=[]), "cases: the results hold no case"),
+                            (lambda r: r["cases"][0]["pose"].pop("centre_mm"),
+                             "cases[0].pose.centre_mm: field required"),
+                            (lambda r: r["cases"][0]["fem"].update(colour="red"),
+                             "cases[0].fem.colour: extra inputs are not permitted")):
+        broken = copy.deepcopy(results)
+        change(broken)
+        path = tmp_path / "results.json"
+        path.write_text(json.dumps(broken))
+        with pytest.raises(ValueError) as info:
+            build_report(path, tmp_path / "out")
+        assert message in str(info.value) and "\n" not in str(info.value)
 
 
 def test_failed_render_keeps_the_previous_report(tmp_path):
@@ -270,3 +299,79 @@ def test_cli_one_line_error(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and str(missing) in err and err.startswith("error: ")
     assert not (tmp_path / "out").exists()
+
+
+def test_report_names_version_commit_and_scene_digest(built):
+    srcs = {c["attrs"]["data-src"] for c in built["page"].cells if "data-src" in c["attrs"]}
+    assert {"/environment/project_version", "/environment/git_commit", "/scene/sha256"} <= srcs
+    env = built["results"]["environment"]
+    head = built["html"].read_text(encoding="utf-8").split("</header>")[0]
+    assert f"rps-elastodynamics {env['project_version']}" in head
+    assert env["git_commit"][:12] in head
+
+
+def test_repeated_pair_with_two_limits_is_flagged(built):
+    from reports.case_tables import repeated_limit_notes
+
+    case = next(c for c in built["results"]["cases"] if c["fem_refinement"]
+                and any(p["repeated"] for p in c["pairs"]))
+    notes = repeated_limit_notes(case)
+    assert notes and all("are a repeated pair" in text for text, _ in notes)
+    for text, _ in notes:
+        assert text in html_text(built)
+    # members 1 and 2 drawn apart by far more than their estimated error: said so
+    wide = copy.deepcopy(case)
+    group = [p["fem_mode"] for p in wide["pairs"] if p["repeated"]][:2]
+    limits = wide["fem_refinement"]["extrapolated_hz"]
+    limits[group[1] - 1] = limits[group[0] - 1] * 1.01
+    flagged = [n for n in repeated_limit_notes(wide) if n[1]]
+    assert flagged and "more than their estimated error" in flagged[0][0]
+
+
+def html_text(built) -> str:
+    import html as html_lib
+    return html_lib.unescape(built["html"].read_text(encoding="utf-8"))
+
+
+def test_convergence_panels_say_what_the_limit_is():
+    from reports.figures import _limit_note
+
+    ref = {"status": ["ok", "order capped", "non-monotone"], "observed_order": [2.5, 4.0, None],
+           "extrapolated_hz": [99.0, 98.0, 100.5], "frequencies_hz": [[101, 101, 101],
+                                                                      [100, 99, 100.5]]}
+    assert _limit_note(ref, 0) == ""
+    assert _limit_note(ref, 1) == "p capped at 4"  # extrapolated, not the finest mesh
+    assert _limit_note(ref, 2) == "non-monotone, limit = finest"
+
+
+def _without_paper(results: dict) -> dict:
+    bare = copy.deepcopy(results)
+    for case in bare["cases"]:
+        case["paper"] = None
+        case["description"] = case["name"]  # the scene's titles name the paper's table
+    bare["scene"]["calibrated"] = []  # whose reasons cite the paper
+    bare["studies"]["angle_conventions"] = []
+    bare["studies"]["height_calibration"] = None
+    return bare
+
+
+def test_results_without_paper_rows_show_nothing_of_the_paper(tmp_path):
+    html, _ = _build_variant(_without_paper(json.loads(RESULTS.read_text())), tmp_path)
+    page = html.read_text(encoding="utf-8")
+    headings = _parse(page).headings
+    assert "4 Analytical vs FEM" in headings and "7 Speed vs error" in headings
+    for absent in ("Table I", "paper FEA", "Reading the paper", "the paper's 0.82 s",
+                   "Section 2 text"):
+        assert absent not in page, absent
+
+
+def test_tables_drop_the_paper_columns_without_paper_rows():
+    from reports.tables import case_csv, case_markdown
+
+    case = json.loads(RESULTS.read_text())["cases"][0]
+    assert case_csv(case).startswith("mode,paper_fea_hz,paper_theory_hz,paper_error_percent,")
+    bare = dict(case, paper=None)
+    assert case_csv(bare).startswith("mode,fem_hz,fem_estimated_error_percent,analytical_hz")
+    assert "paper" not in case_markdown(bare)
+    rows = case_csv(bare).splitlines()
+    assert len(rows) == len(case["pairs"]) + 1 and all(r.count(",") == 5 for r in rows)

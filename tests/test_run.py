@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 import pipeline.run as run
@@ -45,3 +46,24 @@ def test_ci_profile_run_writes_the_contract(tmp_path):
     assert (out / "tables" / "case1.csv").read_text().startswith("mode,paper_fea_hz")
     assert (out / "modes" / "case2_fem.vtu").stat().st_size > 0
     assert results["cases"][0]["pose"]["height_origin"] == "calibrated"
+    assert on_disk["schema"] == 2 and on_disk["environment"]["project_version"]
+    assert on_disk["studies"]["height_calibration"]["case"] == "case1"  # calibrated, with rows
+    assert [s["case"] for s in on_disk["studies"]["angle_conventions"]] == ["case2"]  # tilted
+
+
+def test_exported_platform_motion_moves_the_platform_joints_as_the_legs_end(tmp_path):
+    """Each model's platform motion per mode (translation of o, rotation) carries the S joints
+    of the platform exactly where the beam model's leg axes end: u(A_i) = t + w x (A_i - o)."""
+    run.validate(str(PAPER_SCENE), tmp_path / "out", tmp_path / "cache", profile="ci",
+                 build_report=False)
+    results = json.loads((tmp_path / "out" / "results.json").read_text())
+    for case in results["cases"]:
+        a = case["analytical"]
+        motion = np.asarray(a["platform_motion"])
+        top = np.asarray(case["pose"]["platform_points_mm"]) * 1e-3
+        centre = np.asarray(case["pose"]["centre_mm"]) * 1e-3
+        ends = np.asarray(a["leg_axis_shapes"])[:, -1]  # (legs, 3, modes)
+        moved = motion[None, :3] + np.cross(motion[3:].T[None], (top - centre)[:, None]
+                                            ).transpose(0, 2, 1)
+        assert np.allclose(moved, ends, atol=1e-9 * np.abs(ends).max())
+        assert np.asarray(case["fem"]["platform_motion"]).shape == motion.shape

@@ -1,0 +1,129 @@
+"""The report document: the template's context (tables, figures, verdicts, which sections the
+results call for) and its rendering to HTML (Jinja2) and PDF (WeasyPrint)."""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from jinja2 import Environment, FileSystemLoader, StrictUndefined
+
+from . import validation, verdict
+from .case_tables import (comparison_table, fem_variants_table, refinement_table,
+                          repeated_limit_notes, variants_table)
+from .cells import Cells, align, tables_in
+from .figure_set import has_paper, main_cases
+from .figures import PAPER_SECONDS
+from .setup_tables import setup_tables
+from .study_tables import calibration_table, convention_tables, joint_order_tables, speed_table
+
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+def _figure(path) -> str | None:
+    return None if path is None else f"figures/{Path(path).name}"
+
+
+def case_context(results: dict, i: int, figs: dict, c: Cells) -> dict:
+    case = results["cases"][i]
+    studied = {s["case"] for s in results["studies"]["angle_conventions"]}
+    f = figs["cases"][case["name"]]
+    element = f.get("element_convergence", (None, None))
+    return {
+        "index": i, "case": case, "name": case["name"], "description": case["description"],
+        "paper": case["paper"] is not None,
+        "verdict": verdict.case_verdict(case, conventions=case["name"] in studied),
+        "compare": comparison_table(results, i, c),
+        "variants": variants_table(results, i, c),
+        "fem_variants": fem_variants_table(results, i, c),
+        "refinement": refinement_table(results, i, c),
+        "repeated_limits": repeated_limit_notes(case),
+        "fig_element": _figure(element[0]), "fig_element_ref": element[1],
+        "fig_refinement": _figure(f.get("fem_refinement")),
+        "fig_mac": _figure(f.get("mac")),
+        "mode_pairs": [dict(m, fem_png=_figure(m["fem_png"]), beam_png=_figure(m["beam_png"]))
+                       for m in f["modes"]["pairs"]],
+        "fem_note": f["modes"]["fem_note"],
+    }
+
+
+def sections(paper: bool, speed: bool, joint_orders: bool, paper_studies: bool,
+             other: bool) -> dict[str, str]:
+    """The numbered titles of the sections the results call for, by anchor."""
+    titles = {"summary": "Summary", "fidelity": "Fidelity: what the scene asked, what was chosen",
+              "scene": "Scene and set-up",
+              "comparison": "Table I reproduction" if paper else "Analytical vs FEM",
+              "convergence": "Convergence", "modes": "Mode shapes"}
+    if speed:
+        titles["speed"] = "Speed vs error"
+    titles["workspace"] = "Workspace maps"
+    titles["validation"] = "The model against the FEM over the workspace"
+    if joint_orders:
+        titles["joint-orders"] = "Both joint orders"
+    if paper_studies:
+        titles["studies"] = "Reading the paper: angle conventions and height calibration"
+    if other:
+        titles["other"] = "Other cases"
+    return {key: f"{n} {title}" for n, (key, title) in enumerate(titles.items(), start=1)}
+
+
+def context(results: dict, results_path: Path, figs: dict) -> dict:
+    c = Cells(results)
+    cases = [case_context(results, i, figs, c) for i in range(len(results["cases"]))]
+    main_names = {m["name"] for m in main_cases(results)}
+    main = [x for x in cases if x["name"] in main_names]
+    other = [x for x in cases if x["name"] not in main_names]
+    studies = results["studies"]
+    ws = studies["workspace"]
+    conventions = convention_tables(results, c)
+    calibration = calibration_table(results, c)
+    joint_orders = joint_order_tables(results, c)
+    env = results["environment"]
+    return {
+        "results": results, "scene": results["scene"], "env": env,
+        "profile": results["profile"], "fixture_note": results["fixture_note"],
+        "results_name": results_path.name,
+        "headline": verdict.headline(results),
+        "fidelity_sentences": validation.sentences(results),
+        "fidelity_table": validation.fidelity_table(results, c),
+        "candidates_table": validation.candidates_table(results, c),
+        "percentile_table": validation.percentile_table(results, c),
+        "worst_pose_table": validation.worst_pose_table(results, c),
+        "validation": results["studies"]["workspace_validation"],
+        "fig_validation": _figure(figs.get("validation_map")),
+        "section": sections(has_paper(results), bool(figs.get("speed")), bool(joint_orders),
+                            bool(conventions or calibration), bool(other)),
+        "cases": cases, "main_cases": main, "other_cases": other,
+        "tables": setup_tables(results, c),
+        "speed_table": speed_table(results, c),
+        "joint_orders": joint_orders,
+        "conventions": conventions,
+        "calibration": calibration,
+        "calibration_study": studies["height_calibration"],
+        "fig_speed": _figure(figs.get("speed")),
+        "fig_ws_polar": _figure(figs.get("workspace_polar")),
+        "fig_ws_height": _figure(figs.get("workspace_height")),
+        "ws_heights": figs.get("workspace_heights"),
+        "ws_settings": ws["settings"] if ws else None,
+        "notes": figs["notes"],
+        "has_paper": has_paper(results),
+        "paper_seconds": PAPER_SECONDS if has_paper(results) else None,
+        "generated": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+    }
+
+
+def render_html(ctx: dict) -> str:
+    align(tables_in({k: v for k, v in ctx.items() if k not in ("results", "scene", "env")}))
+    env = Environment(loader=FileSystemLoader(TEMPLATES), autoescape=True,
+                      undefined=StrictUndefined, trim_blocks=True, lstrip_blocks=True)
+    env.globals["css"] = (TEMPLATES / "report.css").read_text(encoding="utf-8")
+    return env.get_template("report.html.j2").render(**ctx)
+
+
+def render_pdf(html: str, base: Path, target: Path) -> None:
+    import logging
+
+    from weasyprint import HTML
+
+    logging.getLogger("weasyprint").setLevel(logging.ERROR)
+    logging.getLogger("fontTools").setLevel(logging.ERROR)
+    HTML(string=html, base_url=str(base)).write_pdf(str(target))

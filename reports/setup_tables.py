@@ -1,0 +1,108 @@
+"""The report's set-up tables: the manipulator, the fidelity asked, the calibrated values, the
+poses and the environment of the run (what was computed, with what, where)."""
+from __future__ import annotations
+
+from .cells import Cells, head
+from .results import escape
+
+MANIPULATOR_ROWS = (  # key, label, unit, decimals
+    ("base_radius_mm", "base radius r1", "mm", 1),
+    ("platform_radius_mm", "platform radius r2", "mm", 1),
+    ("leg_diameter_mm", "leg diameter d", "mm", 1),
+    ("platform_thickness_mm", "platform thickness h", "mm", 1),
+    ("youngs_modulus_gpa", "Young's modulus E", "GPa", 1),
+    ("shear_modulus_gpa", "shear modulus G", "GPa", 1),
+    ("poisson_ratio", "Poisson's ratio ν", "–", 3),
+    ("density_kg_m3", "density ρ", "kg/m³", 0),
+    ("s_joint_max_deg", "S-joint limit α_max", "deg", 1),
+    ("r_joint_max_deg", "R-joint limit β_max", "deg", 1),
+)
+
+
+def setup_tables(results: dict, c: Cells) -> dict:
+    return {"manipulator": manipulator_table(results, c), "fidelity": fidelity_table(results, c),
+            "calibrated": calibrated_table(results, c), **pose_tables(results, c),
+            "environment": environment_table(results, c)}
+
+
+def manipulator_table(results: dict, c: Cells) -> dict:
+    m = results["scene"]["manipulator"]
+    q = "/scene/manipulator"
+    unit = lambda text: c.text(literal=text, cls="unit")  # noqa: E731
+    rows = [[c.text(literal=label), c.num(f"{q}/{key}", digits), unit(u)]
+            for key, label, u, digits in MANIPULATOR_ROWS]
+    rows += [[c.text(literal=f"leg {i + 1} angle on the base"),
+              c.num(f"{q}/leg_angles_deg/{i}", 1), unit("deg")]
+             for i, _ in enumerate(m["leg_angles_deg"])]
+    rows += [[c.text(literal=label), c.num(f"{q}/actuator_range_mm/{i}", 0), unit("mm")]
+             for i, label in enumerate(("actuator minimum L_min", "actuator maximum L_max"))]
+    rows += [[c.text(literal=label), c.text(f"{q}/{key}"), unit("")]
+             for key, label in (("base_joint", "joint at the base"),
+                                ("platform_joint", "joint at the platform"),
+                                ("platform_shape", "platform shape"))]
+    return {"head": [head("parameter", "value", "unit")], "rows": rows, "cls": "params"}
+
+
+def fidelity_table(results: dict, c: Cells) -> dict:
+    rows = [[c.text(literal=f"analytical: {label}"), c.num(f"/scene/analytical/{key}", None)]
+            for key, label in (("elements", "elements per leg s"), ("modes", "modes compared"))]
+    rows += [[c.text(literal=f"analytical: {label}"), c.text(f"/scene/analytical/{key}")]
+             for key, label in (("beam", "beam theory"), ("platform_inertia", "platform inertia"))]
+    rows.append([c.text(literal="FEM: mesh size h (mm)"), c.num("/scene/fem/mesh_size_mm", 1)])
+    rows += [[c.text(literal=f"FEM: refinement size {i + 1} (mm)"),
+              c.num(f"/scene/fem/refinement_mm/{i}", 1)]
+             for i, _ in enumerate(results["scene"]["fem"]["refinement_mm"])]
+    rows += [[c.text(literal="FEM: rim element size (× h)"), c.num("/scene/fem/rim_factor", 2)],
+             [c.text(literal="FEM: rim zone (mm)"), c.num("/scene/fem/rim_zone_mm", 1)]]
+    rows += [[c.text(literal=f"FEM: {label}"), c.text(f"/scene/fem/{key}")]
+             for key, label in (("platform", "platform"), ("coupling", "joint coupling"))]
+    return {"head": [head("setting", "value")], "rows": rows, "cls": "params"}
+
+
+def calibrated_table(results: dict, c: Cells) -> dict:
+    q = "/scene/calibrated"
+    return {"head": [head("parameter", "value", "why")], "cls": "calibrated",
+            "rows": [[c.text(f"{q}/{i}/name"), c.text(f"{q}/{i}/value", cls="text nowrap"),
+                      c.text(f"{q}/{i}/reason", cls="text reason")]
+                     for i, _ in enumerate(results["scene"]["calibrated"])]}
+
+
+def pose_tables(results: dict, c: Cells) -> dict:
+    poses_rows, joints_rows = [], []
+    legs = range(len(results["cases"][0]["pose"]["leg_lengths_mm"]))
+    for i, _ in enumerate(results["cases"]):
+        p = f"/cases/{i}/pose"
+        poses_rows.append([c.text(f"/cases/{i}/name"), c.num(f"{p}/height_mm", 1),
+                           c.text(f"{p}/height_origin"), c.num(f"{p}/azimuth_deg", 1),
+                           c.num(f"{p}/tilt_deg", 1)]
+                          + [c.num(f"{p}/centre_mm/{k}", 1) for k in range(3)]
+                          + [c.num(f"{p}/leg_lengths_mm/{k}", 1) for k in legs])
+        joints_rows.append([c.text(f"/cases/{i}/name")]
+                           + [c.num(f"{p}/s_joint_angles_deg/{k}", 2) for k in legs]
+                           + [c.num(f"{p}/r_joint_angles_deg/{k}", 2) for k in legs])
+    n = len(legs)
+    poses = {"cls": "poses", "rows": poses_rows, "head": [
+        head("case", "height z", "", "azimuth φ", "tilt θ", "platform centre o (mm)",
+             "leg lengths L_i (mm)", spans=[1, 1, 1, 1, 1, 3, n]),
+        head("", "(mm)", "origin", "(deg)", "(deg)", "x", "y", "z",
+             *[f"L{k + 1}" for k in legs])]}
+    joints = {"cls": "joints", "rows": joints_rows, "head": [
+        head("case", "S-joint angles α_i (deg)", "R-joint angles β_i (deg)", spans=[1, n, n]),
+        head("", *[f"α{k + 1}" for k in legs], *[f"β{k + 1}" for k in legs])]}
+    return {"poses": poses, "joints": joints}
+
+
+def environment_table(results: dict, c: Cells) -> dict:
+    env = results["environment"]
+    rows = [[c.text(literal="project version"), c.text("/environment/project_version")],
+            [c.text(literal="git commit"), c.text("/environment/git_commit")],
+            [c.text(literal="scene file sha256"), c.text("/scene/sha256")]]
+    rows += [[c.text(literal=label), c.text(f"/environment/{key}")]
+             for key, label in (("date", "date of the run"), ("python", "Python"),
+                                ("platform", "platform"), ("machine", "machine"),
+                                ("cpu_count", "CPU cores"))]
+    for name, version in env["versions"].items():
+        rows.append([c.text(literal=name),
+                     c.text(f"/environment/versions/{escape(name)}") if version
+                     else c.text(literal="not installed")])
+    return {"head": [head("item", "value")], "rows": rows, "cls": "params env"}

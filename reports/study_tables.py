@@ -1,0 +1,109 @@
+"""The tables of the studies across cases: speed vs error, both joint orders, and the
+paper-reading studies (angle conventions, height calibration) where the results have them."""
+from __future__ import annotations
+
+from .cells import Cells, cell, head, missing
+from .results import escape
+
+
+def speed_table(results: dict, c: Cells) -> dict | None:
+    """Time per pose and worst error of every setting, one column pair per case."""
+    with_data = [(i, case) for i, case in enumerate(results["cases"]) if case["speed_vs_error"]]
+    if not with_data:
+        return None
+    settings: list[tuple[str, str]] = []
+    for _, case in with_data:
+        for e in case["speed_vs_error"]:
+            if (e["model"], e["setting"]) not in settings:
+                settings.append((e["model"], e["setting"]))
+    rows = []
+    for model, setting in settings:
+        row = [c.text(literal=model), c.text(literal=setting)]
+        for i, case in with_data:
+            j = next((n for n, e in enumerate(case["speed_vs_error"])
+                      if (e["model"], e["setting"]) == (model, setting)), None)
+            q = f"/cases/{i}/speed_vs_error/{j}"
+            row += ([missing()] * 2 if j is None else
+                    [c.num(f"{q}/seconds", None), c.num(f"{q}/worst_error_percent", 2)])
+        rows.append(row)
+    return {"head": [head("model", "setting", *[case["name"] for _, case in with_data],
+                          spans=[1, 1] + [2] * len(with_data)),
+                     head("", "", *(["time (s)", "worst error (%)"] * len(with_data)))],
+            "rows": rows, "cls": "speed"}
+
+
+def joint_order_tables(results: dict, c: Cells) -> list[dict]:
+    """Per case: both joint orders side by side, the FEM's frequencies and every beam model's
+    error against the FEM of the same order."""
+    tables = []
+    for ci, study in enumerate(results["studies"]["joint_orders"]):
+        readings = study["readings"]
+        labels = next((list(r["models"]) for r in readings if r["models"]), [])
+        n = max((len(r["fem_hz"]) for r in readings if r["fem_hz"]), default=0)
+        width = 1 + len(labels)
+        rows = []
+        for k in range(n):
+            row = [cell(f"f{k + 1}", "text")]
+            for r, reading in enumerate(readings):
+                q = f"/studies/joint_orders/{ci}/readings/{r}"
+                if reading["error"] is not None:  # said once, in the first row
+                    note = c.text(f"{q}/error", cls="text note") if k == 0 else cell("")
+                    row.append(dict(note, colspan=width))
+                    continue
+                row += [c.num(f"{q}/fem_hz/{k}", 2)]
+                row += [c.num(f"{q}/models/{escape(m)}/error_percent/{k}", 2, signed=True)
+                        for m in labels]
+            rows.append(row)
+        titles = [f"{r['base_joint']} at the base, {r['platform_joint']} at the platform"
+                  + (" (the scene's)" if r["scene_order"] else "") for r in readings]
+        tables.append({"case": study["case"], "cls": "jointorders", "rows": rows, "head": [
+            head("mode", *titles, spans=[1] + [width] * len(readings)),
+            head("", *(["FEM (Hz)"] + [f"{m} error (%)" for m in labels]) * len(readings))]})
+    return tables
+
+
+def convention_tables(results: dict, c: Cells) -> list[dict]:
+    """Per tilted case with paper rows: every reading of its printed angles and the deviation
+    of our analytical frequencies from the paper's theoretical row."""
+    tables = []
+    for ci, study in enumerate(results["studies"]["angle_conventions"]):
+        readings = study["readings"]
+        n = max((len(e["frequencies_hz"] or []) for e in readings), default=0)
+        best = min((e["worst_percent"] for e in readings if e["worst_percent"] is not None),
+                   default=None)
+        rows = []
+        for j, e in enumerate(readings):
+            q = f"/studies/angle_conventions/{ci}/readings/{j}"
+            row = [c.text(f"{q}/reading", cls="text reading"), c.num(f"{q}/azimuth_deg", 1),
+                   c.num(f"{q}/tilt_deg", 1)]
+            if e["frequencies_hz"] is None:
+                row.append(c.text(f"{q}/note", cls="text note"))
+                row[-1]["colspan"] = n + 1
+            else:
+                row += [c.num(f"{q}/deviation_percent/{k}", 2, signed=True) for k in range(n)]
+                row.append(c.num(f"{q}/worst_percent", 2))
+                if e["worst_percent"] == best:
+                    row[-1]["cls"] += " best"
+            rows.append(row)
+        printed = f"(φ, θ) = ({study['azimuth_deg']:g}°, {study['tilt_deg']:g}°)"
+        tables.append({"case": study["case"], "cls": "conventions", "rows": rows, "head": [
+            head(f"reading of {printed}".replace("-", "−"), "azimuth φ (deg)", "tilt θ (deg)",
+                 *[f"f{k + 1} dev. (%)" for k in range(n)], "worst (%)")]})
+    return tables
+
+
+def calibration_table(results: dict, c: Cells) -> dict | None:
+    cal = results["studies"]["height_calibration"]
+    if not cal:
+        return None
+    q = "/studies/height_calibration"
+    unit = lambda text: c.text(literal=text, cls="unit")  # noqa: E731
+    rows = [[c.text(literal="height recomputed from the code"),
+             c.num(f"{q}/computed_height_mm", 1), unit("mm")],
+            [c.text(literal="height in the scene"), c.num(f"{q}/scene_height_mm", 1), unit("mm")],
+            [c.text(literal=f"worst deviation from the paper's theoretical row of {cal['case']}"),
+             c.num(f"{q}/worst_deviation_percent", 2), unit("%")]]
+    rows += [[c.text(literal=f"deviation of f{k + 1}", cls="text sub"),
+              c.num(f"{q}/deviation_percent/{k}", 2, signed=True), unit("%")]
+             for k, _ in enumerate(cal["deviation_percent"])]
+    return {"head": [head("", "value", "unit")], "rows": rows, "cls": "params"}

@@ -1,0 +1,134 @@
+"""The report's fidelity and workspace-validation parts: what the scene asked, what the run
+chose, and how the chosen model's error is spread over the workspace (tables, the error maps,
+and the sentences quoted in the summary). Values from results.json only."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .cells import Cells, cell, head, missing
+from .figures import WIDTH, plt, save
+from .results import escape
+
+
+def fidelity_table(results: dict, c: Cells) -> dict:
+    f = "/fidelity"
+    a, m = f"{f}/analytical", f"{f}/fem"
+    fid = results["fidelity"]
+    rows = [
+        [c.text(literal="compared modes"), c.num(f"{f}/modes", None), c.text(literal="")],
+        [c.text(literal="tolerance (%)"), c.num(f"{f}/tolerance_percent", 2),
+         c.text(literal="largest |error| accepted on each mode, vs the converged FEM")],
+        [c.text(literal="analytical model"), c.text(f"{a}/setting"),
+         c.text(literal="chosen by measurement" if fid["analytical"]["chosen"]
+                else "the scene's own [analytical], checked")],
+        [c.text(literal="its worst error (%)"), c.num(f"{a}/worst_error_percent", 2),
+         c.text(literal="over every case and the workspace study's worst pose")],
+        [c.text(literal="its time per pose (ms)"), c.num(f"{a}/seconds_per_pose", 3, 1e3),
+         c.text(literal="median of repeated runs on this machine")],
+        [c.text(literal="FEM element size (mm)"), c.num(f"{m}/mesh_size_mm", 1),
+         c.text(literal="chosen by measurement" if fid["fem"]["chosen"]
+                else "the scene's own mesh_size_mm, checked")],
+        [c.text(literal="FEM estimated error (%)"), c.num(f"{m}/estimated_error_percent", 3),
+         c.text(literal="Richardson, worst over cases and modes")],
+        [c.text(literal="tolerance met"), cell("yes" if fid["met"] else "NO", "text"),
+         c.text(literal="")],
+    ]
+    return {"head": [head("", "value", "")], "rows": rows, "cls": "fidelity"}
+
+
+def candidates_table(results: dict, c: Cells) -> dict:
+    rows = []
+    for k, cand in enumerate(results["fidelity"]["candidates"]):
+        q = f"/fidelity/candidates/{k}"
+        rows.append([c.text(f"{q}/setting"), c.num(f"{q}/worst_error_percent", 2),
+                     c.num(f"{q}/seconds_per_pose", 3, 1e3)])
+    return {"head": [head("analytical setting", "worst error (%)", "time per pose (ms)")],
+            "rows": rows, "cls": "candidates"}
+
+
+def percentile_table(results: dict, c: Cells) -> dict | None:
+    wv = results["studies"]["workspace_validation"]
+    if not wv or not wv["per_mode"]:
+        return None
+    n = max(len(s["p95"]) for s in wv["per_mode"].values())
+    rows = []
+    for label in wv["per_mode"]:
+        q = f"/studies/workspace_validation/per_mode/{escape(label)}"
+        for stat in ("median", "p95", "max"):
+            rows.append([c.text(literal=label if stat == "median" else ""),
+                         c.text(literal=stat)]
+                        + [c.num(f"{q}/{stat}/{k}", 2) for k in range(n)])
+    return {"head": [head("analytical model", "", *[f"f{k + 1}" for k in range(n)])],
+            "rows": rows, "cls": "percentiles"}
+
+
+def worst_pose_table(results: dict, c: Cells) -> dict | None:
+    wv = results["studies"]["workspace_validation"]
+    if not wv or not wv["worst_pose"]:
+        return None
+    q = "/studies/workspace_validation/worst_pose"
+    n = len(wv["worst_pose"]["error_percent"])
+    rows = [[c.text(literal="error vs FEM (%)")]
+            + [c.num(f"{q}/error_percent/{k}", 2, signed=True) for k in range(n)],
+            [c.text(literal="FEM estimated error (%)")]
+            + [c.num(f"{q}/fem_estimated_error_percent/{k}", 2) for k in range(n)]]
+    return {"head": [head("", *[f"f{k + 1}" for k in range(n)])], "rows": rows,
+            "cls": "worstpose"}
+
+
+def sentences(results: dict) -> list[str]:
+    """The summary's sentences on the fidelity and the workspace (numbers from the results)."""
+    fid = results["fidelity"]
+    out = [("The scene's tolerance is met: " if fid["met"] else
+            "The scene's tolerance is NOT met, so no agreement is claimed: ") + fid["reason"]]
+    wv = results["studies"]["workspace_validation"]
+    stats = wv["per_mode"].get(wv["default_model"]) if wv else None
+    p95 = max((v for v in stats["p95"] if v is not None), default=None) if stats else None
+    if wv and wv["worst_pose"] and p95 is not None:
+        w = wv["worst_pose"]
+        lo, hi = (w["slenderness"] or [math.nan, math.nan])
+        out.append(
+            f"Over {len(wv['poses'])} poses of the workspace, {wv['default_model']} stays "
+            f"within {p95:.2f} % of the FEM at the 95th percentile (worst mode); its worst pose "
+            f"is z = {w['height_mm']:.0f} mm, tilt = {w['tilt_deg']:.1f}° "
+            f"({w['kind']}), {w['worst_error_percent']:.2f} %, where the legs are only "
+            f"{lo:.1f}–{hi:.1f} diameters long (the joint ends, stiffer in the solid, are a "
+            f"large part of such legs).")
+    return out
+
+
+def error_maps(results: dict, path: Path) -> None:
+    """|error| of the default model per mode over the workspace poses: polar maps (angle =
+    azimuth, radius = tilt, every height), and the worst error against leg slenderness."""
+    wv = results["studies"]["workspace_validation"]
+    label = wv["default_model"]
+    poses = [p for p in wv["poses"] if p["models"] and label in p["models"]]
+    errs = np.array([[np.nan if e is None else abs(e) for e in p["models"][label]]
+                     for p in poses], float)
+    n = errs.shape[1]
+    phi = np.radians([p["azimuth_deg"] for p in poses])
+    tilt = np.array([p["tilt_deg"] for p in poses])
+    top = np.nanmax(errs) if np.isfinite(errs).any() else 1.0
+    cols = min(n, 3) + 1
+    rows_ = math.ceil(n / 3)
+    fig = plt.figure(figsize=(WIDTH, 2.2 * rows_ + 0.3))
+    for k in range(n):
+        ax = fig.add_subplot(rows_, cols, (k // 3) * cols + k % 3 + 1, projection="polar")
+        sc = ax.scatter(phi, tilt, c=errs[:, k], s=9, cmap="viridis", vmin=0, vmax=top)
+        ax.set_title(f"f{k + 1}", fontsize=8)
+        ax.tick_params(labelsize=5)
+        ax.set_rlabel_position(90)
+    cax = fig.add_axes([0.05, 0.03, 0.6, 0.02])
+    fig.colorbar(sc, cax=cax, orientation="horizontal").set_label("|error vs FEM| (%)",
+                                                                 fontsize=7)
+    ax = fig.add_subplot(1, cols, cols)
+    slender = np.array([p["slenderness"][0] for p in poses])
+    ax.scatter(slender, np.nanmax(errs, axis=1), s=8, color="0.2")
+    ax.set_xlabel("shortest leg / diameter", fontsize=7)
+    ax.set_ylabel("worst |error| (%)", fontsize=7)
+    ax.tick_params(labelsize=6)
+    fig.subplots_adjust(left=0.04, right=0.98, top=0.93, bottom=0.14, wspace=0.45)
+    save(fig, path)
