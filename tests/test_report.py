@@ -289,13 +289,19 @@ def test_failed_render_keeps_the_previous_report(tmp_path):
     _assert_untouched(out, before)
 
 
-def test_cli_one_line_error(tmp_path, capsys):
+@pytest.mark.parametrize("content", [None, '{"schema": 1, "cases": []}'],
+                         ids=["missing", "outdated"])
+def test_cli_bad_results_file_is_one_line_and_status_2(tmp_path, capsys, content):
     from reports.__main__ import main
 
-    missing = tmp_path / "nowhere.json"
-    assert main(["--results", str(missing), "--out", str(tmp_path / "out")]) == 1
+    path = tmp_path / "results.json"
+    if content is not None:
+        path.write_text(content)
+    assert main(["--results", str(path), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and str(missing) in err and err.startswith("error: ")
+    assert err.count("\n") == 1 and str(path) in err and err.startswith("error: ")
+    if content is not None:
+        assert "schema 1" in err and "rerun `make`" in err
     assert not (tmp_path / "out").exists()
 
 
