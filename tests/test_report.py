@@ -204,12 +204,15 @@ def test_ci_profile_results_build(tmp_path):
     results = _ci_profile(json.loads(RESULTS.read_text()))
     html, pdf = _build_variant(results, tmp_path)
     page = html.read_text(encoding="utf-8")
-    assert "No element-convergence study in this results file" in page
-    assert "No workspace map in this results file" in page
     assert "names no FEM mode file" in page
     headings = _parse(page).headings
-    for absent in ("Speed vs error", "Both joint orders", "Reading the paper"):  # omitted
+    for absent in ("Convergence", "Speed vs error", "Workspace maps", "Both joint orders",
+                   "Reading the paper"):  # sections without data are omitted, not empty
         assert not any(absent in h for h in headings), absent
+    assert ("Not in these results (profile ci): convergence studies, speed vs error, "
+            "workspace maps, both joint orders") in page
+    assert headings[:4] == ["1 Summary", "2 Scene and set-up", "3 Table I reproduction",
+                            "4 Mode shapes"]  # numbered without gaps
     assert pdf.stat().st_size > 10_000
     parsed = _parse(page)
     for cell in parsed.cells:
