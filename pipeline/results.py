@@ -476,13 +476,19 @@ def best_error(pair: Pair) -> float:
     return pair["error_percent"] if vs_limit is None else vs_limit
 
 
+def worst_in_mode_ranges(errors) -> tuple[float | None, float | None]:
+    """Worst |error| of modes 1..LOW_MODES and of the modes above, from (1-based mode, error)
+    items (None where a range has none): the paper's way of reading its errors."""
+    low, high = [], []
+    for mode, value in errors:
+        (low if mode <= LOW_MODES else high).append(abs(value))
+    return (max(low) if low else None), (max(high) if high else None)
+
+
 def worst_by_mode_range(pairs: list[Pair], error=best_error
                         ) -> tuple[float | None, float | None]:
-    """Worst |error| of FEM modes 1..LOW_MODES and of the modes above (None where a range has
-    no pair)."""
-    low = [abs(error(p)) for p in pairs if p["fem_mode"] <= LOW_MODES]
-    high = [abs(error(p)) for p in pairs if p["fem_mode"] > LOW_MODES]
-    return (max(low) if low else None), (max(high) if high else None)
+    """worst_in_mode_ranges of the pairs, by FEM mode."""
+    return worst_in_mode_ranges((p["fem_mode"], error(p)) for p in pairs)
 
 
 def mode_ranges(pairs: list[Pair]) -> tuple[str, str]:

@@ -16,7 +16,10 @@ def main(argv: list[str] | None = None) -> int:
     from .build import ReportError, build_report
     try:
         html, pdf = build_report(args.results, args.out)
-    except (ValueError, ReportError) as exc:
+    except ValueError as exc:  # the results file: missing, malformed or outdated
+        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    except ReportError as exc:  # a picture or the PDF could not be rendered
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 1
     print(f"wrote {html} and {pdf}")

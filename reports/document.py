@@ -46,24 +46,25 @@ def case_context(results: dict, i: int, figs: dict, c: Cells) -> dict:
     }
 
 
-def sections(paper: bool, speed: bool, joint_orders: bool, paper_studies: bool,
-             other: bool) -> dict[str, str]:
-    """The numbered titles of the sections the results call for, by anchor."""
+def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
+    """The numbered titles of the sections the results call for, by anchor: a section whose
+    key `present` marks False has no data in these results and is left out."""
     titles = {"summary": "Summary", "fidelity": "Fidelity: what the scene asked, what was chosen",
               "scene": "Scene and set-up",
               "comparison": "Table I reproduction" if paper else "Analytical vs FEM",
-              "convergence": "Convergence", "modes": "Mode shapes"}
-    if speed:
-        titles["speed"] = "Speed vs error"
-    titles["workspace"] = "Workspace maps"
-    titles["validation"] = "The model against the FEM over the workspace"
-    if joint_orders:
-        titles["joint-orders"] = "Both joint orders"
-    if paper_studies:
-        titles["studies"] = "Reading the paper: angle conventions and height calibration"
-    if other:
-        titles["other"] = "Other cases"
-    return {key: f"{n} {title}" for n, (key, title) in enumerate(titles.items(), start=1)}
+              "convergence": "Convergence", "modes": "Mode shapes", "speed": "Speed vs error",
+              "workspace": "Workspace maps",
+              "validation": "The model against the FEM over the workspace",
+              "joint-orders": "Both joint orders",
+              "studies": "Reading the paper: angle conventions and height calibration",
+              "other": "Other cases"}
+    kept = [(key, title) for key, title in titles.items() if present.get(key, True)]
+    return {key: f"{n} {title}" for n, (key, title) in enumerate(kept, start=1)}
+
+
+STUDY_SECTIONS = {"convergence": "convergence studies", "speed": "speed vs error",
+                  "workspace": "workspace maps", "validation": "workspace validation",
+                  "joint-orders": "both joint orders"}
 
 
 def context(results: dict, results_path: Path, figs: dict) -> dict:
@@ -78,7 +79,7 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
     calibration = calibration_table(results, c)
     joint_orders = joint_order_tables(results, c)
     env = results["environment"]
-    return {
+    ctx = {
         "results": results, "scene": results["scene"], "env": env,
         "profile": results["profile"], "fixture_note": results["fixture_note"],
         "results_name": results_path.name,
@@ -90,8 +91,12 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
         "worst_pose_table": validation.worst_pose_table(results, c),
         "validation": results["studies"]["workspace_validation"],
         "fig_validation": _figure(figs.get("validation_map")),
-        "section": sections(has_paper(results), bool(figs.get("speed")), bool(joint_orders),
-                            bool(conventions or calibration), bool(other)),
+        "section": sections(has_paper(results), {
+            "convergence": any(x["fig_element"] or x["refinement"] for x in main),
+            "speed": bool(figs.get("speed")), "workspace": bool(figs.get("workspace_polar")),
+            "validation": bool(results["studies"]["workspace_validation"]),
+            "joint-orders": bool(joint_orders), "studies": bool(conventions or calibration),
+            "other": bool(other)}),
         "cases": cases, "main_cases": main, "other_cases": other,
         "tables": setup_tables(results, c),
         "speed_table": speed_table(results, c),
@@ -109,6 +114,9 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
         "paper_seconds": PAPER_SECONDS if has_paper(results) else None,
         "generated": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
     }
+    # the studies these results do not hold, named once under the contents
+    ctx["omitted"] = [label for key, label in STUDY_SECTIONS.items() if key not in ctx["section"]]
+    return ctx
 
 
 def render_html(ctx: dict) -> str:

@@ -22,7 +22,7 @@ MANIPULATOR_ROWS = (  # key, label, unit, decimals
 def setup_tables(results: dict, c: Cells) -> dict:
     return {"manipulator": manipulator_table(results, c), "fidelity": fidelity_table(results, c),
             "calibrated": calibrated_table(results, c), **pose_tables(results, c),
-            "environment": environment_table(results, c)}
+            "environment": environment_tables(results, c)}
 
 
 def manipulator_table(results: dict, c: Cells) -> dict:
@@ -92,17 +92,21 @@ def pose_tables(results: dict, c: Cells) -> dict:
     return {"poses": poses, "joints": joints}
 
 
-def environment_table(results: dict, c: Cells) -> dict:
+def environment_tables(results: dict, c: Cells) -> dict:
+    """What ran and where (version, commit, scene hash, machine), and the library versions:
+    two tables side by side."""
     env = results["environment"]
-    rows = [[c.text(literal="project version"), c.text("/environment/project_version")],
-            [c.text(literal="git commit"), c.text("/environment/git_commit")],
-            [c.text(literal="scene file sha256"), c.text("/scene/sha256")]]
-    rows += [[c.text(literal=label), c.text(f"/environment/{key}")]
-             for key, label in (("date", "date of the run"), ("python", "Python"),
-                                ("platform", "platform"), ("machine", "machine"),
-                                ("cpu_count", "CPU cores"))]
-    for name, version in env["versions"].items():
-        rows.append([c.text(literal=name),
-                     c.text(f"/environment/versions/{escape(name)}") if version
-                     else c.text(literal="not installed")])
-    return {"head": [head("item", "value")], "rows": rows, "cls": "params env"}
+    run = [[c.text(literal="project version"), c.text("/environment/project_version")],
+           [c.text(literal="git commit"), c.text("/environment/git_commit")],
+           [c.text(literal="scene file sha256"), c.text("/scene/sha256")]]
+    run += [[c.text(literal=label), c.text(f"/environment/{key}")]
+            for key, label in (("date", "date of the run"), ("python", "Python"),
+                               ("platform", "platform"), ("machine", "machine"),
+                               ("cpu_count", "CPU cores"))]
+    libraries = [[c.text(literal=name),
+                  c.text(f"/environment/versions/{escape(name)}") if version
+                  else c.text(literal="not installed")]
+                 for name, version in env["versions"].items()]
+    return {"run": {"head": [head("item", "value")], "rows": run, "cls": "params env"},
+            "libraries": {"head": [head("library", "version")], "rows": libraries,
+                          "cls": "params env"}}

@@ -1,7 +1,8 @@
 """A short plain-language verdict per case, written from the numbers in results.json only."""
 from __future__ import annotations
 
-from pipeline.results import LOW_MODES, mode_ranges, worst_by_mode_range
+from pipeline.results import (LOW_MODES, mode_ranges, worst_by_mode_range,
+                              worst_in_mode_ranges)
 
 
 def _worst(values) -> float | None:
@@ -77,8 +78,9 @@ def case_verdict(case: dict, conventions: bool = False) -> list[str]:
     paper = case["paper"] or {}
     if paper.get("error_percent"):
         pw = paper["error_percent"]
-        ranges = [f"{_pct(_worst(part))} ({label})" for part, label in
-                  zip((pw[:LOW_MODES], pw[LOW_MODES:]), mode_ranges(pairs)) if part]
+        ranges = [f"{_pct(worst)} ({label})" for worst, label in
+                  zip(worst_in_mode_ranges(enumerate(pw, start=1)), mode_ranges(pairs))
+                  if worst is not None]
         out.append("For comparison, the paper's own theory-vs-ANSYS errors are within "
                    + " and ".join(ranges) + ".")
     if paper.get("theory_hz"):

@@ -206,12 +206,16 @@ def test_ci_profile_results_build(tmp_path):
     results = _ci_profile(json.loads(RESULTS.read_text()))
     html, pdf = _build_variant(results, tmp_path)
     page = html.read_text(encoding="utf-8")
-    assert "No element-convergence study in this results file" in page
-    assert "No workspace map in this results file" in page
     assert "names no FEM mode file" in page
     headings = _parse(page).headings
-    for absent in ("Speed vs error", "Both joint orders", "Reading the paper"):  # omitted
+    for absent in ("Convergence", "Speed vs error", "Workspace maps", "Both joint orders",
+                   "Reading the paper"):  # sections without data are omitted, not empty
         assert not any(absent in h for h in headings), absent
+    assert ("Not in these results (profile ci): convergence studies, speed vs error, "
+            "workspace maps, workspace validation, both joint orders") in page
+    assert headings[:5] == ["1 Summary", "2 Fidelity: what the scene asked, what was chosen",
+                            "3 Scene and set-up", "4 Table I reproduction",
+                            "5 Mode shapes"]  # numbered without gaps
     assert pdf.stat().st_size > 10_000
     parsed = _parse(page)
     for cell in parsed.cells:
@@ -291,13 +295,19 @@ def test_failed_render_keeps_the_previous_report(tmp_path):
     _assert_untouched(out, before)
 
 
-def test_cli_one_line_error(tmp_path, capsys):
+@pytest.mark.parametrize("content", [None, '{"schema": 1, "cases": []}'],
+                         ids=["missing", "outdated"])
+def test_cli_bad_results_file_is_one_line_and_status_2(tmp_path, capsys, content):
     from reports.__main__ import main
 
-    missing = tmp_path / "nowhere.json"
-    assert main(["--results", str(missing), "--out", str(tmp_path / "out")]) == 1
+    path = tmp_path / "results.json"
+    if content is not None:
+        path.write_text(content)
+    assert main(["--results", str(path), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and str(missing) in err and err.startswith("error: ")
+    assert err.count("\n") == 1 and str(path) in err and err.startswith("error: ")
+    if content is not None:
+        assert "schema 1" in err and "rerun `make`" in err
     assert not (tmp_path / "out").exists()
 
 
