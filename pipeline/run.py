@@ -1,9 +1,10 @@
 """The validation run behind `make`: every case of a scene, both models, studies, into out/.
 
-Outputs are staged in a sibling directory and moved into `out/` only when everything has been
-computed, so an interrupted or failed run leaves the previous outputs intact and nothing
-half-written. Expensive results come from a content-keyed cache, so a second run with nothing
-changed takes seconds.
+Outputs are built in a staging directory beside `out/` and swapped in whole only when
+everything has been computed (`pipeline.outdir`: one run per out/ at a time, one atomic swap),
+so an interrupted or failed run leaves the previous outputs intact and nothing half-written,
+and no file of an earlier run survives a successful one. Expensive results come from a
+content-keyed cache, so a second run with nothing changed takes seconds.
 """
 from __future__ import annotations
 
@@ -28,6 +29,7 @@ from analytical.kinematics import PoseError, pose_geometry
 from . import studies, tables
 from .cache import ResultCache
 from .joint_orders import joint_order_study
+from .outdir import staged_output
 from .compare import STATIONS, analytical_case, error_table, fem_case
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
@@ -282,10 +284,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             raise PoseError(f"case {name}: {exc}") from None
     cache = ResultCache(cache_dir)
     console = Console(stderr=True)
-    stage = out.with_name(out.name + ".partial")
-    shutil.rmtree(stage, ignore_errors=True)
-    stage.mkdir(parents=True)
-    try:
+    with staged_output(out) as stage:  # locked for the run; swapped in whole at the end
         results = {
             "schema": SCHEMA_VERSION,
             "profile": profile,
@@ -294,8 +293,9 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             "cases": [],
             "studies": {},
         }
+        # transient: the bar never outlives the run, so a failure is one line on stderr
         with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
-                      console=console, transient=False, disable=not console.is_terminal
+                      console=console, transient=True, disable=not console.is_terminal
                       and "CI" in os.environ) as bar:
             task = bar.add_task("validation", total=len(case_names))
             for name in case_names:
@@ -317,12 +317,8 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
         _write_outputs(results, stage)
         if build_report:
-            from reports.build import build_report as render
-            render(stage / "results.json", stage)
-        _commit_stage(stage, out)
-    except BaseException:
-        shutil.rmtree(stage, ignore_errors=True)
-        raise
+            from reports.build import render_report
+            render_report(stage / "results.json", stage)
     console.print(f"wrote {out}/results.json" + (", report.html, report.pdf"
                                                   if build_report else ""))
     return results
@@ -339,14 +335,3 @@ def _write_outputs(results: dict, stage: Path) -> None:
             case["fem"]["vtu"] = str(target.relative_to(stage))
     (stage / "results.json").write_text(json.dumps(results, indent=1) + "\n")
     tables.write_tables(results, stage)
-
-
-def _commit_stage(stage: Path, out: Path) -> None:
-    """Move the staged outputs into `out/`, file by file, each by an atomic rename."""
-    out.mkdir(parents=True, exist_ok=True)
-    for path in sorted(stage.rglob("*")):
-        if path.is_file():
-            target = out / path.relative_to(stage)
-            target.parent.mkdir(parents=True, exist_ok=True)
-            os.replace(path, target)
-    shutil.rmtree(stage, ignore_errors=True)

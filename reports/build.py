@@ -1,16 +1,13 @@
 """Orchestration: results.json -> figures, report.html, report.pdf (all written atomically).
 
-Everything is rendered into a hidden temporary directory beside the outputs and moved into place
-only when the HTML and the PDF both exist, so a failed render leaves the previous report (or
-nothing) and never a half-written one. Every number printed in a table is looked up in
+Everything is rendered into a staging directory beside the output directory, which is swapped in
+whole only when the HTML and the PDF both exist (pipeline.outdir), so a failed or killed render
+leaves the previous outputs (or nothing) and never a half-written report. Every number printed in a table is looked up in
 results.json by a JSON pointer, which the table cell carries as `data-src` (tests check them).
 """
 from __future__ import annotations
 
 import math
-import os
-import shutil
-import tempfile
 import time
 from pathlib import Path
 
@@ -608,54 +605,50 @@ def render_pdf(html: str, base: Path, target: Path) -> None:
 def build_report(results_json_path, out_dir) -> tuple[Path, Path]:
     """Write out_dir/report.html, out_dir/report.pdf and out_dir/figures/ from a results file.
 
-    ValueError (naming the path) for a missing or malformed results file, ReportError when a
-    picture or the PDF cannot be rendered; either way out_dir is left as it was.
+    The new out_dir is built whole beside it (its other files copied, then the report
+    rendered) and swapped in as one step (pipeline.outdir): never a temporary folder inside
+    out_dir, never a report of one run beside the figures of another. ValueError (naming the
+    path) for a missing or malformed results file, ReportError when a picture or the PDF
+    cannot be rendered; either way out_dir is left as it was.
     """
+    from pipeline.outdir import staged_output
+
     results_path = Path(results_json_path)
     out = Path(out_dir)
-    results = load_results(results_path)
-    created = not out.exists()
-    out.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=out, prefix=".report-"))
-    done = False
-    try:
-        fig_dir = tmp / "figures"
-        fig_dir.mkdir()
-        try:
-            figs = make_figures(results, results_path, fig_dir)
-            html = render_html(context(results, results_path, figs, fig_dir))
-        except (ReportError, ValueError):
-            raise
-        except (KeyError, IndexError, TypeError) as exc:
-            raise ValueError(f"{results_path}: unexpected content "
-                             f"({type(exc).__name__}: {exc})") from None
-        except Exception as exc:  # noqa: BLE001
-            raise ReportError(f"report rendering failed ({type(exc).__name__}: "
-                              f"{' '.join(str(exc).split())})") from None
-        (tmp / "report.html").write_text(html, encoding="utf-8")
-        try:
-            render_pdf(html, tmp, tmp / "report.pdf")
-        except Exception as exc:  # noqa: BLE001  (weasyprint raises anything)
-            raise ReportError(f"PDF rendering failed ({type(exc).__name__}: "
-                              f"{' '.join(str(exc).split())})") from None
-        _commit(tmp, out)
-        done = True
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-        if created and not done:
-            shutil.rmtree(out, ignore_errors=True)  # we made it, it holds nothing else
+    load_results(results_path)  # a bad results file is refused before out_dir is locked
+    with staged_output(out, keep=lambda name: name not in REPORT_ENTRIES
+                       and not name.startswith(LEGACY_TEMPORARIES)) as stage:
+        render_report(results_path, stage)
     return out / "report.html", out / "report.pdf"
 
 
-def _commit(tmp: Path, out: Path) -> None:
-    """Swap the figures directory in, then rename the HTML and the PDF over the old ones."""
-    old = None
-    target = out / "figures"
-    if target.exists():
-        old = Path(tempfile.mkdtemp(dir=out, prefix=".figures-old-"))
-        os.replace(target, old / "figures")
-    os.replace(tmp / "figures", target)
-    os.replace(tmp / "report.html", out / "report.html")
-    os.replace(tmp / "report.pdf", out / "report.pdf")
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+REPORT_ENTRIES = ("report.html", "report.pdf", "figures")
+LEGACY_TEMPORARIES = (".report-", ".figures-old-")  # left inside out/ by earlier versions
+
+
+def render_report(results_json_path, directory) -> tuple[Path, Path]:
+    """Render report.html, report.pdf and figures/ into `directory`, a staging directory that
+    the caller swaps in whole (nothing here is visible until then)."""
+    results_path = Path(results_json_path)
+    target = Path(directory)
+    results = load_results(results_path)
+    fig_dir = target / "figures"
+    fig_dir.mkdir()
+    try:
+        figs = make_figures(results, results_path, fig_dir)
+        html = render_html(context(results, results_path, figs, fig_dir))
+    except (ReportError, ValueError):
+        raise
+    except (KeyError, IndexError, TypeError) as exc:
+        raise ValueError(f"{results_path}: unexpected content "
+                         f"({type(exc).__name__}: {exc})") from None
+    except Exception as exc:  # noqa: BLE001
+        raise ReportError(f"report rendering failed ({type(exc).__name__}: "
+                          f"{' '.join(str(exc).split())})") from None
+    (target / "report.html").write_text(html, encoding="utf-8")
+    try:
+        render_pdf(html, target, target / "report.pdf")
+    except Exception as exc:  # noqa: BLE001  (weasyprint raises anything)
+        raise ReportError(f"PDF rendering failed ({type(exc).__name__}: "
+                          f"{' '.join(str(exc).split())})") from None
+    return target / "report.html", target / "report.pdf"

@@ -266,7 +266,7 @@ def test_cli_one_line_error(tmp_path, capsys):
     from reports.__main__ import main
 
     missing = tmp_path / "nowhere.json"
-    assert main(["--results", str(missing), "--out", str(tmp_path / "out")]) == 1
+    assert main(["--results", str(missing), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and str(missing) in err and err.startswith("error: ")
     assert not (tmp_path / "out").exists()
