@@ -11,7 +11,7 @@ a cross-section of a leg, (d / h)^2 elements across (measured below); a fixed po
 not follow the geometry (at equal n a stocky leg fills 1.7 times more per dof than the paper's).
 
 Measured (this machine, gmsh 4.15.2, SuperLU MMD_AT_PLUS_A, case 1 of each scene, rigid
-platform unless named; "peak" is ru_maxrss of one process doing one solve in-process):
+platform unless named; "peak": ru_maxrss of one process doing one solve in-process, in MiB):
 
     scene            h (mm)  dofs n   (d/h)^2  nnz(L+U)  fill/dof  before LU   peak
     paper              40      7,998     6.25    1.70e6     213      214 MB     231 MB
@@ -34,7 +34,7 @@ platform unless named; "peak" is ru_maxrss of one process doing one solve in-pro
 - LU: 6.6 to 10.5 bytes per stored entry (8-byte values, row indices shared by supernodes;
   SuperLU grows its arrays by copying, so the ratio rises with size: 8.9 at 10 mm).
 The constants below are the upper values (fill 23 (d/h)^2 + 80 per dof, 12 bytes per entry):
-the estimate lies above every measured peak, by 5 to 48 % (10.9 GB against 7.85 GB at 10 mm),
+the estimate lies above every measured peak, by 5 to 48 % (10.9 GB against 8.23 GB at 10 mm),
 and agrees with the one larger run on record, `fem --size 9` (395k dofs), which passed 15.7 GB
 after 10 minutes and was still growing (issue 11): estimated here 17.1 GB.
 
