@@ -15,6 +15,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from analytical.params import BEAM_THEORIES, PLATFORM_INERTIAS
+from common.messages import one_line
 
 from fem_reference.constraints import COUPLINGS as FEM_COUPLINGS
 from fem_reference.model import PLATFORMS as FEM_PLATFORMS
@@ -124,7 +125,9 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--no-report", action="store_true", help="skip the HTML/PDF report")
 
     c = sub.add_parser("check-baselines", help="compare error tables with tests/baselines")
-    c.add_argument("--results", default=None)
+    c.add_argument("--results", default=None,
+                   help="read the tables from this results.json (computed at the baselines' "
+                        "mesh size) instead of recomputing them")
 
     r = sub.add_parser("readme", help="refresh README.md's results block from results.json")
     r.add_argument("--results", default="out/results.json")
@@ -261,9 +264,14 @@ def main(argv: list[str] | None = None) -> int:
             from .baselines import check_command
             return check_command(args.results)
         elif args.command == "readme":
+            from reports.results import load_results
             from .tables import update_readme
-            results = json.loads(Path(args.results).read_text(encoding="utf-8"))
-            update_readme(Path("README.md"), results)
+            results = load_results(args.results)  # ValueError naming the file
+            try:
+                update_readme(Path("README.md"), results)
+            except (KeyError, IndexError, TypeError) as exc:
+                raise ValueError(f"{args.results}: unexpected content ({type(exc).__name__}: "
+                                 f"{exc})") from None
         elif args.command == "scene-docs":
             from .scene_docs import write
             print(f"wrote {write()}")
@@ -274,7 +282,6 @@ def main(argv: list[str] | None = None) -> int:
         print("error: interrupted; nothing partial was kept", file=sys.stderr)
         return 130
     except (ValueError, RuntimeError, OSError) as exc:
-        message = " ".join(str(exc).split()) or type(exc).__name__
-        print(f"error: {message}", file=sys.stderr)
+        print(f"error: {one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     return 0
