@@ -125,6 +125,7 @@ def output_lock(out: Path, notify: Callable[[str], None] | None = None) -> Itera
     it."""
     path = lock_path(out)
     notify = notify or (lambda text: print(text, file=sys.stderr, flush=True))
+    waited = False
     while True:
         try:
             out.parent.mkdir(parents=True, exist_ok=True)
@@ -135,8 +136,10 @@ def output_lock(out: Path, notify: Callable[[str], None] | None = None) -> Itera
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
-                holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
-                notify(f"waiting for the run that is writing {out} (pid {holder}) to finish")
+                if not waited:  # said once, however many runs go first
+                    holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
+                    notify(f"waiting for the run that is writing {out} (pid {holder}) to finish")
+                    waited = True
                 fcntl.flock(fd, fcntl.LOCK_EX)
             try:  # the run we waited for removed this file: lock the current one instead
                 current = os.stat(path).st_ino == os.fstat(fd).st_ino

@@ -293,10 +293,9 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             "cases": [],
             "studies": {},
         }
-        # transient: the bar never outlives the run, so a failure is one line on stderr
+        # on a terminal only, and transient: a failure is one line on stderr, nothing before
         with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
-                      console=console, transient=True, disable=not console.is_terminal
-                      and "CI" in os.environ) as bar:
+                      console=console, transient=True, disable=not console.is_terminal) as bar:
             task = bar.add_task("validation", total=len(case_names))
             for name in case_names:
                 case = scene.case(name)
@@ -320,7 +319,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             from reports.build import render_report
             render_report(stage / "results.json", stage)
     console.print(f"wrote {out}/results.json" + (", report.html, report.pdf"
-                                                  if build_report else ""))
+                                                  if build_report else ""), soft_wrap=True)
     return results
 
 
