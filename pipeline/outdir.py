@@ -286,12 +286,12 @@ def staged_output(out: str | os.PathLike, keep: Callable[[str], bool] | None = N
 def _in_out(exc: OSError, stage: Path, out: Path) -> str:
     """The error's message with the staging path shown as the path in out/ it stands for."""
     reason = exc.strerror or " ".join(str(exc).split())
-    name = exc.filename
-    if name is not None:
-        path = Path(os.fsdecode(name))
-        with contextlib.suppress(ValueError):
-            path = out / path.relative_to(stage)
-        return f"cannot write {path}: {reason}"
+    names = [Path(os.fsdecode(n)) for n in (exc.filename2, exc.filename) if n is not None]
+    for path in names:  # a copy names its source first, its target second: the target counts
+        if path.is_relative_to(stage):
+            return f"cannot write {out / path.relative_to(stage)}: {reason}"
+    if names:
+        return f"cannot write {names[-1]}: {reason}"
     text = " ".join(str(exc).split()).replace(str(stage), str(out))
     if exc.errno is not None and exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EROFS,
                                                errno.EIO, errno.EFBIG):

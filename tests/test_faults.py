@@ -207,6 +207,27 @@ def test_out_must_be_a_directory_of_its_own(tmp_path):
         ["work", "work/notes.txt"]
 
 
+@pytest.mark.parametrize("where", ["a copy into out/", "a write the OS names no file for"])
+def test_a_full_disk_names_the_path_in_out(warm, tmp_path, monkeypatch, where):
+    out = copy_of(warm.out, tmp_path / "out")
+    before = tree(out)
+    full = (errno.ENOSPC, os.strerror(errno.ENOSPC))
+    if where == "a copy into out/":
+        def copyfile(source, target):  # as shutil reports it: source first, target second
+            raise OSError(*full, str(source), None, str(target))
+        monkeypatch.setattr(run.shutil, "copyfile", copyfile)
+        expected = f"cannot write {out}/modes/case1_fem.vtu: No space left on device"
+    else:
+        def write_tables(results, folder):
+            raise OSError(*full)
+        monkeypatch.setattr(run.tables, "write_tables", write_tables)
+        expected = f"cannot write {out}: No space left on device"
+    with pytest.raises(outdir.OutputError) as info:
+        run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci", build_report=False)
+    assert str(info.value) == expected
+    assert tree(out) == before and leftovers(out) == []
+
+
 # ---------------------------------------------------------------- caches verified on read
 @pytest.fixture(scope="module")
 def clean_solve(tmp_path_factory, scene):
