@@ -31,7 +31,7 @@ from .discretisation import Discretisation, discretise
 from .eigen import BACKENDS, EigenError, Modes, lowest_modes
 from .export import write_modes_vtu
 from .resources import MemoryLimitError, check_memory
-from .worker import WorkerDied, stoppable
+from common.worker import WorkerDied, stoppable
 from . import probes
 
 PLATFORMS = ("rigid", "elastic")

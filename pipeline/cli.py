@@ -15,7 +15,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from analytical.params import BEAM_THEORIES, PLATFORM_INERTIAS
-from common.messages import one_line
+from common.messages import failed
 
 from fem_reference.constraints import COUPLINGS as FEM_COUPLINGS
 from fem_reference.model import PLATFORMS as FEM_PLATFORMS
@@ -278,10 +278,6 @@ def main(argv: list[str] | None = None) -> int:
         elif args.command == "update-baselines":
             from .baselines import update_command
             return update_command(args.scene)
-    except KeyboardInterrupt:
-        print("error: interrupted; nothing partial was kept", file=sys.stderr)
-        return 130
-    except (ValueError, RuntimeError, OSError) as exc:
-        print(f"error: {one_line(exc)}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+    except (KeyboardInterrupt, ValueError, RuntimeError, OSError) as exc:
+        return failed(exc)
     return 0

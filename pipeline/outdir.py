@@ -40,7 +40,9 @@ import fcntl
 import os
 import secrets
 import shutil
+import signal
 import sys
+import threading
 from pathlib import Path
 from typing import Callable, Iterator
 
@@ -262,7 +264,7 @@ def staged_output(out: str | os.PathLike, keep: Callable[[str], bool] | None = N
     stderr).
     """
     out = check_output_dir(out)
-    with output_lock(out, notify):
+    with output_lock(out, notify), _stop_on_signals() as stop:
         remove_stale(out)
         out = check_output_dir(out)  # the run we waited for may have changed it
         try:
@@ -278,9 +280,50 @@ def staged_output(out: str | os.PathLike, keep: Callable[[str], bool] | None = N
                 raise
             except OSError as exc:
                 raise OutputError(_in_out(exc, stage, out)) from None
-            swap_in(stage, out)
+            with _signals_held():
+                if stop:  # a stop whose KeyboardInterrupt a finaliser swallowed
+                    raise KeyboardInterrupt
+                swap_in(stage, out)
+                stop.append("done")  # a signal arriving now finds the run complete
         finally:
             shutil.rmtree(stage, ignore_errors=True)
+
+
+_STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+@contextlib.contextmanager
+def _stop_on_signals() -> Iterator[list]:
+    """SIGINT and SIGTERM raise KeyboardInterrupt for the run and are remembered in the list
+    yielded, so a stop cannot be lost: Python drops an exception raised inside a finaliser
+    (a weakref callback during garbage collection), and the run must then not be swapped in.
+    Once the swap is done ("done" in the list), a late signal is let go: the run is complete."""
+    stop: list = []
+    if threading.current_thread() is not threading.main_thread():
+        yield stop
+        return
+
+    def on_signal(signum, frame):
+        if "done" not in stop:
+            stop.append(signum)
+            raise KeyboardInterrupt
+
+    previous = {s: signal.signal(s, on_signal) for s in _STOP_SIGNALS}
+    try:
+        yield stop
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """SIGINT and SIGTERM wait (blocked) while out/ is swapped: one step, never half-done."""
+    held = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
 
 def _in_out(exc: OSError, stage: Path, out: Path) -> str:

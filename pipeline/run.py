@@ -316,8 +316,9 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
         _write_outputs(results, stage)
         if build_report:
+            from common.worker import stoppable
             from reports.build import render_report
-            render_report(stage / "results.json", stage)
+            stoppable(render_report, stage / "results.json", stage)  # stops at once on a signal
     console.print(f"wrote {out}/results.json" + (", report.html, report.pdf"
                                                   if build_report else ""), soft_wrap=True)
     return results

@@ -11,9 +11,8 @@ import signal
 import sys
 from pathlib import Path
 
-from common.messages import one_line
+from common.messages import EXIT_BAD_INPUT, failed
 
-EXIT_BAD_INPUT = 2
 
 
 class _Parser(argparse.ArgumentParser):
@@ -36,12 +35,8 @@ def main(argv: list[str] | None = None) -> int:
     from .build import ReportError, build_report
     try:
         html, pdf = build_report(args.results, args.out)
-    except KeyboardInterrupt:
-        print("error: interrupted; the output directory was left as it was", file=sys.stderr)
-        return 130
-    except (ValueError, ReportError, OSError) as exc:
-        print(f"error: {one_line(exc)}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+    except (KeyboardInterrupt, ValueError, ReportError, OSError) as exc:
+        return failed(exc, interrupted="the output directory was left as it was")
     finally:
         signal.signal(signal.SIGTERM, previous)
     print(f"wrote {html} and {pdf}")

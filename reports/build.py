@@ -611,6 +611,7 @@ def build_report(results_json_path, out_dir) -> tuple[Path, Path]:
     path) for a missing or malformed results file, ReportError when a picture or the PDF
     cannot be rendered; either way out_dir is left as it was.
     """
+    from common.worker import stoppable
     from pipeline.outdir import staged_output
 
     results_path = Path(results_json_path)
@@ -618,7 +619,7 @@ def build_report(results_json_path, out_dir) -> tuple[Path, Path]:
     load_results(results_path)  # a bad results file is refused before out_dir is locked
     with staged_output(out, keep=lambda name: name not in REPORT_ENTRIES
                        and not name.startswith(LEGACY_TEMPORARIES)) as stage:
-        render_report(results_path, stage)
+        stoppable(render_report, results_path, stage)  # Ctrl-C / SIGTERM stop it at once
     return out / "report.html", out / "report.pdf"
 
 

@@ -25,7 +25,7 @@ import pipeline.run as run
 from analytical.kinematics import pose_geometry
 from fem_reference import resources
 from fem_reference.model import FemError, solve_pose
-from fem_reference.worker import WorkerDied, stoppable
+from common.worker import WorkerDied, stoppable
 from pipeline.baselines import check_command, load_baseline
 from pipeline.cache import ResultCache
 from pipeline.compare import fem_case, fem_options, fem_runtime
@@ -168,6 +168,23 @@ def test_a_run_killed_between_the_fallback_renames_is_repaired_by_the_next(warm,
     with outdir.staged_output(out, keep=lambda name: True):
         pass
     assert tree(out) == before and leftovers(out) == []
+
+
+def test_a_stop_swallowed_by_a_finaliser_still_prevents_the_swap(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "results.json").write_text("previous run")
+    before_handler = signal.getsignal(signal.SIGTERM)
+    with pytest.raises(KeyboardInterrupt):
+        with outdir.staged_output(out) as stage:
+            (stage / "results.json").write_text("new run")
+            try:  # as in a weakref callback during garbage collection: "Exception ignored"
+                os.kill(os.getpid(), signal.SIGTERM)
+                time.sleep(1)
+            except KeyboardInterrupt:
+                pass
+    assert tree(out) == {"results.json": b"previous run"} and leftovers(out) == []
+    assert signal.getsignal(signal.SIGTERM) is before_handler
 
 
 def _chattr(flag: str, path: Path) -> bool:

@@ -1,15 +1,19 @@
-"""Run the expensive eigen solve in a child process that Ctrl-C and SIGTERM stop at once.
+"""Run long work in a child process that Ctrl-C and SIGTERM stop at once.
 
 SuperLU's factorisation and ARPACK run in C for minutes without coming back to Python, and a
-Python signal handler only runs when they do: a SIGTERM during a fine solve used to wait 70-90 s.
-`stoppable(fn, *args)` forks a child that calls fn and sends the result back through a pipe,
-while the parent waits in a read, where signals are handled at once. When that wait ends with
-an exception (KeyboardInterrupt from Ctrl-C, or from SIGTERM, which the command line turns into
-one), the child is killed with SIGKILL and reaped before the exception goes on, so a solve stops
-within milliseconds. The child also dies with its parent (PR_SET_PDEATHSIG), so a kill -9 of
-the run leaves no orphan computing. fork shares the parent's matrices copy-on-write (nothing is
-copied or pickled on the way in); only the result (eigenvalues and vectors, a few MB) is
-pickled back. Where fork is unavailable the call runs in-process.
+Python signal handler only runs when they do: a SIGTERM during a fine FEM solve used to wait
+70-90 s. Rendering a report (matplotlib, VTK, WeasyPrint) is full of finalisers, and a
+KeyboardInterrupt raised while one runs is swallowed ("Exception ignored in ..."), so the
+render went on. `stoppable(fn, *args)` forks a child that calls fn and sends the result back
+through a pipe, while the parent waits in a read, where signals are handled at once. When that
+wait ends with an exception (KeyboardInterrupt from Ctrl-C, or from SIGTERM, which the command
+lines turn into one), the child is killed with SIGKILL and reaped before the exception goes on,
+so the work stops within milliseconds. The child also dies with its parent
+(PR_SET_PDEATHSIG), so a kill -9 of the run leaves no orphan computing. fork shares the
+parent's memory copy-on-write (nothing is copied or pickled on the way in); only the result (a
+few MB of eigenvectors, or a pair of paths) and any exception are pickled back. Where fork is
+unavailable the call runs in-process. Used by the FEM solve (fem_reference.model) and the
+report (reports.build).
 """
 from __future__ import annotations
 
