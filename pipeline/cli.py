@@ -9,7 +9,6 @@ import argparse
 import json
 import math
 import signal
-import sys
 import time
 from dataclasses import replace
 from pathlib import Path

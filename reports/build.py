@@ -1,9 +1,10 @@
 """Orchestration: results.json -> figures, report.html, report.pdf (all written atomically).
 
-Everything is rendered into a staging directory beside the output directory, which is swapped in
-whole only when the HTML and the PDF both exist (pipeline.outdir), so a failed or killed render
-leaves the previous outputs (or nothing) and never a half-written report. Every number printed in a table is looked up in
-results.json by a JSON pointer, which the table cell carries as `data-src` (tests check them).
+Everything is rendered into a staging directory beside the output directory, which is swapped
+in whole only when the HTML and the PDF both exist (pipeline.outdir), so a failed or killed
+render leaves the previous outputs (or nothing) and never a half-written report. Every number
+printed in a table is looked up in results.json by a JSON pointer, which the table cell carries
+as `data-src` (tests check them).
 """
 from __future__ import annotations
 
