@@ -46,4 +46,4 @@ update-baselines: $(STAMP)
 	$(PYTHON) -m pipeline update-baselines --scene $(SCENE)
 
 clean:
-	rm -rf out .cache .pytest_cache .hypothesis
+	rm -rf out .out.staging-* .out.previous-* .out.lock out.partial .cache .pytest_cache .hypothesis

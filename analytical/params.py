@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 import math
 
-from common.settings import check_settings, nested_setting, setting
+from common.settings import check_settings, declared, nested_setting, setting
 
 from .beam import SHEAR_COEFFICIENTS
 
@@ -145,8 +145,33 @@ class ModelOptions:
         check_settings(self)
 
 
+# Plausible materials and proportions (checked at load, `check_manipulator`).
+# Poisson ratio nu = E / (2 G) - 1 in (0, 0.49]: the engineering solids a manipulator is built
+# of (metals 0.25-0.35, polymers up to ~0.45). Towards 0.5 the displacement-based P2
+# tetrahedra of the FEM reference lock volumetrically: the Lame ratio lambda / mu =
+# 2 nu / (1 - 2 nu) is 49 at 0.49 and unbounded at 0.5 (measured: above 0.499 the two modes of
+# a symmetric pair split by more than 1e-3, at 0.5 - 2e-16 the solve fails); at nu <= 0
+# (auxetic) Cowper's shear coefficient of the Timoshenko legs, 6 (1 + nu) / (7 + 6 nu), falls
+# to 0 and E, G no longer describe a material the two models treat alike.
+POISSON_RANGE = (0.0, 0.49)  # exclusive minimum, inclusive maximum
+DENSITY_RANGE = (500.0, 25_000.0)  # kg/m3: balsa-free woods and foams .. osmium
+YOUNGS_MODULUS_RANGE = (1e9, 1000e9)  # Pa: stiff polymers .. diamond-like ceramics
+MIN_PLATE_THICKNESS = 1e-3  # m: thinner is a sheet, not the rigid/elastic plate modelled
+
+
+def _named(cls, name: str, value: float) -> str:
+    """`scene_key = value unit` of a declared field, in the scene file's unit."""
+    spec = next(s for n, s, _ in declared(cls) if n == name)
+    return f"{spec.scene_key(name)} = {spec.edge(value):.6g}{' ' + spec.unit if spec.unit else ''}"
+
+
+def _distance_on_circle(radius: float, a: float, b: float) -> float:
+    return 2.0 * radius * abs(math.sin(0.5 * (a - b)))
+
+
 def check_manipulator(m: Manipulator) -> None:
-    """Raise ValueError naming the first non-physical parameter."""
+    """Raise ValueError naming the first non-physical or implausible parameter: its scene key,
+    its value and the expected range in the scene file's unit, on one line."""
     positive = {
         "base_radius": m.base_radius,
         "platform_radius": m.platform_radius,
@@ -167,10 +192,66 @@ def check_manipulator(m: Manipulator) -> None:
         raise ValueError(
             f"actuator_min = {m.actuator_min} m is not below actuator_max = {m.actuator_max} m"
         )
-    nu = m.material.poisson_ratio
-    if not -1.0 < nu < 0.5:
-        raise ValueError(f"poisson ratio E/(2G) - 1 = {nu:.4g}: must lie in (-1, 0.5)")
+    mat = m.material
+    low, high = YOUNGS_MODULUS_RANGE
+    if not low <= mat.youngs_modulus <= high:
+        raise ValueError(f"{_named(Material, 'youngs_modulus', mat.youngs_modulus)}: expected "
+                         f"{low / 1e9:g} to {high / 1e9:g} GPa (an engineering solid)")
+    low, high = DENSITY_RANGE
+    if not low <= mat.density <= high:
+        raise ValueError(f"{_named(Material, 'density', mat.density)}: expected {low:g} to "
+                         f"{high:g} kg/m3 (an engineering solid)")
+    nu = mat.poisson_ratio
+    low, high = POISSON_RANGE
+    if not low < nu <= high:
+        raise ValueError(
+            f"{_named(Material, 'shear_modulus', mat.shear_modulus)} with "
+            f"{_named(Material, 'youngs_modulus', mat.youngs_modulus)}: Poisson ratio "
+            f"E / (2 G) - 1 = {nu:.6g}, expected {low:g} < nu <= {high:g} (G between "
+            f"{mat.youngs_modulus / (2 * (1 + high)) / 1e9:.6g} and "
+            f"{mat.youngs_modulus / (2 * (1 + low)) / 1e9:.6g} GPa; nearly incompressible "
+            "solids lock the FEM's P2 tetrahedra)")
     if m.platform_shape not in PLATFORM_SHAPES:
         raise ValueError(
             f"platform_shape = {m.platform_shape!r}: expected one of {', '.join(PLATFORM_SHAPES)}"
         )
+    _check_proportions(m)
+
+
+def _check_proportions(m: Manipulator) -> None:
+    """Bodies that the models take as separate solids meeting only at the joints."""
+    d = m.leg_diameter
+    if m.actuator_min < d:
+        raise ValueError(f"{_named(Manipulator, 'actuator_min', m.actuator_min)}: the shortest "
+                         f"leg is shorter than its diameter "
+                         f"{_named(Manipulator, 'leg_diameter', d)}; expected at least "
+                         f"{d * 1e3:g} mm (a leg, not a disk)")
+    if m.platform_thickness < MIN_PLATE_THICKNESS:
+        raise ValueError(f"{_named(Manipulator, 'platform_thickness', m.platform_thickness)}: "
+                         f"expected at least {MIN_PLATE_THICKNESS * 1e3:g} mm")
+    if m.platform_thickness > m.platform_radius:
+        raise ValueError(f"{_named(Manipulator, 'platform_thickness', m.platform_thickness)}: "
+                         f"thicker than the platform radius "
+                         f"{_named(Manipulator, 'platform_radius', m.platform_radius)}; "
+                         f"expected at most {m.platform_radius * 1e3:g} mm (a plate)")
+    angles = m.leg_angles
+    for radius, name, ends in ((m.base_radius, "base_radius", "B"),
+                               (m.platform_radius, "platform_radius", "A")):
+        for i in range(3):
+            for j in range(i + 1, 3):
+                gap = _distance_on_circle(radius, angles[i], angles[j])
+                if gap <= d:
+                    raise ValueError(
+                        f"{_named(Manipulator, 'leg_diameter', d)}: legs {i + 1} and {j + 1} "
+                        f"overlap at their joints {ends}{i + 1}, {ends}{j + 1} "
+                        f"({gap * 1e3:.6g} mm apart with {_named(Manipulator, name, radius)} and "
+                        f"leg_angles_deg); expected a leg diameter below {gap * 1e3:.6g} mm")
+    # The leg ends at A_i on the plate's mid-surface, so its last h/2 (more when tilted) lies
+    # inside the plate; beyond one leg diameter that is no longer a joint patch but a leg
+    # buried in the platform, which neither model represents.
+    if 0.5 * m.platform_thickness > d:
+        raise ValueError(
+            f"{_named(Manipulator, 'platform_thickness', m.platform_thickness)}: the last half "
+            f"thickness of every leg lies inside the plate, more than the leg diameter "
+            f"{_named(Manipulator, 'leg_diameter', d)} (legs overlap the platform beyond the "
+            f"joint patches); expected at most {2 * d * 1e3:g} mm")

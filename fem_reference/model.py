@@ -30,12 +30,15 @@ from .constraints import COUPLINGS, ConstraintMap, build_constraints
 from .discretisation import Discretisation, discretise
 from .eigen import BACKENDS, EigenError, Modes, lowest_modes
 from .export import write_mode_collection, write_modes_vtu
+from .resources import MemoryLimitError, check_memory
+from common.worker import WorkerDied, stoppable
 from . import probes
 
 PLATFORMS = ("rigid", "elastic")
 # Measured on the paper's legs (gmsh, pinned options): P2 nodes ~ 5.8 V/h^3 + 3.5 A/h^2
 NODES_PER_VOLUME = 5.8
 NODES_PER_AREA = 3.5
+MAX_ESTIMATE = 10**15  # dofs: the estimate of absurdly small sizes, far above any guard
 
 
 class FemError(ValueError):
@@ -188,14 +191,17 @@ class FemResult:
 def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
     """Raw dof count of the P2 mesh, estimated from volume and surface before meshing."""
     h = settings.size
-    nodes = NODES_PER_VOLUME * assembly.volume / h**3 + NODES_PER_AREA * assembly.area / h**2
-    if settings.rim_factor < 1 and settings.rim_zone > 0:
-        # each joint-face rim: a quarter torus of radius rim_zone, mean size ~ (1 + f) h / 2
-        zone = sum(2 * (math.pi * min(settings.rim_zone, c.radius) ** 2 / 4)
-                   * 2 * math.pi * c.radius for c in assembly.cylinders)
-        h_zone = 0.5 * (1 + settings.rim_factor) * h
-        nodes += NODES_PER_VOLUME * zone * (1 / h_zone**3 - 1 / h**3)
-    return int(3 * nodes)
+    try:
+        nodes = NODES_PER_VOLUME * assembly.volume / h**3 + NODES_PER_AREA * assembly.area / h**2
+        if settings.rim_factor < 1 and settings.rim_zone > 0:
+            # each joint-face rim: a quarter torus of radius rim_zone, mean size ~ (1 + f) h / 2
+            zone = sum(2 * (math.pi * min(settings.rim_zone, c.radius) ** 2 / 4)
+                       * 2 * math.pi * c.radius for c in assembly.cylinders)
+            h_zone = 0.5 * (1 + settings.rim_factor) * h
+            nodes += NODES_PER_VOLUME * zone * (1 / h_zone**3 - 1 / h**3)
+    except (ZeroDivisionError, OverflowError):  # sizes so small that h^3 underflows
+        nodes = math.inf
+    return int(3 * nodes) if 3 * nodes < MAX_ESTIMATE else MAX_ESTIMATE  # NaN, inf: capped
 
 
 def check_mesh_size(assembly: Assembly, settings: MeshSettings, runtime: FemRuntime) -> None:
@@ -209,6 +215,10 @@ def check_mesh_size(assembly: Assembly, settings: MeshSettings, runtime: FemRunt
     if estimate > runtime.max_dofs:
         raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
                        f"max_dofs = {runtime.max_dofs}")
+    try:
+        check_memory(estimate, diameter, settings.size)  # before meshing: peak vs available
+    except MemoryLimitError as exc:
+        raise FemError(str(exc)) from None
 
 
 def solve_pose(manipulator, geometry, options: FemOptions,
@@ -253,8 +263,9 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     t_asm = time.perf_counter()
 
     try:
-        modes = lowest_modes(kq, mq, options.modes, backend=runtime.backend)
-    except EigenError as exc:
+        # in a child process, so Ctrl-C and SIGTERM stop a long factorisation at once
+        modes = stoppable(lowest_modes, kq, mq, options.modes, backend=runtime.backend)
+    except (EigenError, WorkerDied) as exc:
         raise FemError(f"mesh_size = {settings.size:g} m: eigensolver failed ({exc})") from None
     vq = _normalise_signs(modes.vectors)
     v_raw = t_ @ vq

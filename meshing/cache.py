@@ -3,9 +3,11 @@
 Key: SHA-256 of the canonical JSON of the bodies (rounded to 1e-12 m), the mesh settings, the
 pinned gmsh options, the gmsh version and the cache format version. An entry is two files:
 `<key>.vtu` (the mesh, written by meshio) and `<key>.json` (digest of the mesh arrays and
-metadata), each written to a temporary file in the same directory and moved into place with
-os.replace, the JSON last: an entry without a valid JSON, or whose mesh does not read back to the
-recorded digest, is treated as corrupt, removed and rebuilt - never a crash, never a stale mesh.
+metadata, with the SHA-256 of the mesh file and of the JSON itself), each written to a
+temporary file in the same directory and moved into place with os.replace, the JSON last: an
+entry whose files fail their checksums, without a valid JSON, or whose mesh does not read back
+to the recorded digest, is treated as corrupt, removed (one line on stderr) and rebuilt - never
+a crash, never a stale mesh. Files are ordinary (0666 less the umask: 0644 usually).
 """
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ import meshio
 
 from common.atomic import atomic_write
 from common.locations import cache_root
+from common.checksum import ChecksumError, report_dropped, seal, verify
 
 from .bodies import Assembly
 from .geometry import PINNED_OPTIONS, MeshSettings, build_mesh, gmsh_version
@@ -49,12 +52,14 @@ class MeshCache:
         return self.directory / f"{key}.vtu", self.directory / f"{key}.json"
 
     def load(self, key: str) -> SolidMesh | None:
-        """The cached mesh, or None if absent or corrupt (a corrupt entry is removed)."""
+        """The cached mesh, or None if absent or corrupt (a corrupt entry is removed, with one
+        line on stderr)."""
         mesh_path, meta_path = self.paths(key)
         if not meta_path.exists():
             return None
         try:
-            meta = json.loads(meta_path.read_text(encoding="utf-8"))
+            meta = verify(json.loads(meta_path.read_text(encoding="utf-8")),
+                          {".vtu": mesh_path})
             with contextlib.redirect_stderr(io.StringIO()), \
                     contextlib.redirect_stdout(io.StringIO()):
                 raw = meshio.read(mesh_path, file_format="vtu")  # may sys.exit on bad XML
@@ -62,7 +67,11 @@ class MeshCache:
             if meta.get("digest") != mesh.digest():
                 raise MeshFormatError("digest mismatch")
             return mesh
-        except (Exception, SystemExit):  # unreadable or inconsistent entry: drop, rebuild
+        except FileNotFoundError:  # removed by another process since the check above
+            return None
+        except (Exception, SystemExit) as exc:  # unreadable or inconsistent entry: drop, rebuild
+            why = str(exc) if isinstance(exc, ChecksumError) else type(exc).__name__
+            report_dropped("mesh-cache entry", meta_path, why)
             self.remove(key)
             return None
 
@@ -74,7 +83,8 @@ class MeshCache:
                                                         binary=True, compression="zlib"))
         meta = {"key": key, "digest": mesh.digest(), "n_nodes": mesh.n_nodes,
                 "n_tets": int(len(mesh.tets)), "groups": mesh.groups(), "info": mesh.info}
-        atomic_write(meta_path, lambda p: Path(p).write_text(json.dumps(meta, indent=1),
+        sealed = seal(meta, {".vtu": mesh_path})  # SHA-256 of the mesh file and of this record
+        atomic_write(meta_path, lambda p: Path(p).write_text(json.dumps(sealed, indent=1),
                                                               encoding="utf-8"))
 
     def remove(self, key: str) -> None:

@@ -112,12 +112,48 @@ def update_command(scene_path: str) -> int:
     return 0
 
 
+def results_tables(path: str | Path, baseline: dict) -> dict:
+    """The error tables of the baseline's cases as a results file holds them (`validate`'s
+    results.json); ValueError naming the file when it is unreadable, lacks a case, or was
+    computed at another FEM mesh size or with other analytical settings than the baseline."""
+    from reports.results import load_results
+
+    results = load_results(path)
+    tables = {}
+    for name in baseline["cases"]:
+        case = next((c for c in results["cases"] if c.get("name") == name), None)
+        if case is None:
+            raise ValueError(f"{path}: no case {name!r} (the baselines cover "
+                             f"{', '.join(baseline['cases'])})")
+        size = case["fem"].get("mesh_size_m")
+        if not isinstance(size, (int, float)) or abs(size / baseline["mesh_size_m"] - 1) > 1e-9:
+            raise ValueError(f"{path}: case {name!r} has its FEM at mesh_size_m = {size!r}, the "
+                             f"baselines at {baseline['mesh_size_m']:g}: not comparable")
+        analytical = case["analytical"]  # the model of the case's table (the run's choice)
+        for key, value in baseline.get("analytical", {}).items():
+            if analytical.get(key) != value:
+                raise ValueError(f"{path}: analytical {key} = {analytical.get(key)!r}, the "
+                                 f"baselines' {value!r}: not comparable")
+        try:
+            tables[name] = [{k: row[k] for k in ("fem_mode", "analytical_mode", "f_fem_hz",
+                                                 "f_analytical_hz", "error_percent", "mac")}
+                            for row in case["pairs"]]
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"{path}: case {name!r} pairs lack {exc}") from None
+    return tables
+
+
 def check_command(results: str | None = None) -> int:
+    """Compare the error tables with the baseline: recomputed afresh, or read from `results`
+    (a results.json at the baseline's mesh size). 0: within tolerance, 1: moved."""
     baseline = load_baseline()
-    current = compute_tables(baseline["scene"], baseline["mesh_size_m"])
+    if results is None:
+        current = compute_tables(baseline["scene"], baseline["mesh_size_m"])
+    else:
+        current = results_tables(results, baseline)
     lines = compare(baseline, current)
     if lines:
         print("error tables moved beyond tolerance:", *lines, sep="\n", file=sys.stderr)
         return 1
-    print("error tables match the baseline")
+    print("error tables match the baseline" + (f" ({results})" if results else ""))
     return 0

@@ -2,8 +2,9 @@
 
 The key is a SHA-256 of the inputs (as canonical JSON) and of the source code of the packages
 that compute the value, so editing the physics invalidates the entry. Entries are written
-atomically; an entry that cannot be read back (truncated, corrupt, wrong schema) is discarded
-and recomputed, never trusted.
+atomically and carry the SHA-256 of every one of their files (common.checksum); an entry that
+fails its checksums or cannot be read back (truncated, edited, wrong schema) is dropped, with
+one line on stderr, and recomputed: never trusted.
 """
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from common.atomic import write_text_atomic
+from common.checksum import ChecksumError, report_dropped, seal, side_files, verify
 
 ROOT = Path(__file__).resolve().parents[1]
 CODE_PACKAGES = ("analytical", "meshing", "fem_reference")
@@ -49,32 +51,36 @@ class ResultCache:
         return self.directory / kind / f"{key}{suffix}"
 
     def get(self, kind: str, key: str, required: tuple[str, ...] = ()) -> dict | None:
+        """The stored value, or None when absent; an entry that fails its checksums (a file
+        truncated, overwritten or edited), cannot be parsed or lacks a required field is
+        dropped with one line on stderr."""
         path = self._path(kind, key)
         try:
-            value = json.loads(path.read_text(encoding="utf-8"))
+            stored = json.loads(path.read_text(encoding="utf-8"))
         except FileNotFoundError:
             return None
-        except (OSError, ValueError, UnicodeDecodeError):
-            self.discard(kind, key)
-            return None
-        if not isinstance(value, dict) or any(k not in value for k in required):
-            self.discard(kind, key)
-            return None
-        for side in value.pop("_files", []):
-            if not self._path(kind, key, side).is_file():
-                self.discard(kind, key)
-                return None
+        except (OSError, ValueError, UnicodeDecodeError) as exc:
+            return self._drop(kind, key, f"unreadable: {type(exc).__name__}")
+        try:
+            value = verify(stored, {s: self._path(kind, key, s) for s in side_files(stored)})
+        except ChecksumError as exc:
+            return self._drop(kind, key, str(exc))
+        missing = [k for k in required if k not in value]
+        if missing:
+            return self._drop(kind, key, f"lacks {missing[0]!r}")
         return value
 
     def put(self, kind: str, key: str, value: dict, files: dict[str, Path] | None = None) -> None:
         """Store `value`; `files` maps a suffix (".vtu") to a complete file that is moved in
-        beside it (same file system: a rename, no copy)."""
-        stored = dict(value, _files=sorted(files or {}))
+        beside it (same file system: a rename, no copy). The JSON, written last, commits the
+        entry and carries the SHA-256 of itself and of every side file."""
+        moved = {}
         for suffix, source in (files or {}).items():
             target = self._path(kind, key, suffix)
             target.parent.mkdir(parents=True, exist_ok=True)
             os.replace(source, target)
-        write_text_atomic(self._path(kind, key), json.dumps(stored))  # last: commits the entry
+            moved[suffix] = target
+        write_text_atomic(self._path(kind, key), json.dumps(seal(value, moved)))
 
     def side_file(self, kind: str, key: str, suffix: str) -> Path:
         return self._path(kind, key, suffix)
@@ -82,6 +88,10 @@ class ResultCache:
     def discard(self, kind: str, key: str) -> None:
         for path in self._path(kind, key).parent.glob(f"{key}.*"):
             path.unlink(missing_ok=True)
+
+    def _drop(self, kind: str, key: str, why: str) -> None:
+        report_dropped("result-cache entry", self._path(kind, key), why)
+        self.discard(kind, key)
 
     def get_or_compute(self, kind: str, payload: Any, compute: Callable[[], tuple[dict, dict]],
                        required: tuple[str, ...] = ()) -> tuple[dict, str, bool]:

@@ -19,6 +19,7 @@ from pathlib import Path
 
 from analytical.params import BEAM_THEORIES, PLATFORM_INERTIAS
 from common.locations import DISTRIBUTION, cache_root, checkout_root, default_scene
+from common.messages import failed
 
 from . import human
 
@@ -229,8 +230,9 @@ def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
 
     c = command("check-baselines", "recompute the CI error tables and compare them with "
                 "tests/baselines (checkout only)")
-    c.add_argument("--results", metavar="PATH", help="ignored; the tables are recomputed at "
-                   "the baseline's own mesh size (default: none)")
+    c.add_argument("--results", metavar="PATH", help="read the tables from this results.json "
+                   "(computed at the baselines' mesh size) instead of recomputing them "
+                   "(default: none)")
 
     r = command("readme", "refresh README.md's results block from results.json (checkout "
                 "only)")
@@ -423,16 +425,11 @@ def main(argv: list[str] | None = None) -> int:
             _checkout(args.command)
             from .baselines import update_command
             return update_command(args.scene)
-    except KeyboardInterrupt:
-        print("error: interrupted; nothing partial was kept", file=sys.stderr)
-        return 130
     except ModuleNotFoundError as exc:
         extras = "fem,report" if args.command == "validate" else "fem"
         print(f"error: {exc.name} is not installed; `{prog} {args.command}` needs "
               f"pip install '{DISTRIBUTION}[{extras}]'", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except (ValueError, RuntimeError, OSError) as exc:
-        message = " ".join(str(exc).split()) or type(exc).__name__
-        print(f"error: {message}", file=sys.stderr)
-        return EXIT_BAD_INPUT
+    except (KeyboardInterrupt, ValueError, RuntimeError, OSError) as exc:
+        return failed(exc)
     return 0

@@ -1,9 +1,10 @@
 """The validation run behind `make`: every case of a scene, both models, studies, into out/.
 
-Outputs are staged in a sibling directory and moved into `out/` only when everything has been
-computed, so an interrupted or failed run leaves the previous outputs intact and nothing
-half-written. Expensive results come from a content-keyed cache, so a second run with nothing
-changed takes seconds.
+Outputs are built in a staging directory beside `out/` and swapped in whole only when
+everything has been computed (`pipeline.outdir`: one run per out/ at a time, one atomic swap),
+so an interrupted or failed run leaves the previous outputs intact and nothing half-written,
+and no file of an earlier run survives a successful one. Expensive results come from a
+content-keyed cache, so a second run with nothing changed takes seconds.
 """
 from __future__ import annotations
 
@@ -31,6 +32,7 @@ from . import studies
 from .cache import ROOT, ResultCache
 from .joint_orders import joint_order_study
 from .selection import validate_fidelity
+from .outdir import staged_output
 from .compare import STATIONS, Solve, analytical_case, error_table, fem_case
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
@@ -300,10 +302,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
     cache = ResultCache(cache_dir)
     workers = workers or min(os.cpu_count() or 1, 8)
     console = Console(stderr=True)
-    stage = out.with_name(out.name + ".partial")
-    shutil.rmtree(stage, ignore_errors=True)
-    stage.mkdir(parents=True)
-    try:
+    with staged_output(out) as stage:  # locked for the run; swapped in whole at the end
         results = schema.Results(
             schema=schema.SCHEMA_VERSION, profile=profile,
             scene=scene_summary(scene, scene_path), environment=environment(), cases=[],
@@ -312,9 +311,9 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
                                    workspace_validation=None), fidelity=None,
             fixture_note=None)
         mode_files = {}
+        # on a terminal only, and transient: a failure is one line on stderr, nothing before
         with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
-                      console=console, transient=False, disable=not console.is_terminal
-                      and "CI" in os.environ) as bar:
+                      console=console, transient=True, disable=not console.is_terminal) as bar:
             task = bar.add_task("validation", total=len(case_names) + 1)
             fidelity, workspace = validate_fidelity(
                 scene, case_names, cache, full=profile == "full", workers=workers,
@@ -344,15 +343,12 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
         results = _write_outputs(results, mode_files, stage)
         if build_report:
-            from reports.build import build_report as render
-            render(stage / "results.json", stage)
-        _commit_stage(stage, out)
-    except BaseException:
-        shutil.rmtree(stage, ignore_errors=True)
-        raise
-    console.print(f"fidelity: {results['fidelity']['reason']}")
+            from common.worker import stoppable
+            from reports.build import render_report
+            stoppable(render_report, stage / "results.json", stage)  # stops at once on a signal
+    console.print(f"fidelity: {results['fidelity']['reason']}", soft_wrap=True)
     console.print(f"wrote {out}/results.json" + (", report.html, report.pdf"
-                                                  if build_report else ""))
+                                                  if build_report else ""), soft_wrap=True)
     return results
 
 
@@ -372,14 +368,3 @@ def _write_outputs(results: dict, mode_files: dict, stage: Path) -> dict:
     (stage / "results.json").write_text(schema.dumps(results))
     write_tables(results, stage)
     return results
-
-
-def _commit_stage(stage: Path, out: Path) -> None:
-    """Move the staged outputs into `out/`, file by file, each by an atomic rename."""
-    out.mkdir(parents=True, exist_ok=True)
-    for path in sorted(stage.rglob("*")):
-        if path.is_file():
-            target = out / path.relative_to(stage)
-            target.parent.mkdir(parents=True, exist_ok=True)
-            os.replace(path, target)
-    shutil.rmtree(stage, ignore_errors=True)

@@ -7,6 +7,7 @@ naming the key and the offending value.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import difflib
 import math
 from pathlib import Path
 import tomllib
@@ -236,7 +237,8 @@ class _Table:
                 self.used.add(key)
                 if default is MISSING or spec.scene_required:
                     raise SceneError(f"{self.where}.{key}: missing ({spec.doc}"
-                                     f"{', in ' + spec.unit if spec.unit else ''})")
+                                     f"{', in ' + spec.unit if spec.unit else ''})"
+                                     + _found_instead(key, self.data))
                 values[name] = default
                 continue
             values[name] = self.value(key, spec)
@@ -269,8 +271,22 @@ class _Table:
     def done(self) -> None:
         unknown = sorted(set(self.data) - self.used)
         if unknown:
-            raise SceneError(f"{self.where}: unknown key {unknown[0]!r}"
+            raise SceneError(f"{self.where}: unknown key {_short(unknown[0])}"
+                             + _did_you_mean(unknown[0], self.used)
                              + (f" (and {len(unknown) - 1} more)" if len(unknown) > 1 else ""))
+
+
+def _did_you_mean(key: str, known) -> str:
+    """'; did you mean youngs_modulus_gpa?' for the closest known key (case ignored), or ''."""
+    by_lower = {k.lower(): k for k in sorted(known)}
+    close = difflib.get_close_matches(str(key).lower(), list(by_lower), n=1, cutoff=0.6)
+    return f"; did you mean {by_lower[close[0]]}?" if close else ""
+
+
+def _found_instead(key: str, data: dict) -> str:
+    """'; found Youngs_Modulus_GPa: did you mean youngs_modulus_gpa?' for a misspelt key."""
+    typo = next((k for k in sorted(data, key=str) if _did_you_mean(k, [key])), None)
+    return f"; found {_short(typo)}: did you mean {key}?" if typo is not None else ""
 
 
 _REQUIRED = object()

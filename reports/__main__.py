@@ -1,27 +1,44 @@
-"""`python -m reports --results out/results.json --out out`: write report.html and report.pdf."""
+"""`python -m reports --results out/results.json --out out`: write report.html and report.pdf.
+
+Bad input (a missing or malformed results file, an unusable output directory, a mode file that
+cannot be drawn) is one line on stderr and exit status 2; an interruption (Ctrl-C, SIGTERM)
+leaves the output directory as it was and exits 130.
+"""
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 from pathlib import Path
 
+from common.messages import EXIT_BAD_INPUT, failed
+
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str):  # noqa: D401 - argparse hook: one line, exit 2
+        self.exit(EXIT_BAD_INPUT, f"error: {self.prog}: {message}\n")
+
+
+def _terminate(signum, frame):
+    raise KeyboardInterrupt
+
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m reports", description=__doc__)
+    parser = _Parser(prog="python -m reports", description=__doc__)
     parser.add_argument("--results", default="out/results.json", type=Path,
                         help="results file written by the pipeline (default: out/results.json)")
     parser.add_argument("--out", default="out", type=Path,
                         help="directory for report.html, report.pdf and figures/ (default: out)")
     args = parser.parse_args(argv)
+    previous = signal.signal(signal.SIGTERM, _terminate)
     from .build import ReportError, build_report
     try:
         html, pdf = build_report(args.results, args.out)
-    except ValueError as exc:  # the results file: missing, malformed or outdated
-        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
-        return 2
-    except ReportError as exc:  # a picture or the PDF could not be rendered
-        print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
-        return 1
+    except (KeyboardInterrupt, ValueError, ReportError, OSError) as exc:
+        return failed(exc, interrupted="the output directory was left as it was")
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     print(f"wrote {html} and {pdf}")
     return 0
 

@@ -27,7 +27,7 @@ def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci", build_report=False)
     assert json.loads((out / "results.json").read_text()) == {"previous": True}
-    assert not (tmp_path / "out.partial").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cache", "out"]  # no staging left
     assert sorted(p.name for p in out.iterdir()) == ["results.json"]
 
 

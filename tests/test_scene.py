@@ -45,7 +45,7 @@ def mutated(path, value):
     (("manipulator", "base_radius_mm"), KeyError, "base_radius_mm: missing"),
     (("manipulator", "platform_shape"), "hexagon", "platform_shape = 'hexagon'"),
     (("manipulator", "actuator_min_mm"), 1500.0, "actuator_min"),
-    (("material", "shear_modulus_gpa"), 20.0, "poisson ratio"),
+    (("material", "shear_modulus_gpa"), 20.0, "Poisson ratio"),
     (("analytical", "elements"), 0, "elements = 0"),
     (("analytical", "beam"), "rayleigh", "beam = 'rayleigh'"),
     (("fem", "refinement_mm"), [20.0, 28.0, 14.0], "must strictly decrease"),
