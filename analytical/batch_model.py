@@ -176,42 +176,70 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
                       manipulator.leg_diameter / 2, manipulator.platform_radius)
 
 
-def _lapack(name: str, model: BatchModel):
-    return scipy.linalg.get_lapack_funcs((name,), (model.stiffness[:1],))[0]
+@dataclass(frozen=True)
+class StandardForm:
+    """K x = lambda M x of every pose turned standard: M = U^T U (Cholesky), A = U^-T K U^-1,
+    A y = lambda y, x = U^-1 y (LAPACK ?potrf, ?sygst; upper triangles, Fortran order)."""
+
+    matrices: list  # A per pose
+    factors: list  # U per pose
 
 
-def batch_frequencies(model: BatchModel, count: int) -> np.ndarray:
+def standard_form(model: BatchModel) -> StandardForm:
+    """Reduce every pose once; K and M are overwritten (they are not needed afterwards).
+
+    The transposed views of the C-ordered K and M are Fortran-ordered, so LAPACK works in
+    place; their upper triangle is the lower one of K and M, which solve_modes reads.
+    """
+    potrf, sygst = (_lapack(name) for name in ("potrf", "sygst"))
+    matrices, factors = [], []
+    for k in range(len(model.stiffness)):
+        factor, info = potrf(model.mass[k].T, lower=0, clean=1, overwrite_a=1)
+        if info != 0:
+            raise ModalError(f"pose {k}: the mass matrix is not positive definite "
+                             f"(LAPACK info = {info})")
+        matrix, info = sygst(model.stiffness[k].T, factor, itype=1, lower=0, overwrite_a=1)
+        matrices.append(matrix)
+        factors.append(factor)
+    return StandardForm(matrices, factors)
+
+
+def batch_frequencies(form: StandardForm, count: int) -> np.ndarray:
     """(N, count): the lowest `count` natural frequencies (Hz) of every pose, eigenvalues only
-    (LAPACK ?sygvd without vectors: Cholesky of M, tridiagonal QR), Eqs. (23)-(24)."""
-    n, n_q = model.stiffness.shape[:2]
-    if count > n_q:
-        raise ModalError(f"modes = {count}: the model has only {n_q} coordinates")
-    sygvd = _lapack("sygvd", model)
-    values = np.empty((n, count))
-    for k in range(n):
-        w, _, info = sygvd(model.stiffness[k], model.mass[k], itype=1, jobz="N", uplo="L")
+    (tridiagonal reduction and QR, LAPACK ?syevd without vectors), Eqs. (23)-(24)."""
+    syevd = _lapack("syevd")
+    values = np.empty((len(form.matrices), count))
+    for k, matrix in enumerate(form.matrices):
+        if count > len(matrix):
+            raise ModalError(f"modes = {count}: the model has only {len(matrix)} coordinates")
+        w, _, info = syevd(matrix, compute_v=0, lower=0)
         _check(k, info, w)
         values[k] = w[:count]
     return np.sqrt(values) / (2.0 * math.pi)
 
 
-def batch_modes(model: BatchModel, index, count: int) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies (n, count) and mass-normalised shapes (n, 18s, count) of the poses `index`,
-    with LAPACK ?sygvx (lowest modes only), the solve of modal.solve_modes."""
+def batch_modes(form: StandardForm, index, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies (n, count) and mass-normalised shapes (n, 18s, count) of the poses `index`
+    (lowest modes only: LAPACK ?syevr, then x = U^-1 y)."""
+    syevr, trtrs = _lapack("syevr"), _lapack("trtrs")
     index = np.asarray(index, int)
-    n_q = model.stiffness.shape[1]
-    if count > n_q:
-        raise ModalError(f"modes = {count}: the model has only {n_q} coordinates")
-    sygvx, sygvx_lwork = _lapack("sygvx", model), _lapack("sygvx_lwork", model)
-    lwork, info = sygvx_lwork(n_q, uplo="L")
-    values = np.empty((len(index), count))
-    vectors = np.empty((len(index), n_q, count))
-    for j, k in enumerate(index):
-        w, v, found, _, info = sygvx(model.stiffness[k], model.mass[k], itype=1, jobz="V",
-                                     uplo="L", range="I", il=1, iu=count, lwork=int(lwork))
+    values, vectors = [], []
+    for k in index:
+        matrix = form.matrices[k]
+        if count > len(matrix):
+            raise ModalError(f"modes = {count}: the model has only {len(matrix)} coordinates")
+        w, y, found, _, info = syevr(matrix, compute_v=1, range="I", il=1, iu=count, lower=0)
         _check(int(k), info if found == count else -1, w)
-        values[j], vectors[j] = w[:count], v[:, :count]
-    return np.sqrt(values) / (2.0 * math.pi), vectors
+        x, info = trtrs(form.factors[k], y[:, :count], lower=0)
+        values.append(w[:count])
+        vectors.append(x)
+    n_q = len(form.matrices[0]) if form.matrices else 0
+    return (np.sqrt(np.reshape(values, (len(index), count))) / (2.0 * math.pi),
+            np.reshape(vectors, (len(index), n_q, count)))
+
+
+def _lapack(name: str):
+    return scipy.linalg.get_lapack_funcs((name,), (np.zeros(1),))[0]
 
 
 def _check(pose: int, info: int, eigenvalues: np.ndarray) -> None:

@@ -23,7 +23,7 @@ import os
 import numpy as np
 
 from .batch_model import (assemble_batch, assembly_plan, batch_frequencies, batch_modes,
-                          probe_shapes)
+                          probe_shapes, standard_form)
 from .kinematics import PoseError, pose_geometry
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import pose_batch
@@ -159,9 +159,11 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float,
     where[0, :] = where[0, 0]  # the level pose is the same for every azimuth
     solvable = poses.take(feasible)
     plan = assembly_plan(options.elements, poses.base_joint, poses.platform_joint)
-    hz = np.concatenate([batch_frequencies(assemble_batch(manipulator, solvable.take(chunk),
-                                                          options, plan), window + 1)
-                         for chunk in _chunks(len(feasible))])
+    solved = []  # per chunk of poses: (its slice, its model, its standard form)
+    for chunk in _chunks(len(feasible)):
+        model = assemble_batch(manipulator, solvable.take(chunk), options, plan)
+        solved.append((chunk, model, standard_form(model)))
+    hz = np.concatenate([batch_frequencies(form, window + 1) for _, _, form in solved])
     sorted_hz = np.where(where[..., None] >= 0, hz[where], np.nan)
 
     # the steps followed: out along the first azimuth of every ring (the spine), then around
@@ -188,10 +190,12 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float,
     shaped = np.unique([where[0, 0]] + [where[q] for a, b, need, _ in steps + closures
                                         if need for q in (a, b)])
     probes = {}
-    for chunk in _chunks(len(shaped)):
-        model = assemble_batch(manipulator, solvable.take(shaped[chunk]), options, plan)
-        _, vectors = batch_modes(model, np.arange(len(model.stiffness)), window)
-        probes.update(zip(shaped[chunk].tolist(), probe_shapes(model, vectors)))
+    for chunk, model, form in solved:
+        inside = shaped[(shaped >= chunk.start) & (shaped < chunk.stop)] - chunk.start
+        if len(inside):
+            _, vectors = batch_modes(form, inside, window)
+            probes.update(zip((inside + chunk.start).tolist(),
+                              probe_shapes(model, vectors, inside)))
 
     matched = [step for step in steps + closures if step[2]]
     if matched:

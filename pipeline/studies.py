@@ -135,6 +135,16 @@ def height_calibration(scene: Scene, case: Case) -> dict:
     }
 
 
+def workspace_heights(scene: Scene, layers: int) -> np.ndarray:
+    """Heights (m) of the map's layers: from just above the lowest to just below the highest
+    level pose the actuators reach (5 % of L_max inside each end)."""
+    m = scene.manipulator
+    lean = m.base_radius - m.platform_radius
+    z_low = math.sqrt(max(m.actuator_min**2 - lean**2, 0.0)) + 0.05 * m.actuator_max
+    z_high = math.sqrt(m.actuator_max**2 - lean**2) - 0.05 * m.actuator_max
+    return np.linspace(z_low, z_high, layers)
+
+
 def workspace_map(scene: Scene, layers: int = 8, rings: int = 6, azimuths: int = 36,
                   modes: int = 3) -> dict:
     """The first `modes` frequencies over the regular workspace (the paper's Fig. 6), sorted
@@ -142,12 +152,8 @@ def workspace_map(scene: Scene, layers: int = 8, rings: int = 6, azimuths: int =
     families cross the map shows it; the crossings are listed."""
     from analytical.workspace import frequency_map
 
-    m = scene.manipulator
-    lean = m.base_radius - m.platform_radius
-    z_low = math.sqrt(max(m.actuator_min**2 - lean**2, 0.0)) + 0.05 * m.actuator_max
-    z_high = math.sqrt(m.actuator_max**2 - lean**2) - 0.05 * m.actuator_max
-    heights = np.linspace(z_low, z_high, layers)
-    fmap = frequency_map(m, replace(scene.analytical, modes=modes), heights, rings, azimuths)
+    fmap = frequency_map(scene.manipulator, replace(scene.analytical, modes=modes),
+                         workspace_heights(scene, layers), rings, azimuths)
     tracking = fmap.tracking
 
     def listed(values):
