@@ -178,8 +178,9 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
 
 @dataclass(frozen=True)
 class StandardForm:
-    """K x = lambda M x of every pose turned standard: M = U^T U (Cholesky), A = U^-T K U^-1,
-    A y = lambda y, x = U^-1 y (LAPACK ?potrf, ?sygst; upper triangles, Fortran order)."""
+    """M x = mu K x of every pose (mu = 1 / omega^2, as modal.solve_modes solves it) turned
+    standard: K = U^T U (Cholesky), A = U^-T M U^-1, A y = mu y, x = U^-1 y (LAPACK ?potrf,
+    ?sygst; upper triangles, Fortran order). The lowest modes are the largest mu."""
 
     matrices: list  # A per pose
     factors: list  # U per pose
@@ -194,11 +195,11 @@ def standard_form(model: BatchModel) -> StandardForm:
     potrf, sygst = (_lapack(name) for name in ("potrf", "sygst"))
     matrices, factors = [], []
     for k in range(len(model.stiffness)):
-        factor, info = potrf(model.mass[k].T, lower=0, clean=1, overwrite_a=1)
+        factor, info = potrf(model.stiffness[k].T, lower=0, clean=1, overwrite_a=1)
         if info != 0:
-            raise ModalError(f"pose {k}: the mass matrix is not positive definite "
-                             f"(LAPACK info = {info})")
-        matrix, info = sygst(model.stiffness[k].T, factor, itype=1, lower=0, overwrite_a=1)
+            raise ModalError(f"pose {k}: the stiffness matrix is not positive definite: the "
+                             f"structure is a mechanism (LAPACK info = {info})")
+        matrix, info = sygst(model.mass[k].T, factor, itype=1, lower=0, overwrite_a=1)
         matrices.append(matrix)
         factors.append(factor)
     return StandardForm(matrices, factors)
@@ -212,42 +213,46 @@ def batch_frequencies(form: StandardForm, count: int) -> np.ndarray:
     for k, matrix in enumerate(form.matrices):
         if count > len(matrix):
             raise ModalError(f"modes = {count}: the model has only {len(matrix)} coordinates")
-        w, _, info = syevd(matrix, compute_v=0, lower=0)
-        _check(k, info, w)
-        values[k] = w[:count]
+        mu, _, info = syevd(matrix, compute_v=0, lower=0)
+        values[k] = _eigenvalues(k, info, mu[::-1][:count])
     return np.sqrt(values) / (2.0 * math.pi)
 
 
 def batch_modes(form: StandardForm, index, count: int) -> tuple[np.ndarray, np.ndarray]:
     """Frequencies (n, count) and mass-normalised shapes (n, 18s, count) of the poses `index`
-    (lowest modes only: LAPACK ?syevr, then x = U^-1 y)."""
+    (the largest mu only: LAPACK ?syevr, then x = U^-1 y / sqrt(mu))."""
     syevr, trtrs = _lapack("syevr"), _lapack("trtrs")
     index = np.asarray(index, int)
     values, vectors = [], []
     for k in index:
         matrix = form.matrices[k]
-        if count > len(matrix):
-            raise ModalError(f"modes = {count}: the model has only {len(matrix)} coordinates")
-        w, y, found, _, info = syevr(matrix, compute_v=1, range="I", il=1, iu=count, lower=0)
-        _check(int(k), info if found == count else -1, w)
-        x, info = trtrs(form.factors[k], y[:, :count], lower=0)
-        values.append(w[:count])
-        vectors.append(x)
+        n = len(matrix)
+        if count > n:
+            raise ModalError(f"modes = {count}: the model has only {n} coordinates")
+        mu, y, found, _, info = syevr(matrix, compute_v=1, range="I", il=n - count + 1, iu=n,
+                                      lower=0)
+        mu, y = mu[:count][::-1], y[:, :count][:, ::-1]
+        eigenvalues = _eigenvalues(int(k), info if found == count else -1, mu)
+        x, info = trtrs(form.factors[k], y, lower=0)
+        values.append(eigenvalues)
+        vectors.append(x / np.sqrt(mu))
     n_q = len(form.matrices[0]) if form.matrices else 0
     return (np.sqrt(np.reshape(values, (len(index), count))) / (2.0 * math.pi),
             np.reshape(vectors, (len(index), n_q, count)))
 
 
-def _lapack(name: str):
-    return scipy.linalg.get_lapack_funcs((name,), (np.zeros(1),))[0]
-
-
-def _check(pose: int, info: int, eigenvalues: np.ndarray) -> None:
+def _eigenvalues(pose: int, info: int, mu: np.ndarray) -> np.ndarray:
+    """omega^2 = 1 / mu, ascending, after checking the solve."""
     if info != 0:
         raise ModalError(f"pose {pose}: eigen solve failed (LAPACK info = {info})")
-    if not eigenvalues[0] > 0.0:
-        raise ModalError(f"pose {pose}: lowest eigenvalue {eigenvalues[0]:.3e} rad^2/s^2 is "
-                         "not positive: the structure is a mechanism")
+    if not mu[-1] > 0.0:
+        raise ModalError(f"pose {pose}: eigenvalue 1/omega^2 = {mu[-1]:.3e} s^2/rad^2 is not "
+                         "positive: the structure is a mechanism")
+    return 1.0 / mu
+
+
+def _lapack(name: str):
+    return scipy.linalg.get_lapack_funcs((name,), (np.zeros(1),))[0]
 
 
 def probe_shapes(model: BatchModel, shapes: np.ndarray, index=None) -> np.ndarray:
