@@ -33,7 +33,7 @@ from .tracking import (REPEATED, family_values, follow, match_modes, match_steps
 MAX_TILT = math.radians(89.0)
 GUARD_MODES = 1  # modes followed above the reported ones, so a family leaving is seen
 LOST_MAC = 0.5  # a match below this MAC loses the family (it left the tracked window)
-CHUNK = 128  # poses assembled and solved together (their matrices stay in cache)
+CHUNK = 64  # poses assembled and solved together (their matrices stay in cache)
 
 
 def reachable(manipulator: Manipulator, pose: Pose) -> bool:
@@ -44,28 +44,30 @@ def reachable(manipulator: Manipulator, pose: Pose) -> bool:
     return True
 
 
-def max_tilts(manipulator: Manipulator, height: float, azimuths,
+def max_tilts(manipulator: Manipulator, heights, azimuths,
               tolerance: float = 1e-6) -> np.ndarray:
-    """Largest tilt (rad) reachable at `height` for every azimuth, from the level platform.
+    """Largest tilt (rad) reachable from the level platform at every (height, azimuth):
+    (len(heights), len(azimuths)), or (len(azimuths),) for one height.
 
-    Bisection on theta in [0, 89 deg] for all azimuths at once; 0 where even the level pose is
-    unreachable.
+    Bisection on theta in [0, 89 deg], all heights and azimuths at once; 0 where even the
+    level pose is unreachable.
     """
-    phis = np.atleast_1d(np.asarray(azimuths, float))
-    lo = np.zeros(len(phis))
-    if not pose_batch(manipulator, height, 0.0, 0.0).feasible[0]:
-        return lo
-    hi = np.full(len(phis), MAX_TILT)
-    done = pose_batch(manipulator, height, phis, hi).feasible
-    lo[done] = MAX_TILT
+    z = np.atleast_1d(np.asarray(heights, float))[:, None]
+    phis = np.atleast_1d(np.asarray(azimuths, float))[None, :]
+    z, phis = np.broadcast_arrays(z, phis)
+    lo = np.zeros(z.shape)
+    level = pose_batch(manipulator, z[:, 0], 0.0, 0.0).feasible
+    hi = np.full(z.shape, MAX_TILT)
+    done = ~level[:, None] | pose_batch(manipulator, z, phis, hi).feasible.reshape(z.shape)
+    lo[done & level[:, None]] = MAX_TILT
     width = MAX_TILT
     while width > tolerance and not done.all():
         mid = 0.5 * (lo + hi)
-        ok = pose_batch(manipulator, height, phis, mid).feasible
+        ok = pose_batch(manipulator, z, phis, mid).feasible.reshape(z.shape)
         lo = np.where(~done & ok, mid, lo)
         hi = np.where(~done & ~ok, mid, hi)
         width = float(np.max((hi - lo)[~done]))
-    return lo
+    return lo if np.ndim(heights) else lo[0]
 
 
 def max_tilt(manipulator: Manipulator, height: float, azimuth: float,
@@ -74,10 +76,15 @@ def max_tilt(manipulator: Manipulator, height: float, azimuth: float,
     return float(max_tilts(manipulator, height, [azimuth], tolerance)[0])
 
 
+def regular_radii(manipulator: Manipulator, heights, azimuths: int = 72) -> np.ndarray:
+    """theta_r(z) of every height: the largest tilt reachable at every azimuth (rad)."""
+    phis = np.linspace(0.0, 2 * math.pi, azimuths, endpoint=False)
+    return np.min(max_tilts(manipulator, np.atleast_1d(heights), phis), axis=1)
+
+
 def regular_radius(manipulator: Manipulator, height: float, azimuths: int = 72) -> float:
     """theta_r(z): the largest tilt reachable at every azimuth of this height layer (rad)."""
-    phis = np.linspace(0.0, 2 * math.pi, azimuths, endpoint=False)
-    return float(np.min(max_tilts(manipulator, height, phis)))
+    return float(regular_radii(manipulator, [height], azimuths)[0])
 
 
 @dataclass(frozen=True)
@@ -141,11 +148,11 @@ def _empty_layer(rings: int, azimuths: int, window: int) -> _Layer:
                   [], None, 0, 0, 0, 0)
 
 
-def _layer(manipulator: Manipulator, options: ModelOptions, height: float,
+def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radius: float,
            fractions: np.ndarray, phis: np.ndarray, window: int) -> _Layer:
-    """Frequencies of one height layer, and its modes followed from its level pose."""
+    """Frequencies of one height layer (regular tilt radius `radius`), and its modes followed
+    from its level pose."""
     rings, azimuths = len(fractions), len(phis)
-    radius = regular_radius(manipulator, height)
     level = pose_batch(manipulator, height, 0.0, 0.0)
     if not level.feasible[0]:
         return _empty_layer(rings, azimuths, window)
@@ -328,7 +335,9 @@ def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, ring
     fractions = np.linspace(0.0, 1.0, rings)
     modes = options.modes
     window = min(modes + GUARD_MODES, 18 * options.elements - 1)
-    tasks = [(manipulator, options, float(z), fractions, phis, window) for z in heights]
+    radii = regular_radii(manipulator, heights) if len(heights) else np.zeros(0)
+    tasks = [(manipulator, options, float(z), float(r), fractions, phis, window)
+             for z, r in zip(heights, radii)]
     layers = _run_layers(tasks, default_workers() if workers is None else workers)
     relabel, crossings, root, layer_steps = _link_layers(layers, heights, window)
     sorted_hz = np.stack([layer.sorted_hz for layer in layers])
@@ -354,7 +363,6 @@ def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, ring
         open_rings=sum(layer.open_rings for layer in layers),
         lost=tuple(j for j in range(modes) if np.any(lost[..., j] & reached[..., j])),
     )
-    radii = np.array([layer.radius for layer in layers])
     return FrequencyMap(heights, radii, np.outer(radii, fractions), phis,
                         sorted_hz[..., :modes], tracked[..., :modes],
                         tuple(sorted((c for c in crossings if c.families[0] < modes),

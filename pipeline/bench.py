@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", default="out/bench.json")
     parser.add_argument("--runs", type=int, default=200, help="analytical repetitions")
     parser.add_argument("--fem-runs", type=int, default=3, help="FEM repetitions per size")
-    parser.add_argument("--map-runs", type=int, default=3,
+    parser.add_argument("--map-runs", type=int, default=5,
                         help="repetitions of the 10,000-pose map and its eigh baseline")
     parser.add_argument("--skip-fem", action="store_true")
     args = parser.parse_args(argv)
