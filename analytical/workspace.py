@@ -153,14 +153,13 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radiu
     """Frequencies of one height layer (regular tilt radius `radius`), and its modes followed
     from its level pose."""
     rings, azimuths = len(fractions), len(phis)
-    level = pose_batch(manipulator, height, 0.0, 0.0)
-    if not level.feasible[0]:
+    if not pose_batch(manipulator, height, 0.0, 0.0).feasible[0]:
         return _empty_layer(rings, azimuths, window)
     tilts = radius * fractions
     ring_of = np.concatenate([[0], np.repeat(np.arange(1, rings), azimuths)])
     az_of = np.concatenate([[0], np.tile(np.arange(azimuths), rings - 1)])
     poses = pose_batch(manipulator, height, phis[az_of], tilts[ring_of])
-    where = np.full((rings, azimuths), -1)  # pose index of every (ring, azimuth)
+    where = np.full((rings, azimuths), -1)  # solved pose of every (ring, azimuth); -1: none
     feasible = np.flatnonzero(poses.feasible)
     where[ring_of[feasible], az_of[feasible]] = np.arange(len(feasible))
     where[0, :] = where[0, 0]  # the level pose is the same for every azimuth
@@ -173,8 +172,38 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radiu
     hz = np.concatenate([batch_frequencies(form, window + 1) for _, _, form in solved])
     sorted_hz = np.where(where[..., None] >= 0, hz[where], np.nan)
 
-    # the steps followed: out along the first azimuth of every ring (the spine), then around
-    # every ring; a ring's closing step only checks that the labels come back
+    steps, closures = _steps(where, sorted_hz)
+    shaped = np.unique([where[0, 0]] + [where[q] for a, b, need, _ in steps + closures
+                                        if need for q in (a, b)])
+    probes = {}
+    for chunk, model, form in solved:
+        inside = shaped[(shaped >= chunk.start) & (shaped < chunk.stop)] - chunk.start
+        if len(inside):
+            _, vectors = batch_modes(form, inside, window)
+            probes.update(zip((inside + chunk.start).tolist(),
+                              probe_shapes(model, vectors, inside)))
+    matched = [step for step in steps + closures if step[2]]
+    match = {}
+    if matched:
+        src = [where[a] for a, *_ in matched]
+        dst = [where[b] for _, b, *_ in matched]
+        targets, qualities = match_steps(np.stack([probes[k] for k in src]), hz[src, :window],
+                                         np.stack([probes[k] for k in dst]), hz[dst, :window])
+        match = {(a, b): (t, q) for (a, b, *_), t, q in zip(matched, targets, qualities)}
+    order, lost, mac, crossings = _follow(steps, match, sorted_hz, window,
+                                          lambda at: (height, tilts[at[0]], phis[at[1]]))
+    open_rings = sum(int(np.any(follow(order[a], match[a, b][0]) != order[b]))
+                     for a, b, need, _ in closures if need)
+    lost[where < 0] = True  # unreachable poses carry no family
+    return _Layer(radius, sorted_hz, order, lost, mac, crossings, probes[where[0, 0]],
+                  len(steps) + len(closures), len(matched), len(shaped), open_rings)
+
+
+def _steps(where: np.ndarray, sorted_hz: np.ndarray) -> tuple[list, list]:
+    """The steps a layer is followed along, (source, target, needs shapes, direction): out
+    along the first reachable azimuth of every ring (the spine), then around every ring; and
+    the closing step of every ring, which only checks that the labels come back."""
+    rings, azimuths = where.shape
     anchors, members = [(0, 0)], {}
     for r in range(1, rings):
         on_ring = [a for a in range(azimuths) if where[r, a] >= 0]
@@ -188,54 +217,35 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radiu
     for r, on_ring in members.items():
         path = [(r, a) for a in on_ring]
         need = steps_needing_shapes(sorted_hz[r, on_ring], closed=True)
-        skips = [b - a != 1 for a, b in zip(on_ring, on_ring[1:])]
+        skips = [b - a != 1 for a, b in zip(on_ring, on_ring[1:])]  # an unreachable gap
         steps += [(a, b, bool(n or skip), "azimuth")
                   for a, b, n, skip in zip(path, path[1:], need[:-1], skips)]
         if len(on_ring) > 1:
             closures.append((path[-1], path[0], bool(need[-1] or len(on_ring) < azimuths),
                              "closure"))
-    shaped = np.unique([where[0, 0]] + [where[q] for a, b, need, _ in steps + closures
-                                        if need for q in (a, b)])
-    probes = {}
-    for chunk, model, form in solved:
-        inside = shaped[(shaped >= chunk.start) & (shaped < chunk.stop)] - chunk.start
-        if len(inside):
-            _, vectors = batch_modes(form, inside, window)
-            probes.update(zip((inside + chunk.start).tolist(),
-                              probe_shapes(model, vectors, inside)))
+    return steps, closures
 
-    matched = [step for step in steps + closures if step[2]]
-    if matched:
-        src = [where[a] for a, *_ in matched]
-        dst = [where[b] for _, b, *_ in matched]
-        targets, qualities = match_steps(np.stack([probes[k] for k in src]), hz[src, :window],
-                                         np.stack([probes[k] for k in dst]), hz[dst, :window])
-        match = {(a, b): (t, q) for (a, b, *_), t, q in zip(matched, targets, qualities)}
 
+def _follow(steps: list, match: dict, sorted_hz: np.ndarray, window: int, position):
+    """Family labels along the steps (sorted order where no shapes were needed, the MAC match
+    where they were), whether each family is lost, the MAC into each pose, the crossings."""
+    rings, azimuths = sorted_hz.shape[:2]
     order = np.zeros((rings, azimuths, window), int)
     order[0] = np.arange(window)
     lost = np.zeros((rings, azimuths, window), bool)
     mac = np.ones((rings, azimuths, window))
     crossings = []
     for a, b, need, along in steps:
-        if need:
-            target, quality = match[a, b]
-            order[b] = follow(order[a], target)
-            mac[b] = quality[order[a]]
-            lost[b] = lost[a] | (mac[b] < LOST_MAC)
-            crossings += _crossings(sorted_hz[a], order[a], sorted_hz[b], order[b],
-                                    (height, tilts[a[0]], phis[a[1]]),
-                                    (height, tilts[b[0]], phis[b[1]]), along, ~lost[b])
-        else:
+        if not need:
             order[b], lost[b] = order[a], lost[a]
-    open_rings = sum(int(np.any(follow(order[a], match[a, b][0]) != order[b]))
-                     for a, b, need, _ in closures if need)
-    for r in range(rings):  # unreachable poses carry no family
-        lost[r, where[r] < 0] = True
-    level_shapes = probes[where[0, 0]]
-    return _Layer(radius, sorted_hz, order, lost, mac, crossings, level_shapes,
-                  len(steps) + len(closures), len(matched),
-                  len(shaped), open_rings)
+            continue
+        target, quality = match[a, b]
+        order[b] = follow(order[a], target)
+        mac[b] = quality[order[a]]
+        lost[b] = lost[a] | (mac[b] < LOST_MAC)
+        crossings += _crossings(sorted_hz[a], order[a], sorted_hz[b], order[b], position(a),
+                                position(b), along, ~lost[b])
+    return order, lost, mac, crossings
 
 
 def _chunks(count: int, size: int = CHUNK) -> list[slice]:
