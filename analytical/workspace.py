@@ -277,8 +277,9 @@ def _layer_task(args) -> _Layer:
 
 
 def _run_layers(tasks: list, workers: int) -> list[_Layer]:
-    """Every layer, in one process or in a pool of `workers` forked processes."""
-    if workers <= 1 or len(tasks) <= 1:
+    """Every layer, in one process or in a pool of `workers` forked processes (a daemonic
+    process may not have children: it runs them itself)."""
+    if workers <= 1 or len(tasks) <= 1 or multiprocessing.current_process().daemon:
         return [_layer_task(t) for t in tasks]
     try:
         context = multiprocessing.get_context("fork")
@@ -345,7 +346,9 @@ def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, ring
     fractions = np.linspace(0.0, 1.0, rings)
     modes = options.modes
     window = min(modes + GUARD_MODES, 18 * options.elements - 1)
-    radii = regular_radii(manipulator, heights) if len(heights) else np.zeros(0)
+    if not len(heights):
+        raise ValueError("heights = []: a map needs at least one height")
+    radii = regular_radii(manipulator, heights)
     tasks = [(manipulator, options, float(z), float(r), fractions, phis, window)
              for z, r in zip(heights, radii)]
     layers = _run_layers(tasks, default_workers() if workers is None else workers)
