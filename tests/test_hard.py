@@ -14,7 +14,7 @@ import scipy.sparse.linalg as sla
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.modal import ModalError
 from analytical.model import analyse, natural_frequencies
-from analytical.params import Material, Pose
+from analytical.params import Material
 from fem_reference import FemOptions, FemRuntime, solve_pose
 from fem_reference import eigen
 from fem_reference.eigen import EigenError, lowest_modes
