@@ -55,19 +55,31 @@ def circle_shear_coefficient(poisson_ratio: float, form: str = "cowper") -> floa
     raise ValueError(f"shear = {form!r}: expected one of {', '.join(SHEAR_COEFFICIENTS)}")
 
 
-def _bending_stiffness(ei: float, length: float, shear_param: float) -> np.ndarray:
-    """4x4 bending stiffness on (w1, slope1, w2, slope2), slope = +dw/dx."""
+def _matrix(rows, shape: tuple) -> np.ndarray:
+    """A matrix from rows of entries, each a scalar or an array of `shape`: (*shape, n, m)."""
+    if not shape:
+        return np.array(rows, float)
+    out = np.empty(shape + (len(rows), len(rows[0])))
+    for i, row in enumerate(rows):
+        for j, entry in enumerate(row):
+            out[..., i, j] = entry
+    return out
+
+
+def _bending_stiffness(ei: float, length, shear_param) -> np.ndarray:
+    """4x4 bending stiffness on (w1, slope1, w2, slope2), slope = +dw/dx (batched over the
+    leading shape of `length`)."""
     L, p = length, shear_param
     c = ei / ((1.0 + p) * L**3)
-    return c * np.array([
+    return np.asarray(c)[..., None, None] * _matrix([
         [12.0, 6 * L, -12.0, 6 * L],
         [6 * L, (4 + p) * L**2, -6 * L, (2 - p) * L**2],
         [-12.0, -6 * L, 12.0, -6 * L],
         [6 * L, (2 - p) * L**2, -6 * L, (4 + p) * L**2],
-    ])
+    ], np.shape(L))
 
 
-def _bending_mass(rho_a: float, rho_i: float, length: float, shear_param: float) -> np.ndarray:
+def _bending_mass(rho_a: float, rho_i: float, length, shear_param) -> np.ndarray:
     """4x4 consistent bending mass on (w1, slope1, w2, slope2): translational + rotary."""
     L, p = length, shear_param
     t = rho_a * L / (1.0 + p) ** 2
@@ -77,24 +89,24 @@ def _bending_mass(rho_a: float, rho_i: float, length: float, shear_param: float)
     d = (13 / 420 + 3 * p / 40 + p**2 / 24) * L
     e = (1 / 105 + p / 60 + p**2 / 120) * L**2
     f = (1 / 140 + p / 60 + p**2 / 120) * L**2
-    translational = t * np.array([
+    translational = np.asarray(t)[..., None, None] * _matrix([
         [a, b, c, -d],
         [b, e, d, -f],
         [c, d, a, -b],
         [-d, -f, -b, e],
-    ])
+    ], np.shape(L))
     if rho_i == 0.0:
         return translational
     r = rho_i / ((1.0 + p) ** 2 * L)
     g = (1 / 10 - p / 2) * L
     h = (2 / 15 + p / 6 + p**2 / 3) * L**2
     k = (1 / 30 + p / 6 - p**2 / 6) * L**2
-    rotary = r * np.array([
+    rotary = np.asarray(r)[..., None, None] * _matrix([
         [6 / 5, g, -6 / 5, g],
         [g, h, -g, -k],
         [-6 / 5, -g, 6 / 5, -g],
         [g, -k, -g, h],
-    ])
+    ], np.shape(L))
     return translational + rotary
 
 
@@ -112,15 +124,17 @@ _BAR_MASS = np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0
 
 
 def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
-                  section: Section, length: float, theory: str = "euler-bernoulli"
+                  section: Section, length, theory: str = "euler-bernoulli"
                   ) -> tuple[np.ndarray, np.ndarray]:
     """Element stiffness and consistent mass, each 12x12, in the element frame.
 
-    `theory` is "euler-bernoulli" or "timoshenko".
+    `theory` is "euler-bernoulli" or "timoshenko". `length` may be an array of lengths: the
+    matrices then carry its shape in front, (..., 12, 12), one element per length.
     """
-    if length <= 0.0:
-        raise ValueError(f"element length = {length!r} m: must be positive")
-    E, G, rho, s, L = youngs_modulus, shear_modulus, density, section, length
+    L = float(length) if np.ndim(length) == 0 else np.asarray(length, float)
+    if not np.all(np.greater(L, 0.0)):
+        raise ValueError(f"element length = {float(np.min(L))!r} m: must be positive")
+    E, G, rho, s = youngs_modulus, shear_modulus, density, section
     # shear parameter of each bending plane: x-y bends on I_z, x-z bends on I_y
     if theory == "euler-bernoulli":
         phi_xy = phi_xz = 0.0
@@ -132,36 +146,40 @@ def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
     else:
         raise ValueError(f"beam theory = {theory!r}: expected euler-bernoulli or timoshenko")
 
-    k = np.zeros((12, 12))
-    m = np.zeros((12, 12))
-    k[_IX_AXIAL] = E * s.area / L * _BAR
-    m[_IX_AXIAL] = rho * s.area * L * _BAR_MASS
-    k[_IX_TWIST] = G * s.torsion_constant / L * _BAR
-    m[_IX_TWIST] = rho * s.polar_moment * L * _BAR_MASS
-    k[_IX_XY] = _bending_stiffness(E * s.second_moment_z, L, phi_xy)
-    m[_IX_XY] = _bending_mass(rho * s.area, rho * s.second_moment_z if rotary else 0.0, L, phi_xy)
-    k[_IX_XZ] = _FLIP_XZ * _bending_stiffness(E * s.second_moment_y, L, phi_xz)
-    m[_IX_XZ] = _FLIP_XZ * _bending_mass(rho * s.area, rho * s.second_moment_y if rotary else 0.0,
-                                         L, phi_xz)
+    k = np.zeros(np.shape(L) + (12, 12))
+    m = np.zeros(np.shape(L) + (12, 12))
+    per_length = np.asarray(L)[..., None, None]
+    k[..., _IX_AXIAL[0], _IX_AXIAL[1]] = E * s.area / per_length * _BAR
+    m[..., _IX_AXIAL[0], _IX_AXIAL[1]] = rho * s.area * per_length * _BAR_MASS
+    k[..., _IX_TWIST[0], _IX_TWIST[1]] = G * s.torsion_constant / per_length * _BAR
+    m[..., _IX_TWIST[0], _IX_TWIST[1]] = rho * s.polar_moment * per_length * _BAR_MASS
+    k[..., _IX_XY[0], _IX_XY[1]] = _bending_stiffness(E * s.second_moment_z, L, phi_xy)
+    m[..., _IX_XY[0], _IX_XY[1]] = _bending_mass(
+        rho * s.area, rho * s.second_moment_z if rotary else 0.0, L, phi_xy)
+    k[..., _IX_XZ[0], _IX_XZ[1]] = _FLIP_XZ * _bending_stiffness(E * s.second_moment_y, L,
+                                                                 phi_xz)
+    m[..., _IX_XZ[0], _IX_XZ[1]] = _FLIP_XZ * _bending_mass(
+        rho * s.area, rho * s.second_moment_y if rotary else 0.0, L, phi_xz)
     return k, m
 
 
 def assemble_beam(youngs_modulus: float, shear_modulus: float, density: float,
-                  section: Section, length: float, elements: int,
+                  section: Section, length, elements: int,
                   theory: str = "euler-bernoulli") -> tuple[np.ndarray, np.ndarray]:
     """Stiffness and mass of a straight uniform beam of `elements` equal elements, in its frame.
 
-    Returns two 6(s+1) x 6(s+1) matrices on the nodes 0..s from one end to the other.
+    Returns two 6(s+1) x 6(s+1) matrices on the nodes 0..s from one end to the other; an
+    array of lengths gives one beam per length, (..., 6(s+1), 6(s+1)).
     """
     if elements < 1:
         raise ValueError(f"elements = {elements!r}: need at least one")
     ke, me = frame_element(youngs_modulus, shear_modulus, density, section,
-                           length / elements, theory)
+                           np.divide(length, elements), theory)
     n = 6 * (elements + 1)
-    k = np.zeros((n, n))
-    m = np.zeros((n, n))
+    k = np.zeros(ke.shape[:-2] + (n, n))
+    m = np.zeros(ke.shape[:-2] + (n, n))
     for e in range(elements):
         sl = slice(6 * e, 6 * e + 12)
-        k[sl, sl] += ke
-        m[sl, sl] += me
+        k[..., sl, sl] += ke
+        m[..., sl, sl] += me
     return k, m

@@ -14,28 +14,55 @@ class ModalError(RuntimeError):
     """The eigenproblem has no physical answer (not positive definite, non-finite)."""
 
 
+RESIDUAL_LIMIT = 1e-6  # a solve whose pairs are worse than this is refused (see solve_modes)
+
+
 @dataclass(frozen=True)
 class ModalResult:
     frequencies_hz: np.ndarray  # (n,), ascending
     shapes: np.ndarray  # (18s, n) mass-normalised eigenvectors in independent coordinates
+    residuals: np.ndarray | None = None  # (n,) |K x - omega^2 M x| / |K x| of every pair
+    orthonormality: float | None = None  # max |X^T M X - I|
 
 
 def solve_modes(model: SubstructureModel, count: int) -> ModalResult:
-    """Lowest `count` modes of (K - omega^2 M) Phi = 0, Eq. (23); f = omega / 2 pi, Eq. (24)."""
+    """Lowest `count` modes of (K - omega^2 M) Phi = 0, Eq. (23); f = omega / 2 pi, Eq. (24).
+
+    Solved as M Phi = mu K Phi for the largest mu = 1 / omega^2 (LAPACK reduces with the
+    Cholesky factor of K): the structure's lowest modes are then the end of the spectrum that
+    the reduction resolves best. Reducing with the Cholesky factor of M instead loses them as
+    the elements shrink (the Euler-Bernoulli mass has nearly massless rotations): measured on
+    the paper's Case 2, relative residuals 9e-10 at s = 10 and 1e-4 at s = 200 that way,
+    8e-12 and 3e-7 this way. Every pair is checked, not trusted: its residual and the
+    M-orthonormality are returned, and a solve worse than RESIDUAL_LIMIT is refused.
+    """
     n = model.stiffness.shape[0]
     if count > n:
         raise ModalError(f"modes = {count}: the model has only {n} coordinates")
     if not (np.all(np.isfinite(model.stiffness)) and np.all(np.isfinite(model.mass))):
         raise ModalError("the reduced matrices hold non-finite entries (singular joint map?)")
     try:
-        eigval, eigvec = scipy.linalg.eigh(model.stiffness, model.mass,
-                                           subset_by_index=[0, count - 1], check_finite=False)
-    except (np.linalg.LinAlgError, ValueError) as exc:
+        mu, vectors = scipy.linalg.eigh(model.mass, model.stiffness,
+                                        subset_by_index=[n - count, n - 1], check_finite=False)
+    except np.linalg.LinAlgError as exc:
+        raise ModalError(f"the stiffness matrix is not positive definite: the structure is a "
+                         f"mechanism ({' '.join(str(exc).split())})") from None
+    except ValueError as exc:
         raise ModalError(f"eigen solve failed: {exc}") from exc
-    if eigval[0] <= 0.0:
-        raise ModalError(f"lowest eigenvalue {eigval[0]:.3e} rad^2/s^2 is not positive: "
-                         "the structure is a mechanism")
-    return ModalResult(np.sqrt(eigval) / (2.0 * math.pi), eigvec)
+    mu, vectors = mu[::-1], vectors[:, ::-1]
+    if not mu[-1] > 0.0:
+        raise ModalError(f"eigenvalue 1/omega^2 = {mu[-1]:.3e} s^2/rad^2 is not positive: the "
+                         "structure is a mechanism")
+    eigval = 1.0 / mu
+    shapes = vectors / np.sqrt(mu)  # K-normalised -> M-normalised
+    k_x = model.stiffness @ shapes
+    m_x = model.mass @ shapes
+    residuals = np.linalg.norm(k_x - m_x * eigval, axis=0) / np.linalg.norm(k_x, axis=0)
+    orthonormality = float(np.abs(shapes.T @ m_x - np.eye(count)).max())
+    if not (residuals.max() <= RESIDUAL_LIMIT and orthonormality <= RESIDUAL_LIMIT):
+        raise ModalError(f"eigen solve inaccurate: residual {residuals.max():.2e}, "
+                         f"M-orthonormality {orthonormality:.2e} (limit {RESIDUAL_LIMIT:g})")
+    return ModalResult(np.sqrt(eigval) / (2.0 * math.pi), shapes, residuals, orthonormality)
 
 
 def leg_displacements(model: SubstructureModel, shapes: np.ndarray) -> np.ndarray:

@@ -11,11 +11,15 @@
 - a few more modes are computed than reported (`extra`), so a repeated pair at the end of the
   reported range is complete; clusters (relative gap below `cluster_tol`) are reported, and if the
   last reported mode's cluster reaches the last computed mode, more modes are computed;
-- every returned pair is checked: relative residual |K x - lambda M x| / |K x| and M-orthonormality.
+- every returned pair is checked: relative residual |K x - lambda M x| / |K x|, M-orthonormality,
+  and exactly the asked number of modes;
+- a failed attempt (ARPACK not converging, a singular factorisation, a failed check) is retried
+  once with another shift and starting vector; the failures are reported in `Modes.retries`, and
+  if the retry fails too, EigenError names both: never fewer modes than asked.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 
 import numpy as np
@@ -24,6 +28,7 @@ import scipy.sparse.linalg as sla
 
 SHIFT_HZ = 10.0
 V0_SEED = 20230723
+RETRY = (40.0, V0_SEED + 1)  # the second attempt's shift (Hz) and starting-vector seed
 ARPACK_TOL = 1e-10  # relative Ritz-value accuracy; frequencies to ~1e-10
 
 
@@ -41,6 +46,8 @@ class Modes:
     clusters: list[list[int]]  # groups of (near-)repeated modes among the returned ones
     residuals: np.ndarray  # (n,) relative residuals
     backend: str
+    retries: tuple[str, ...] = ()  # failed attempts before this answer, one line each
+    shift_hz: float = SHIFT_HZ  # the shift of the attempt that gave it
 
     @property
     def frequencies_hz(self) -> np.ndarray:
@@ -75,14 +82,36 @@ def clusters_of(eigenvalues: np.ndarray, tol: float) -> list[list[int]]:
 def lowest_modes(k: sp.spmatrix, m: sp.spmatrix, n_modes: int, extra: int = 2,
                  backend: str = "splu", cluster_tol: float = 1e-3,
                  residual_tol: float = 1e-6) -> Modes:
-    """The `n_modes` lowest eigenpairs of (K, M); raises EigenError if ARPACK fails."""
+    """The `n_modes` lowest eigenpairs of (K, M), checked; retried once with another shift.
+
+    Raises EigenError if both attempts fail (the message names each failure).
+    """
     n = k.shape[0]
     if n_modes + extra >= n - 1:
         raise EigenError(f"{n_modes} modes asked of a model with only {n} dofs")
-    sigma = -(2 * math.pi * SHIFT_HZ) ** 2
-    solve = factorize((k - sigma * m).tocsc(), backend)
+    failures = []
+    for shift_hz, seed in ((SHIFT_HZ, V0_SEED), RETRY):
+        try:
+            modes = _attempt(k, m, n_modes, extra, backend, cluster_tol, residual_tol,
+                             shift_hz, seed)
+        except EigenError as exc:
+            failures.append(f"shift -({shift_hz:g} Hz)^2: {exc}")
+            continue
+        return replace(modes, retries=tuple(failures))
+    raise EigenError("; ".join(failures))
+
+
+def _attempt(k, m, n_modes: int, extra: int, backend: str, cluster_tol: float,
+             residual_tol: float, shift_hz: float, seed: int) -> Modes:
+    """One shift-invert Lanczos solve at sigma = -(2 pi shift_hz)^2, checked."""
+    n = k.shape[0]
+    sigma = -(2 * math.pi * shift_hz) ** 2
+    try:
+        solve = factorize((k - sigma * m).tocsc(), backend)
+    except RuntimeError as exc:  # SuperLU: singular factor
+        raise EigenError(f"factorisation of K - sigma M failed ({exc})") from None
     op = sla.LinearOperator((n, n), matvec=solve, dtype=float)
-    v0 = np.random.default_rng(V0_SEED).standard_normal(n)
+    v0 = np.random.default_rng(seed).standard_normal(n)
     n_ask = n_modes + extra
     while True:
         try:
@@ -91,6 +120,10 @@ def lowest_modes(k: sp.spmatrix, m: sp.spmatrix, n_modes: int, extra: int = 2,
         except sla.ArpackNoConvergence as exc:
             raise EigenError(f"ARPACK did not converge: {len(exc.eigenvalues)} of {n_ask} "
                              "eigenpairs found") from None
+        except sla.ArpackError as exc:
+            raise EigenError(f"ARPACK failed ({' '.join(str(exc).split())})") from None
+        if len(w) != n_ask:
+            raise EigenError(f"ARPACK returned {len(w)} of {n_ask} eigenpairs")
         order = np.argsort(w)
         w, v = w[order], v[:, order]
         groups = clusters_of(w, cluster_tol)
@@ -107,4 +140,4 @@ def lowest_modes(k: sp.spmatrix, m: sp.spmatrix, n_modes: int, extra: int = 2,
     gram = v.T @ (m @ v)
     if np.abs(gram - np.eye(n_modes)).max() > 1e-6:
         raise EigenError("eigenvectors are not M-orthonormal (lost multiplicity?)")
-    return Modes(w, v, [g for g in clusters_of(w, cluster_tol)], res, backend)
+    return Modes(w, v, [g for g in clusters_of(w, cluster_tol)], res, backend, (), shift_hz)

@@ -1,7 +1,14 @@
 """Timing benchmarks (`make bench`): medians of repeated runs, written to out/bench.json.
 
+- the analytical model per pose (s = 1, 3, 6, 10) and the FEM per mesh size;
+- the 10,000-pose analytical map (20 heights x 10 rings x 50 azimuths, modes followed by
+  shape, every core) against 10,000 plain scipy.linalg.eigh(K, M) calls on matrices of the
+  same size on one core, timed alternately in the same run: `map_vs_plain_eigh` (the map the
+  run draws, 3 modes; issue 12 asks for <= 1.0) and `map_scene_modes_vs_plain_eigh` (the
+  scene's modes).
+
 Timings never gate a test: this machine is shared and noisy. Run as
-`python -m pipeline.bench --scene scenes/paper.toml --out out/bench.json [--quick]`.
+`python -m pipeline.bench --scene scenes/paper.toml --out out/bench.json [--skip-fem]`.
 """
 from __future__ import annotations
 
@@ -15,13 +22,22 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+import scipy.linalg
+
 from analytical.kinematics import pose_geometry
 from analytical.model import analyse
+from analytical.params import Pose
+from analytical.substructure import assemble
+from analytical.workspace import default_workers, frequency_map
 
 from common.atomic import write_json_atomic
 from common.locations import default_scene
 from .compare import fem_options, fem_runtime
 from .scene import load_scene
+from .studies import workspace_heights
+
+MAP_GRID = (20, 10, 50)  # heights x rings x azimuths: the 10,000-pose map of issue 12
 
 
 def _median_seconds(fn, runs: int, warmup: int = 3) -> tuple[float, list[float]]:
@@ -43,6 +59,57 @@ def bench_analytical(scene, case_name: str, runs: int) -> dict:
         median, samples = _median_seconds(lambda: analyse(scene.manipulator, case.pose, opts), runs)
         out[f"s={s}"] = {"median_seconds": median, "min_seconds": min(samples), "runs": runs}
     return out
+
+
+def bench_map(scene, runs: int, modes: int) -> dict:
+    """The 10,000-pose analytical map (frequencies and modes followed by shape, on every core)
+    against 10,000 plain scipy.linalg.eigh(K, M) calls on the map's own 18 s x 18 s matrices in
+    one process (one core: OPENBLAS_NUM_THREADS=1 under make), timed alternately; medians."""
+    layers, rings, azimuths = MAP_GRID
+    options = replace(scene.analytical, modes=modes)
+    heights = workspace_heights(scene, layers)
+    fmap = frequency_map(scene.manipulator, options, heights, rings, azimuths)  # warm-up
+    reached = np.argwhere(np.isfinite(fmap.frequencies_hz[..., 0]))[::47][:200]
+    sample = [Pose(float(fmap.heights[iz]), float(fmap.azimuths[ip]), float(fmap.tilts[iz, ir]))
+              for iz, ir, ip in reached]
+    models = [assemble(scene.manipulator, pose_geometry(scene.manipulator, p), options)
+              for p in sample]
+    calls = layers * rings * azimuths
+
+    def plain():
+        for k in range(calls):
+            model = models[k % len(models)]
+            scipy.linalg.eigh(model.stiffness, model.mass)
+
+    plain()
+    map_s, plain_s = [], []
+    for _ in range(runs):
+        start = time.perf_counter()
+        frequency_map(scene.manipulator, options, heights, rings, azimuths)
+        map_s.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        plain()
+        plain_s.append(time.perf_counter() - start)
+    tracking = fmap.tracking
+    return {
+        "grid": {"heights": layers, "rings": rings, "azimuths": azimuths, "poses": calls,
+                 "distinct_poses": layers * (1 + (rings - 1) * azimuths)},
+        "modes": modes,
+        "matrix_size": 18 * options.elements,
+        "workers": default_workers(),
+        "openblas_num_threads": os.environ.get("OPENBLAS_NUM_THREADS"),
+        "map_median_seconds": statistics.median(map_s),
+        "map_seconds": map_s,
+        "plain_eigh_calls": calls,
+        "plain_eigh_median_seconds": statistics.median(plain_s),
+        "plain_eigh_seconds": plain_s,
+        "ratio": statistics.median(map_s) / statistics.median(plain_s),
+        "poses_with_shapes": tracking.poses_with_shapes,
+        "steps_matched_by_shape": tracking.steps_with_shapes,
+        "steps": tracking.steps,
+        "crossings": len(fmap.crossings),
+        "runs": runs,
+    }
 
 
 def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
@@ -84,6 +151,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", default="out/bench.json")
     parser.add_argument("--runs", type=int, default=200, help="analytical repetitions")
     parser.add_argument("--fem-runs", type=int, default=3, help="FEM repetitions per size")
+    parser.add_argument("--map-runs", type=int, default=5,
+                        help="repetitions of the 10,000-pose map and its eigh baseline")
     parser.add_argument("--skip-fem", action="store_true")
     args = parser.parse_args(argv)
     try:
@@ -102,6 +171,11 @@ def main(argv: list[str] | None = None) -> int:
                 "median_seconds"],
             "analytical_runs": args.runs,
         }
+        # the map the run draws (3 modes), and the same grid with the scene's modes
+        result["map"] = bench_map(scene, args.map_runs, modes=3)
+        result["map_vs_plain_eigh"] = result["map"]["ratio"]
+        result["map_scene_modes"] = bench_map(scene, args.map_runs, modes=scene.analytical.modes)
+        result["map_scene_modes_vs_plain_eigh"] = result["map_scene_modes"]["ratio"]
         if not args.skip_fem:
             sizes = sorted(set(scene.fem_study.refinement) | {scene.fem.mesh_size}, reverse=True)
             fem = bench_fem(scene, args.case, args.fem_runs, sizes)
@@ -116,7 +190,8 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, RuntimeError, OSError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    print(json.dumps({k: v for k, v in result.items() if k.endswith("median")}, indent=1))
+    print(json.dumps({k: v for k, v in result.items()
+                      if k.endswith("median") or k.endswith("plain_eigh")}, indent=1))
     return 0
 
 

@@ -15,23 +15,7 @@ import numpy as np
 import scipy.linalg
 from scipy.optimize import linear_sum_assignment
 
-
-def mac_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Modal assurance criterion |a_i . b_j|^2 / (|a_i|^2 |b_j|^2), shape (n_a, n_b)."""
-    num = np.abs(a.T @ b) ** 2
-    den = np.outer(np.sum(a * a, axis=0), np.sum(b * b, axis=0))
-    return num / den
-
-
-def clusters(frequencies: np.ndarray, tolerance: float) -> list[list[int]]:
-    """Groups of consecutive modes whose relative frequency gap is below `tolerance`."""
-    groups = [[0]]
-    for k in range(1, len(frequencies)):
-        if frequencies[k] / frequencies[k - 1] - 1 < tolerance:
-            groups[-1].append(k)
-        else:
-            groups.append([k])
-    return groups
+from common.modes import clusters, mac_matrix  # noqa: F401  (re-exported)
 
 
 @dataclass(frozen=True)

@@ -275,6 +275,10 @@ class Workspace(TypedDict):
     tilts_deg: list[list[FiniteFloat]]
     azimuths_deg: list[FiniteFloat]
     frequencies_hz: list[list[list[list[FiniteFloat | None] | None]]]  # [z][tilt][azimuth][mode]
+    # per family: mode k followed by its shape (MAC) from pose to pose, so a crossing shows
+    tracked_frequencies_hz: list[list[list[list[FiniteFloat | None] | None]]]
+    crossings: list[dict[str, Any]]  # families, height_mm, tilt_deg, azimuth_deg, frequency_hz
+    tracking: dict[str, Any]  # how the families were followed (steps, lowest MAC, ...)
     settings: str
 
 

@@ -1,0 +1,276 @@
+"""The substructure model of many poses at once (Eqs. 4-24), for workspace maps.
+
+The same reduced K and M as `substructure.assemble`, pose by pose, built with numpy over a
+batch of poses, and the eigen solves of `modal.solve_modes` without its per-call overhead:
+
+- the element matrices depend only on the leg length: one batched `frame_element` call gives
+  every element of every leg of every pose (a leg's s elements are equal);
+- every joint map T_i (Eqs. 10, 12, 17, 21) is affine in the arm A_i - o and in the R-joint
+  direction, so it is read from `substructure._leg_map` once, at zero and unit arms and
+  directions, and combined per pose (`LegMapBasis`);
+- K = sum over legs and elements of T_e^T K_e T_e (Eqs. 5-6, 13, 22) with T_e the element's
+  12 rows of the leg map in its limb frame, restricted to the columns of q they touch;
+- the rigid platform's mass (Eqs. 7-9) is diag(m I, R J R^T), with m and J read from
+  `platform_mass_matrix` at R = I.
+
+Frequencies come from ?sygvd without vectors (`batch_frequencies`); where shapes are needed,
+?sygvx gives the lowest modes with vectors (`batch_modes`), as solve_modes does. Shapes are
+compared between poses as `probe_shapes`: the translations of every leg node, their rotations
+times the leg radius (so leg torsion counts) and the platform's translation and rotation times
+r2, in base coordinates. tests/test_workspace_fast.py checks matrices and frequencies against
+the per-pose model.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+import scipy.linalg
+
+from .beam import Section, frame_element
+from .kinematics import Joint
+from .modal import ModalError
+from .params import Manipulator, ModelOptions
+from .platform import platform_mass_matrix
+from .pose_batch import PoseBatch
+from .substructure import SingularJointMap, _leg_map, r_joint_direction
+
+
+@dataclass(frozen=True)
+class LegMapBasis:
+    """T_i(arm, d) = constant + sum_k arm_k * per_arm[k] + sum_k d_k * per_direction[k],
+    restricted to `columns` of q (the leg's own coordinates and the platform's)."""
+
+    columns: np.ndarray  # (c,) indices into q
+    constant: np.ndarray  # (6(s+1), c)
+    per_arm: np.ndarray  # (3, 6(s+1), c)
+    per_direction: np.ndarray  # (3, 6(s+1), c)
+
+    def evaluate(self, arms: np.ndarray, directions: np.ndarray) -> np.ndarray:
+        """(N, 6(s+1), c) for arms and R-joint directions of shape (N, 3)."""
+        varying = (arms @ self.per_arm.reshape(3, -1)
+                   + directions @ self.per_direction.reshape(3, -1))
+        return self.constant + varying.reshape((len(arms),) + self.constant.shape)
+
+    def touched(self, rows: slice) -> np.ndarray:
+        """Local columns that the given rows can reach for some arm and direction."""
+        every = (np.abs(self.constant) + np.abs(self.per_arm).sum(0)
+                 + np.abs(self.per_direction).sum(0))
+        return np.flatnonzero(np.any(every[rows] != 0.0, axis=0))
+
+
+def _runs(q_columns: np.ndarray) -> list[tuple[slice, slice]]:
+    """Contiguous runs of increasing q indices: (slice of q, slice of their positions)."""
+    breaks = np.flatnonzero(np.diff(q_columns) != 1) + 1
+    starts = np.concatenate([[0], breaks])
+    stops = np.concatenate([breaks, [len(q_columns)]])
+    return [(slice(int(q_columns[a]), int(q_columns[b - 1]) + 1), slice(int(a), int(b)))
+            for a, b in zip(starts, stops)]
+
+
+def leg_map_basis(elements: int, leg: int, base_joint: str, platform_joint: str) -> LegMapBasis:
+    """The joint map of leg `leg` probed at zero and unit arms and R-joint directions."""
+    def leg_map(arm, direction):
+        joints = tuple(Joint(kind, np.zeros(3), direction if kind == "R" else None, body)
+                       for kind, body in ((base_joint, "base"), (platform_joint, "platform")))
+        return _leg_map(elements, leg, joints, np.asarray(arm, float), "axis")
+
+    zero = np.zeros(3)
+    constant = leg_map(zero, zero)
+    per_arm = np.stack([leg_map(e, zero) - constant for e in np.eye(3)])
+    per_direction = np.stack([leg_map(zero, e) - constant for e in np.eye(3)])
+    every = np.concatenate([constant[None], per_arm, per_direction])
+    columns = np.flatnonzero(np.any(every != 0.0, axis=(0, 1)))
+    probe = np.array([0.3, -0.7, 0.2]), np.array([0.6, 0.1, -0.4])
+    affine = LegMapBasis(columns, constant[:, columns], per_arm[:, :, columns],
+                         per_direction[:, :, columns])
+    if not np.allclose(affine.evaluate(probe[0][None], probe[1][None])[0],
+                       leg_map(*probe)[:, columns], rtol=0, atol=1e-14) or np.any(
+                           leg_map(*probe)[:, np.setdiff1d(np.arange(constant.shape[1]),
+                                                           columns)]):
+        raise AssertionError("the joint map is not affine in the arm and joint direction")
+    return affine
+
+
+@dataclass(frozen=True)
+class AssemblyPlan:
+    """What does not change from pose to pose: per leg its map basis and, per element, the
+    local columns its rows touch and where those sit in q (contiguous runs)."""
+
+    elements: int
+    legs: tuple  # per leg: (LegMapBasis, ((columns, runs) per element))
+
+
+def assembly_plan(elements: int, base_joint: str, platform_joint: str) -> AssemblyPlan:
+    legs = []
+    for i in range(3):
+        basis = leg_map_basis(elements, i, base_joint, platform_joint)
+        per_element = []
+        for e in range(elements):
+            columns = basis.touched(slice(6 * e, 6 * e + 12))
+            per_element.append((columns, _runs(basis.columns[columns])))
+        legs.append((basis, tuple(per_element)))
+    return AssemblyPlan(elements, tuple(legs))
+
+
+def _directions(axes: np.ndarray, form: str) -> np.ndarray:
+    """(N, 3) rotation of the R-joint leg end per unit independent coordinate."""
+    if form == "axis":
+        return axes
+    return np.array([r_joint_direction(a, form) for a in axes])
+
+
+@dataclass(frozen=True)
+class BatchModel:
+    """Reduced stiffness and mass of N poses, and how to read physical shapes from q."""
+
+    stiffness: np.ndarray  # (N, 18s, 18s)
+    mass: np.ndarray  # (N, 18s, 18s)
+    leg_maps: tuple  # per leg: (columns (c,), T_i restricted (N, 6(s+1), c)), base coordinates
+    platform_slice: slice
+    leg_radius: float
+    platform_radius: float
+
+
+def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOptions,
+                   plan: AssemblyPlan | None = None) -> BatchModel:
+    """K and M of every pose in `poses` (Eqs. 4-22), as substructure.assemble does one.
+
+    `plan` (from `assembly_plan`) may be passed to reuse it over many batches.
+    """
+    s = options.elements
+    if plan is None or plan.elements != s:
+        plan = assembly_plan(s, poses.base_joint, poses.platform_joint)
+    mat = manipulator.material
+    section = Section.solid_circle(manipulator.leg_diameter, mat.poisson_ratio, options.shear)
+    n, n_q = len(poses), 18 * s
+    matrices = np.zeros((2, n, n_q, n_q))  # K and M
+    arms = poses.platform_points - poses.platform_centre[:, None, :]
+    k_e, m_e = frame_element(mat.youngs_modulus, mat.shear_modulus, mat.density, section,
+                             poses.leg_lengths.T / s, options.beam)  # (3, N, 12, 12), Eq. (4)
+    element = np.stack([k_e, m_e], axis=1)  # (3, 2, N, 12, 12)
+    maps = []
+    for i, (basis, per_element) in enumerate(plan.legs):
+        try:
+            directions = _directions(poses.joint_axes[:, i], options.r_joint_coordinate)
+        except SingularJointMap as exc:
+            raise ModalError(str(exc)) from None
+        t = basis.evaluate(arms[:, i], directions)  # global leg DOFs from q, Eqs. (10)-(21)
+        limb_to_base = np.swapaxes(poses.leg_frames[:, i], 1, 2)[:, None]
+        local = (limb_to_base @ t.reshape(n, 2 * (s + 1), 3, -1)).reshape(t.shape)  # Eq. (6)
+        for e, (columns, runs) in enumerate(per_element):
+            rows = local[:, 6 * e:6 * e + 12][:, :, columns]
+            reduced = np.swapaxes(rows, 1, 2) @ element[i] @ rows  # (2, N, c_e, c_e)
+            for to_rows, a in runs:
+                for to_cols, b in runs:
+                    matrices[:, :, to_rows, to_cols] += reduced[:, :, a, b]
+        maps.append((basis.columns, t))
+    stiffness, mass = matrices
+    translation, rotation = slice(n_q - 6, n_q - 3), slice(n_q - 3, n_q)
+    level = platform_mass_matrix(manipulator, np.eye(3), options.platform_inertia)
+    mass[:, translation, translation] += level[:3, :3]  # m I
+    mass[:, rotation, rotation] += poses.rotation @ level[3:, 3:] @ np.swapaxes(
+        poses.rotation, 1, 2)  # R J R^T
+    return BatchModel(stiffness, mass, tuple(maps), slice(n_q - 6, n_q),
+                      manipulator.leg_diameter / 2, manipulator.platform_radius)
+
+
+@dataclass(frozen=True)
+class StandardForm:
+    """M x = mu K x of every pose (mu = 1 / omega^2, as modal.solve_modes solves it) turned
+    standard: K = U^T U (Cholesky), A = U^-T M U^-1, A y = mu y, x = U^-1 y (LAPACK ?potrf,
+    ?sygst; upper triangles, Fortran order). The lowest modes are the largest mu."""
+
+    matrices: list  # A per pose
+    factors: list  # U per pose
+
+
+def standard_form(model: BatchModel) -> StandardForm:
+    """Reduce every pose once; K and M are overwritten (they are not needed afterwards).
+
+    The transposed views of the C-ordered K and M are Fortran-ordered, so LAPACK works in
+    place; their upper triangle is the lower one of K and M, which solve_modes reads.
+    """
+    potrf, sygst = (_lapack(name) for name in ("potrf", "sygst"))
+    matrices, factors = [], []
+    for k in range(len(model.stiffness)):
+        factor, info = potrf(model.stiffness[k].T, lower=0, clean=1, overwrite_a=1)
+        if info != 0:
+            raise ModalError(f"pose {k}: the stiffness matrix is not positive definite: the "
+                             f"structure is a mechanism (LAPACK info = {info})")
+        matrix, info = sygst(model.mass[k].T, factor, itype=1, lower=0, overwrite_a=1)
+        matrices.append(matrix)
+        factors.append(factor)
+    return StandardForm(matrices, factors)
+
+
+def batch_frequencies(form: StandardForm, count: int) -> np.ndarray:
+    """(N, count): the lowest `count` natural frequencies (Hz) of every pose, eigenvalues only
+    (tridiagonal reduction and QR, LAPACK ?syevd without vectors), Eqs. (23)-(24)."""
+    syevd = _lapack("syevd")
+    values = np.empty((len(form.matrices), count))
+    for k, matrix in enumerate(form.matrices):
+        if count > len(matrix):
+            raise ModalError(f"modes = {count}: the model has only {len(matrix)} coordinates")
+        mu, _, info = syevd(matrix, compute_v=0, lower=0)
+        values[k] = _eigenvalues(k, info, mu[::-1][:count])
+    return np.sqrt(values) / (2.0 * math.pi)
+
+
+def batch_modes(form: StandardForm, index, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies (n, count) and mass-normalised shapes (n, 18s, count) of the poses `index`
+    (the largest mu only: LAPACK ?syevr, then x = U^-1 y / sqrt(mu))."""
+    syevr, trtrs = _lapack("syevr"), _lapack("trtrs")
+    index = np.asarray(index, int)
+    values, vectors = [], []
+    for k in index:
+        matrix = form.matrices[k]
+        n = len(matrix)
+        if count > n:
+            raise ModalError(f"modes = {count}: the model has only {n} coordinates")
+        mu, y, found, _, info = syevr(matrix, compute_v=1, range="I", il=n - count + 1, iu=n,
+                                      lower=0)
+        mu, y = mu[:count][::-1], y[:, :count][:, ::-1]
+        eigenvalues = _eigenvalues(int(k), info if found == count else -1, mu)
+        x, info = trtrs(form.factors[k], y, lower=0)
+        values.append(eigenvalues)
+        vectors.append(x / np.sqrt(mu))
+    n_q = len(form.matrices[0]) if form.matrices else 0
+    return (np.sqrt(np.reshape(values, (len(index), count))) / (2.0 * math.pi),
+            np.reshape(vectors, (len(index), n_q, count)))
+
+
+def _eigenvalues(pose: int, info: int, mu: np.ndarray) -> np.ndarray:
+    """omega^2 = 1 / mu, ascending, after checking the solve."""
+    if info != 0:
+        raise ModalError(f"pose {pose}: eigen solve failed (LAPACK info = {info})")
+    if not mu[-1] > 0.0:
+        raise ModalError(f"pose {pose}: eigenvalue 1/omega^2 = {mu[-1]:.3e} s^2/rad^2 is not "
+                         "positive: the structure is a mechanism")
+    return 1.0 / mu
+
+
+def _lapack(name: str):
+    return scipy.linalg.get_lapack_funcs((name,), (np.zeros(1),))[0]
+
+
+def probe_shapes(model: BatchModel, shapes: np.ndarray, index=None) -> np.ndarray:
+    """(n, 6 * 3(s+1) + 6, modes): physical shapes comparable between neighbouring poses, for
+    the poses `index` (default: all) whose shapes (n, 18s, modes) are given.
+
+    Per leg and node the translation and the rotation times the leg radius, then the
+    platform's translation and rotation times r2, all in base coordinates.
+    """
+    index = slice(None) if index is None else np.asarray(index, int)
+    parts = []
+    for columns, t in model.leg_maps:
+        nodal = t[index] @ shapes[:, columns, :]  # (N, 6(s+1), modes)
+        nodal = nodal.reshape(nodal.shape[0], -1, 2, 3, nodal.shape[2])
+        parts.append(nodal[:, :, 0].reshape(nodal.shape[0], -1, nodal.shape[-1]))
+        parts.append(model.leg_radius
+                     * nodal[:, :, 1].reshape(nodal.shape[0], -1, nodal.shape[-1]))
+    platform = shapes[:, model.platform_slice, :]
+    parts.append(platform[:, :3])
+    parts.append(model.platform_radius * platform[:, 3:])
+    return np.concatenate(parts, axis=1)
