@@ -159,13 +159,6 @@ def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: 
     return Fidelity(chosen, fem, analytical, rows, refinements)
 
 
-def resolve_fidelity(scene: Scene, case_names, cache: ResultCache, refine: bool,
-                     step=lambda text: None) -> Fidelity:
-    """Choose (or check) the FEM size and the analytical setting for these cases."""
-    sized, fem, refinements = choose_fem(scene, case_names, cache, refine, step)
-    return choose_model(scene, sized, fem, case_names, cache, refinements, step)
-
-
 def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
                       workers: int = 2, scheduler: str | None = None, console=None,
                       step=lambda text: None) -> tuple[Fidelity, dict]:

@@ -155,14 +155,18 @@ def height_calibration(scene: Scene, case: Case) -> dict:
         settings=f"Euler-Bernoulli, s = 3, {scene.manipulator.platform_shape} plate inertia")
 
 
-def workspace_heights(scene: Scene, layers: int) -> np.ndarray:
-    """Heights (m) of the map's layers: from just above the lowest to just below the highest
-    level pose the actuators reach (5 % of L_max inside each end)."""
-    m = scene.manipulator
+def height_range(m) -> tuple[float, float]:
+    """Heights (m) of the lowest and highest workspace layer: from just above the lowest to just
+    below the highest level pose the actuators reach (5 % of L_max inside each end)."""
     lean = m.base_radius - m.platform_radius
     z_low = math.sqrt(max(m.actuator_min**2 - lean**2, 0.0)) + 0.05 * m.actuator_max
     z_high = math.sqrt(m.actuator_max**2 - lean**2) - 0.05 * m.actuator_max
-    return np.linspace(z_low, z_high, layers)
+    return z_low, z_high
+
+
+def workspace_heights(scene: Scene, layers: int) -> np.ndarray:
+    """Heights (m) of the map's layers, evenly over `height_range`."""
+    return np.linspace(*height_range(scene.manipulator), layers)
 
 
 def workspace_map(scene: Scene, layers: int = 8, rings: int = 6, azimuths: int = 36,

@@ -20,11 +20,12 @@ from scipy.stats import qmc
 
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
-from analytical.workspace import max_tilt
+from analytical.workspace import max_tilt, regular_radii
 from common.settings import as_dict
 
 from .cache import ResultCache
 from .compare import analytical_case, error_table, fem_case
+from .studies import height_range
 
 PAPER_MODEL = "paper (EB, s=3, Eq. 8 inertia)"  # a label of studies.model_variants
 SOBOL_SEED = 20231
@@ -45,21 +46,6 @@ class DesignSize:
 
 FULL = DesignSize()
 SMALL = DesignSize(layers=2, ring=3, interior=8, limit_scan=6)  # the CI profile
-
-
-def height_range(m: Manipulator) -> tuple[float, float]:
-    """Heights of the lowest and highest layer: 5 % of L_max inside the actuator range."""
-    lean = m.base_radius - m.platform_radius
-    low = math.sqrt(max(m.actuator_min**2 - lean**2, 0.0)) + 0.05 * m.actuator_max
-    high = math.sqrt(m.actuator_max**2 - lean**2) - 0.05 * m.actuator_max
-    return low, high
-
-
-def theta_r(m: Manipulator, z: float, azimuths: int = 24) -> float:
-    """The regular tilt radius theta_r(z): the legs are 120 degrees apart, so the reachable
-    set has three-fold symmetry and a third of the circle of azimuths is enough."""
-    return min(max_tilt(m, z, float(phi))
-               for phi in np.linspace(0.0, 2 * math.pi / 3, azimuths, endpoint=False))
 
 
 def _active_limit(m: Manipulator, pose: Pose) -> str | None:
@@ -95,7 +81,7 @@ def design(m: Manipulator, size: DesignSize = FULL) -> list[dict]:
     radii = {}
     for k, z in enumerate(heights):
         layer = "bottom layer" if k == 0 else "top layer" if k == len(heights) - 1 else "layer"
-        radii[k] = r = theta_r(m, z)
+        radii[k] = r = float(regular_radii(m, [z])[0])
         add(z, 0.0, 0.0, f"{layer}, level")
         for phi in ring:
             add(z, phi, r * (1 - 1e-9), f"{layer}, boundary ring")
@@ -111,7 +97,7 @@ def design(m: Manipulator, size: DesignSize = FULL) -> list[dict]:
     # theta_r(z) between the layers: linear interpolation on a finer grid, taken 0.5 % inside
     # (poses that still fall outside are dropped by `add`)
     grid = np.linspace(low, high, 2 * size.layers + 1)
-    grid_r = np.array([theta_r(m, z) for z in grid])
+    grid_r = regular_radii(m, grid)
     sobol = qmc.Sobol(3, scramble=True, seed=SOBOL_SEED).random(size.interior)
     for u in sobol:
         z = low + u[0] * (high - low)
