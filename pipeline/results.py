@@ -20,7 +20,7 @@ from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from pydantic import ConfigDict, FiniteFloat, TypeAdapter, ValidationError, with_config
 
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
 
 Hz = list[FiniteFloat]
@@ -352,12 +352,25 @@ class WorkspaceValidation(TypedDict):
 
 
 @with_config(_STRICT)
+class HardCase(TypedDict):
+    """One claim of pipeline.hard_cases, measured on the scene's machine."""
+    case: str
+    claim: str
+    tolerance: FiniteFloat
+    measured: FiniteFloat
+    unit: str
+    note: str
+    passed: bool
+
+
+@with_config(_STRICT)
 class Studies(TypedDict):
     height_calibration: HeightCalibration | None
     angle_conventions: list[AngleConventions]
     workspace: Workspace | None
     joint_orders: list[JointOrderCase]
     workspace_validation: WorkspaceValidation | None
+    hard_cases: list[HardCase]  # empty: not run (the CI profile)
 
 
 @with_config(_STRICT)

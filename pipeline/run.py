@@ -28,7 +28,7 @@ from fem_reference.export import write_mode_collection
 from reports.tables import write_tables
 
 from . import results as schema
-from . import studies
+from . import hard_cases, studies
 from .cache import ROOT, ResultCache
 from .joint_orders import joint_order_study
 from .selection import validate_fidelity
@@ -308,7 +308,8 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             scene=scene_summary(scene, scene_path), environment=environment(), cases=[],
             studies=schema.Studies(height_calibration=None, angle_conventions=[],
                                    workspace=None, joint_orders=[],
-                                   workspace_validation=None), fidelity=None,
+                                   workspace_validation=None, hard_cases=[]),
+            fidelity=None,
             fixture_note=None)
         mode_files = {}
         # on a terminal only, and transient: a failure is one line on stderr, nothing before
@@ -341,6 +342,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
         if profile == "full":
             results["studies"]["workspace"] = studies.workspace_map(scene)
             results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
+            results["studies"]["hard_cases"] = hard_cases.evaluate(scene)
         results = _write_outputs(results, mode_files, stage)
         if build_report:
             from common.worker import stoppable

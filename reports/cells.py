@@ -66,6 +66,19 @@ class Cells:
             text = decimal(v, significant(v) if digits is None else digits, signed)
         return cell(text, "num", pointer, None if scale == 1 else repr(scale))
 
+    def sci(self, pointer: str, figures: int = 3) -> dict:
+        """A number of any magnitude (a residual of 1e-13 beside a tolerance of 0.02): plain
+        decimals between 1e-3 and 1e4, else scientific notation, `figures` significant."""
+        value = self._value(pointer)
+        if value is None or isinstance(value, bool) or not isinstance(value, (int, float)):
+            return missing()
+        if value == 0 or 1e-3 <= abs(value) < 1e4:
+            text = decimal(value, significant(value, figures) if value else 0)
+        else:
+            text = f"{value:.{figures - 1}e}".replace("e-0", "e-").replace("e+0", "e")
+            text = text.replace("e+", "e").replace("-", MINUS)
+        return cell(text, "num", pointer)
+
     def text(self, pointer: str | None = None, literal: str | None = None,
              cls: str = "text") -> dict:
         if pointer is None:

@@ -1,5 +1,6 @@
 """The README's results block (`make readme`), from results.json only: the table of every
-case with paper rows and the worst error of every analytical model variant."""
+case with paper rows, the worst error of every analytical model variant, and the workspace
+validation's percentiles."""
 from __future__ import annotations
 
 import re
@@ -31,6 +32,38 @@ def variants_markdown(results: Results) -> str:
             "|---|---|---:|---:|---:|\n" + "\n".join(lines) + "\n")
 
 
+def workspace_markdown(results: Results) -> str:
+    """The workspace validation's |error vs FEM| percentiles per mode for the run's chosen model
+    (its p95 is the figure quoted) and the paper's model, and the worst pose; the report has
+    every candidate."""
+    wv = results["studies"]["workspace_validation"]
+    if not wv or not wv["per_mode"]:
+        return ""
+    default = wv["default_model"]
+    paper = [label for label, options in wv["models"].items()  # the paper's Eq. (8) inertia
+             if label != default and options.get("platform_inertia") == "paper-eq8"]
+    labels = [default] + [label for label in paper if label in wv["per_mode"]]
+    n = max(len(s["p95"]) for s in wv["per_mode"].values())
+    lines = [f"**The model over the workspace**: |error vs FEM| (%) at {len(wv['poses'])} poses "
+             f"(FEM h = {wv['fem_mesh_size_mm']:g} mm, modes paired by shape); the run's model "
+             f"is {default}\n",
+             "| model | statistic | " + " | ".join(f"f{k + 1}" for k in range(n)) + " |",
+             "|---|---|" + "---:|" * n]
+    for label in labels:
+        stats = wv["per_mode"][label]
+        for stat in ("median", "p95", "max"):
+            values = " | ".join(fmt(v, 2) for v in stats[stat])
+            lines.append(f"| {label if stat == 'median' else ''} | {stat} | {values} |")
+    worst = wv["worst_pose"]
+    if worst:
+        lo, hi = worst["slenderness"] or (float("nan"), float("nan"))
+        lines.append(f"\nWorst pose of {default}: z = {worst['height_mm']:.1f} mm, "
+                     f"azimuth {worst['azimuth_deg']:.1f}°, tilt {worst['tilt_deg']:.1f}° "
+                     f"({worst['kind']}; legs {lo:.1f}–{hi:.1f} diameters long), "
+                     f"{worst['worst_error_percent']:.2f} %.")
+    return "\n".join(lines) + "\n"
+
+
 def readme_block(results: Results) -> str:
     parts = [README_START, ""]
     env = results["environment"]
@@ -39,9 +72,9 @@ def readme_block(results: Results) -> str:
     for case in results["cases"]:
         if case["paper"]:
             parts.append(case_markdown(case))
-    summary = variants_markdown(results)
-    if summary:
-        parts.append(summary)
+    for part in (variants_markdown(results), workspace_markdown(results)):
+        if part:
+            parts.append(part)
     parts.append(README_END)
     return "\n".join(parts)
 

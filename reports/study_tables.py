@@ -107,3 +107,17 @@ def calibration_table(results: dict, c: Cells) -> dict | None:
               c.num(f"{q}/deviation_percent/{k}", 2, signed=True), unit("%")]
              for k, _ in enumerate(cal["deviation_percent"])]
     return {"head": [head("", "value", "unit")], "rows": rows, "cls": "params"}
+
+
+def hard_cases_table(results: dict, c: Cells) -> dict | None:
+    """Every hard case of the run: what was claimed, its tolerance, what was measured."""
+    rows = []
+    for k, row in enumerate(results["studies"]["hard_cases"]):
+        q = f"/studies/hard_cases/{k}"
+        rows.append([c.text(f"{q}/case"), c.text(f"{q}/claim"), c.sci(f"{q}/tolerance"),
+                     c.sci(f"{q}/measured"), c.text(f"{q}/unit"),
+                     cell("holds" if row["passed"] else "FAILS", "text")])
+    if not rows:
+        return None
+    return {"head": [head("case", "claim", "tolerance", "measured", "unit", "")],
+            "rows": rows, "cls": "hardcases"}

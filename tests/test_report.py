@@ -32,8 +32,9 @@ SECTIONS = ("1 Summary", "2 Fidelity: what the scene asked, what was chosen",
             "3 Scene and set-up", "4 Table I reproduction", "5 Convergence",
             "6 Mode shapes", "7 Speed vs error", "8 Workspace maps",
             "9 The model against the FEM over the workspace", "10 Both joint orders",
-            "11 Reading the paper: angle conventions and height calibration", "12 Other cases")
-NUMBER = re.compile(r"^[+\-\u2212]?[\d\u2009]+(\.\d+)?$")
+            "11 Hard cases: numerical stability and physics checks",
+            "12 Reading the paper: angle conventions and height calibration", "13 Other cases")
+NUMBER = re.compile(r"^[+\-\u2212]?[\d\u2009]+(\.\d+)?(e[+\-\u2212]?\d+)?$")
 
 
 class _Cells(HTMLParser):
@@ -77,10 +78,12 @@ def _parse(html: str) -> _Cells:
 
 
 def _number(text: str) -> tuple[float, int]:
-    """Printed value and its number of decimals (the rounding to compare within)."""
+    """Printed value and its number of decimals (the rounding to compare within); in
+    scientific notation (2.5e-13) the decimals of the last printed digit's place (14)."""
     clean = text.replace("\u2212", "-").replace("\u2009", "").replace("+", "").strip(" †")
-    decimals = len(clean.split(".")[1]) if "." in clean else 0
-    return float(clean), decimals
+    mantissa, _, exponent = clean.partition("e")
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    return float(clean), decimals - int(exponent or 0)
 
 
 @pytest.fixture(scope="module")
@@ -180,7 +183,7 @@ def _ci_profile(results: dict) -> dict:
     ci = copy.deepcopy(results)
     ci["profile"] = "ci"
     ci["studies"] = {"height_calibration": None, "angle_conventions": [], "workspace": None,
-                     "joint_orders": [], "workspace_validation": None}
+                     "joint_orders": [], "workspace_validation": None, "hard_cases": []}
     ci["cases"] = [c for c in ci["cases"] if c["name"] in ("case1", "case2")]
     for case in ci["cases"]:
         for key in ("fem_refinement", "models", "element_convergence", "fem_variants",
@@ -212,7 +215,7 @@ def test_ci_profile_results_build(tmp_path):
                    "Reading the paper"):  # sections without data are omitted, not empty
         assert not any(absent in h for h in headings), absent
     assert ("Not in these results (profile ci): convergence studies, speed vs error, "
-            "workspace maps, workspace validation, both joint orders") in page
+            "workspace maps, workspace validation, both joint orders, hard cases") in page
     assert headings[:5] == ["1 Summary", "2 Fidelity: what the scene asked, what was chosen",
                             "3 Scene and set-up", "4 Table I reproduction",
                             "5 Mode shapes"]  # numbered without gaps
@@ -235,10 +238,10 @@ def _assert_untouched(out: Path, before: dict[str, bytes]) -> None:
 @pytest.mark.parametrize("content, message", [
     (None, "results file not found"),
     ("{ not json", "not valid JSON"),
-    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 2"),
-    ('{"schema": 1, "cases": []}', "results schema 1, this version reads schema 2: rerun `make`"),
+    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 3"),
+    ('{"schema": 2, "cases": []}', "results schema 2, this version reads schema 3: rerun `make`"),
     ('{"cases": []}', "results schema None"),
-    ('{"schema": 2, "cases": []}', "profile: field required"),
+    ('{"schema": 3, "cases": []}', "profile: field required"),
 ])
 def test_bad_results_file(tmp_path, content, message):
     path = tmp_path / "results.json"

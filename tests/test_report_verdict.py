@@ -47,3 +47,24 @@ def test_best_model_sentence_names_the_most_accurate_variant():
     }}
     assert best_model(case) == ("fine", 0.6, 0.2)
     assert best_model({"models": {}}) is None
+
+
+def test_readme_block_quotes_the_workspace_p95_of_the_run_model():
+    from reports.readme import README_END, README_START, readme_block
+
+    block = readme_block(RESULTS)
+    assert block.startswith(README_START) and block.endswith(README_END)
+    wv = RESULTS["studies"]["workspace_validation"]
+    default = wv["default_model"]
+    p95_row = next(line for line in block.splitlines()
+                   if line.startswith("|  | p95 |"))  # the first p95 row: the run's model
+    assert p95_row.split("|")[3:-1] == [f" {v:.2f} " for v in wv["per_mode"][default]["p95"]]
+    assert f"the run's model is {default}" in block
+    assert f"{wv['worst_pose']['worst_error_percent']:.2f} %" in block
+
+
+def test_readme_block_without_workspace_validation_has_no_workspace_table():
+    from reports.readme import readme_block
+
+    studies = dict(RESULTS["studies"], workspace_validation=None)
+    assert "over the workspace" not in readme_block(dict(RESULTS, studies=studies))
