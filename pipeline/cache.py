@@ -20,23 +20,28 @@ from common.atomic import write_text_atomic
 from common.checksum import ChecksumError, report_dropped, seal, side_files, verify
 
 ROOT = Path(__file__).resolve().parents[1]
-CODE_PACKAGES = ("analytical", "meshing", "fem_reference")
+CODE_PACKAGES = ("analytical", "common", "meshing", "fem_reference")
 
 
-@lru_cache(maxsize=1)
-def code_fingerprint() -> str:
-    """Hash of every Python source that the cached values depend on."""
+@lru_cache(maxsize=None)
+def code_fingerprint(modules: tuple[str, ...] = ()) -> str:
+    """Hash of every Python source that the cached values depend on: the model packages, and
+    the modules (dotted names under the project root) of a value computed above them (a
+    sweep task pairing modes in pipeline/ is stale when the pairing changes)."""
+    paths = [p for package in CODE_PACKAGES for p in sorted((ROOT / package).rglob("*.py"))]
+    paths += [ROOT / (name.replace(".", "/") + ".py") for name in sorted(modules)]
     digest = hashlib.sha256()
-    for package in CODE_PACKAGES:
-        for path in sorted((ROOT / package).rglob("*.py")):
-            digest.update(path.relative_to(ROOT).as_posix().encode())
-            digest.update(path.read_bytes())
+    for path in paths:
+        digest.update(path.relative_to(ROOT).as_posix().encode())
+        digest.update(path.read_bytes())
     return digest.hexdigest()[:16]
 
 
-def content_key(payload: Any) -> str:
-    text = json.dumps({"inputs": payload, "code": code_fingerprint()}, sort_keys=True,
-                      default=float)
+def content_key(payload: Any, modules: tuple[str, ...] = ()) -> str:
+    """The cache key of a value: its inputs and the code that computes it (`modules`: the
+    modules beyond the model packages that the value depends on)."""
+    text = json.dumps({"inputs": payload, "code": code_fingerprint(tuple(modules))},
+                      sort_keys=True, default=float)
     return hashlib.sha256(text.encode()).hexdigest()[:24]
 
 

@@ -30,6 +30,23 @@ class Pair:
         return 100.0 * (f_model[self.model_mode] / f_reference[self.reference_mode] - 1.0)
 
 
+def _group_scores(model_shapes: np.ndarray, reference_shapes: np.ndarray, mac: np.ndarray,
+                  groups: list[list[int]]) -> np.ndarray:
+    """MAC, except against a repeated group: there every member's column holds the share of
+    each model shape lying in the group's subspace, ||P x||^2 / ||x||^2, which does not depend
+    on the arbitrary basis the eigen solver returned for the group (single-mode MACs do: a pair
+    rotated by 45 degrees gives 0.5 against both members, and a third mode of middling MAC could
+    then win a member's place)."""
+    scores = mac.copy()
+    norms = np.einsum("ij,ij->j", model_shapes.conj(), model_shapes).real
+    for group in groups:
+        if len(group) > 1:
+            basis = scipy.linalg.orth(reference_shapes[:, group])
+            share = np.linalg.norm(basis.conj().T @ model_shapes, axis=0) ** 2
+            scores[:, group] = (share / np.where(norms > 0, norms, 1.0))[:, None]
+    return scores
+
+
 def pair_modes(model_shapes: np.ndarray, model_hz: np.ndarray, reference_shapes: np.ndarray,
                reference_hz: np.ndarray, count: int, repeat_tolerance: float = 0.02
                ) -> list[Pair]:
@@ -48,7 +65,8 @@ def pair_modes(model_shapes: np.ndarray, model_hz: np.ndarray, reference_shapes:
         raise ValueError(f"pairing needs {len(columns)} model modes, got "
                          f"{model_shapes.shape[1]}")
     mac = mac_matrix(model_shapes, reference_shapes)
-    rows, cols = linear_sum_assignment(-mac[:, columns])
+    rows, cols = linear_sum_assignment(-_group_scores(model_shapes, reference_shapes, mac,
+                                                      groups)[:, columns])
     assigned = {columns[c]: int(r) for r, c in zip(rows, cols)}
     pairs: list[Pair] = []
     for g, group in enumerate(groups):

@@ -41,13 +41,15 @@ def _safe(fn: TaskFn, task) -> dict:
 def run_sweep(fn: TaskFn, tasks: list, payloads: list, cache: ResultCache, kind: str,
               workers: int = 2, scheduler: str | None = None,
               announce: Callable[[SweepPlan], None] | None = None,
-              seconds_per_task: float | None = None, progress=None) -> list[dict]:
+              seconds_per_task: float | None = None, progress=None,
+              code: tuple[str, ...] = ()) -> list[dict]:
     """Results of fn(task) for every task, in task order.
 
-    `payloads[i]` is what determines task i's result (its cache key). `progress(done, total)`
-    is called as results arrive.
+    `payloads[i]` is what determines task i's result (its cache key), with the source of
+    `code` (the modules fn computes with beyond the model packages, see
+    pipeline.cache.code_fingerprint). `progress(done, total)` is called as results arrive.
     """
-    keys = [content_key({"kind": kind, "task": p}) for p in payloads]
+    keys = [content_key({"kind": kind, "task": p}, code) for p in payloads]
     results: list[dict | None] = [cache.get(kind, k) for k in keys]
     todo = [i for i, r in enumerate(results) if r is None]
     if announce is not None:

@@ -114,6 +114,11 @@ def two_mesh_error(fine_hz, coarse_hz, ratio: float, order: float = SINGULAR_ORD
     return 100 * np.abs(fine - coarse) / (ratio**order - 1) / fine
 
 
+# the modules a pose's result is computed with, beyond the model packages (its cache key)
+TASK_CODE = ("pipeline.workspace_validation", "pipeline.compare", "pipeline.pairing",
+             "pipeline.results", "pipeline.scene")
+
+
 def validate_pose(task: dict) -> dict:
     """One pose: FEM at two sizes, every analytical model paired by shape (a sweep task)."""
     scene, pose = task["scene"], Pose(**task["pose"])
@@ -206,7 +211,7 @@ def run_study(scene, models: dict[str, ModelOptions], cache: ResultCache, coarse
     results = run_sweep(validate_pose, tasks, [task_payload(t) for t in tasks], cache,
                         "workspace-pose", workers=workers, scheduler=scheduler,
                         announce=announce, seconds_per_task=seconds_per_pose,
-                        progress=progress)
+                        progress=progress, code=TASK_CODE)
     rows = []
     for p, r in zip(poses, results):
         rows.append({"height_mm": p["height"] * 1e3, "azimuth_deg": math.degrees(p["azimuth"]),

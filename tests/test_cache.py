@@ -40,3 +40,34 @@ def test_hit_after_compute_and_recompute_after_corruption(tmp_path):
     _, _, hit = cache.get_or_compute("fem", {"x": 1}, compute, ("frequencies_hz",))
     assert not hit and len(calls) == 4
     assert not list((tmp_path / "fem").glob(".*.tmp"))  # no temporary left behind
+
+
+def test_key_follows_the_code_a_value_is_computed_with(monkeypatch, tmp_path):
+    """A sweep task that pairs modes in pipeline/ is keyed on that code too: editing the
+    pairing (or the model packages, common/ included) makes every such entry stale."""
+    import pipeline.cache as cache
+
+    (tmp_path / "common").mkdir()
+    (tmp_path / "common" / "a.py").write_text("x = 1\n")
+    (tmp_path / "pipeline").mkdir()
+    task = tmp_path / "pipeline" / "task.py"
+    task.write_text("y = 1\n")
+    monkeypatch.setattr(cache, "ROOT", tmp_path)
+    monkeypatch.setattr(cache, "CODE_PACKAGES", ("common",))
+    cache.code_fingerprint.cache_clear()
+    plain, with_task = content_key({"a": 1}), content_key({"a": 1}, ("pipeline.task",))
+    assert plain != with_task
+    task.write_text("y = 2\n")
+    cache.code_fingerprint.cache_clear()
+    assert content_key({"a": 1}) == plain
+    assert content_key({"a": 1}, ("pipeline.task",)) != with_task
+    (tmp_path / "common" / "a.py").write_text("x = 2\n")
+    cache.code_fingerprint.cache_clear()
+    assert content_key({"a": 1}) != plain
+    cache.code_fingerprint.cache_clear()
+
+
+def test_the_model_packages_include_common():
+    import pipeline.cache as cache
+
+    assert set(cache.CODE_PACKAGES) == {"analytical", "common", "meshing", "fem_reference"}

@@ -56,3 +56,25 @@ def test_a_pair_split_by_the_cut_is_still_compared_whole():
     pairs = pair_modes(model, np.array([51.0, 81.0, 121.0, 121.0]), basis, ref_hz, count=3)
     assert [p.reference_mode for p in pairs] == [0, 1, 2]
     assert pairs[2].repeated and pairs[2].mac > 0.999999
+
+
+def test_a_rotated_repeated_pair_keeps_its_members_against_a_decoy():
+    """The solver may return a repeated pair in any basis. Turned by 45 degrees, each member
+    has MAC 0.5 with both model members, while a third model mode (a different family that
+    shares 75 % of one member's sampled shape) has MAC 0.75 with it: mode by mode, the decoy
+    would take a member's place. The pair is taken by subspace, whatever its basis."""
+    e = np.eye(8)
+    pair = np.column_stack([e[:, 0] + e[:, 1], e[:, 0] - e[:, 1]]) / np.sqrt(2)
+    reference = np.column_stack([pair, e[:, 2]])
+    ref_hz = np.array([300.0, 300.0, 500.0])
+    decoy = np.sqrt(0.75) * pair[:, 0] + np.sqrt(0.25) * e[:, 3]
+    model = np.column_stack([e[:, 0], e[:, 1], e[:, 2], decoy])
+    model_hz = np.array([301.0, 301.0, 498.0, 320.0])
+    assert mac_matrix(model, reference)[3, 0] > mac_matrix(model, reference)[0, 0]
+    for turn in np.linspace(0.0, np.pi, 7):  # any basis of the pair
+        c, s = np.cos(turn), np.sin(turn)
+        turned = reference.copy()
+        turned[:, :2] = pair @ np.array([[c, -s], [s, c]])
+        pairs = pair_modes(model, model_hz, turned, ref_hz, count=3)
+        assert [(p.reference_mode, p.model_mode) for p in pairs] == [(0, 0), (1, 1), (2, 2)]
+        assert all(p.mac > 0.999 for p in pairs)
