@@ -1,6 +1,8 @@
 """Timing benchmarks (`make bench`): medians of repeated runs, written to out/bench.json.
 
 - the analytical model per pose (s = 1, 3, 6, 10) and the FEM per mesh size;
+- the workspace-validation sweep (the CI-size design: FEM at two sizes and every candidate
+  model per pose) with 1 and with 2 workers, each from an empty cache: `sweep_speedup`;
 - the 10,000-pose analytical map (20 heights x 10 rings x 50 azimuths, modes followed by
   shape, every core) against 10,000 plain scipy.linalg.eigh(K, M) calls on matrices of the
   same size on one core, timed alternately in the same run: `map_vs_plain_eigh` (the map the
@@ -142,6 +144,36 @@ def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
     return out
 
 
+def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> dict:
+    """Wall time of the CI-size workspace-validation sweep with each worker count, every run
+    from an empty cache (meshes included), alternating the worker counts run by run."""
+    import tempfile
+
+    from .cache import ResultCache
+    from .studies import speed_settings
+    from .workspace_validation import SMALL, coarse_size, run_study
+
+    models = speed_settings(scene)
+    samples: dict[int, list[float]] = {w: [] for w in workers}
+    poses = 0
+    for _ in range(runs):
+        for w in workers:
+            with tempfile.TemporaryDirectory(prefix="rps-bench-sweep-") as tmp:
+                start = time.perf_counter()
+                study = run_study(scene, models, ResultCache(Path(tmp)),
+                                  coarse_size(scene, scene.fem.mesh_size), size=SMALL,
+                                  workers=w)
+                samples[w].append(time.perf_counter() - start)
+            poses = len(study["poses"])
+    out = {"poses": poses, "runs": runs, "models": len(models)}
+    for w in workers:
+        out[f"workers_{w}_median_seconds"] = statistics.median(samples[w])
+        out[f"workers_{w}_seconds"] = samples[w]
+    out["speedup"] = out[f"workers_{workers[0]}_median_seconds"] / out[
+        f"workers_{workers[-1]}_median_seconds"]
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pipeline.bench")
     parser.add_argument("--scene", default=str(default_scene()),
@@ -153,6 +185,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--fem-runs", type=int, default=3, help="FEM repetitions per size")
     parser.add_argument("--map-runs", type=int, default=5,
                         help="repetitions of the 10,000-pose map and its eigh baseline")
+    parser.add_argument("--sweep-runs", type=int, default=1,
+                        help="repetitions of the workspace-validation sweep per worker count "
+                        "(0: skip it)")
     parser.add_argument("--skip-fem", action="store_true")
     args = parser.parse_args(argv)
     try:
@@ -183,6 +218,9 @@ def main(argv: list[str] | None = None) -> int:
             result["fem_pose_seconds_median"] = fem[f"{scene.fem.mesh_size * 1e3:g}mm"][
                 "median_seconds"]
             result["fem_runs"] = args.fem_runs
+            if args.sweep_runs > 0:
+                result["sweep"] = bench_sweep(scene, args.sweep_runs)
+                result["sweep_speedup"] = result["sweep"]["speedup"]
             est = _estimated_errors(Path(args.out).parent / "results.json", args.case)
             if est:
                 result["fem_estimated_error_percent"] = est
@@ -191,7 +229,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
     print(json.dumps({k: v for k, v in result.items()
-                      if k.endswith("median") or k.endswith("plain_eigh")}, indent=1))
+                      if k.endswith(("median", "plain_eigh", "speedup"))}, indent=1))
     return 0
 
 

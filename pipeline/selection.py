@@ -171,9 +171,7 @@ def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
     sized, fem, refinements = choose_fem(scene, case_names, cache, full, step)
     models = candidate_settings(scene) | {
         wv.PAPER_MODEL: studies.model_variants(scene)[wv.PAPER_MODEL]}
-    sizes = sorted(scene.fem_study.refinement, reverse=True)
-    coarser = [h for h in sizes if h > fem.size * (1 + 1e-9)]
-    coarse = min(coarser) if coarser else fem.size * 1.25
+    coarse = wv.coarse_size(scene, fem.size)
     seconds = _fem_seconds_of(refinements, fem.size, coarse)
 
     def announce(plan):

@@ -106,6 +106,13 @@ def design(m: Manipulator, size: DesignSize = FULL) -> list[dict]:
     return poses
 
 
+def coarse_size(scene, size: float) -> float:
+    """The second, coarser mesh of every pose: the next size of the scene's refinement
+    sequence above `size`, or 1.25 size beyond it."""
+    coarser = [h for h in scene.fem_study.refinement if h > size * (1 + 1e-9)]
+    return min(coarser) if coarser else size * 1.25
+
+
 def two_mesh_error(fine_hz, coarse_hz, ratio: float, order: float = SINGULAR_ORDER):
     """Estimated relative error (%) of the fine solution from two sizes h and ratio * h:
     |f_h - f_H| / ((H / h)^p - 1) / f_h, Richardson with the singular-rim order p (the lowest
