@@ -74,8 +74,28 @@ def _fem_seconds(fid: Fidelity) -> float | None:
     return float(np.median(times)) if times else None
 
 
+def _solve_fem(task: dict) -> dict:
+    """One FEM solve into the result cache (a task of `prefetch_fem`)."""
+    fem_case(task["scene"], task["geometry"], ResultCache(task["cache_dir"]), task["size"])
+    return {"error": None}
+
+
+def prefetch_fem(scene: Scene, geometries: list, sizes, cache: ResultCache, workers: int,
+                 scheduler: str | None = None) -> None:
+    """Fill the result cache with the FEM solve of every geometry at every size, on the
+    sweep's workers (finest first, for balance); the callers then read them from the cache. A
+    failed solve is left to its caller, which repeats it and reports its error."""
+    from .sweep import map_tasks
+
+    tasks = [{"scene": scene, "geometry": g, "size": h, "cache_dir": str(cache.directory)}
+             for h in sorted(sizes) for g in geometries]
+    if workers > 1 or scheduler:
+        map_tasks(_solve_fem, tasks, workers, scheduler)
+
+
 def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
-               step=lambda text: None) -> tuple[Scene, FemChoice, dict]:
+               step=lambda text: None, workers: int = 1, scheduler: str | None = None
+               ) -> tuple[Scene, FemChoice, dict]:
     """The FEM size (chosen, or the scene's checked), the scene at that size, and every
     case's refinement study (when refined)."""
     from .run import fem_refinement
@@ -85,6 +105,9 @@ def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
     if refine:
         sizes = tuple(sorted(set(scene.fem_study.refinement) | (
             {scene.fem.mesh_size} if scene.fem_size_given else set()), reverse=True))
+        step("FEM refinement studies")
+        prefetch_fem(scene, [pose_geometry(scene.manipulator, scene.case(n).pose)
+                             for n in case_names], sizes, cache, workers, scheduler)
         for name in case_names:
             step(f"{name}: FEM refinement study")
             case = scene.case(name)
@@ -168,7 +191,8 @@ def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
     worst study pose (beam models are worst at compact poses, which two cases may miss)."""
     from . import workspace_validation as wv
 
-    sized, fem, refinements = choose_fem(scene, case_names, cache, full, step)
+    sized, fem, refinements = choose_fem(scene, case_names, cache, full, step, workers,
+                                         scheduler)
     models = candidate_settings(scene) | {
         wv.PAPER_MODEL: studies.model_variants(scene)[wv.PAPER_MODEL]}
     coarse = wv.coarse_size(scene, fem.size)

@@ -69,8 +69,28 @@ def run_sweep(fn: TaskFn, tasks: list, payloads: list, cache: ResultCache, kind:
         if progress is not None:
             progress(done, len(tasks))
 
+    _dispatch(fn, tasks, todo, workers, scheduler, store)
+    return results  # type: ignore[return-value]
+
+
+def map_tasks(fn: TaskFn, tasks: list, workers: int = 2,
+              scheduler: str | None = None) -> list[dict]:
+    """fn(task) for every task on the sweep's workers, in task order, with no result cache of
+    its own (for tasks that cache what they compute, such as FEM solves): a failed task gives
+    its {"error": one line}."""
+    results: list[dict | None] = [None] * len(tasks)
+
+    def store(i: int, value: dict) -> None:
+        results[i] = value
+
+    _dispatch(fn, tasks, list(range(len(tasks))), workers, scheduler, store)
+    return results  # type: ignore[return-value]
+
+
+def _dispatch(fn: TaskFn, tasks: list, todo: list[int], workers: int, scheduler: str | None,
+              store) -> None:
     if not todo:
-        return results  # type: ignore[return-value]
+        return
     if scheduler:
         _run_dask(fn, tasks, todo, scheduler, store)
     elif workers <= 1 or len(todo) == 1:
@@ -78,7 +98,6 @@ def run_sweep(fn: TaskFn, tasks: list, payloads: list, cache: ResultCache, kind:
             store(i, _safe(fn, tasks[i]))
     else:
         _run_local(fn, tasks, todo, workers, store)
-    return results  # type: ignore[return-value]
 
 
 def _run_local(fn: TaskFn, tasks: list, todo: list[int], workers: int, store) -> None:
