@@ -3,7 +3,8 @@
 solve_pose(manipulator, geometry, options) -> FemResult. Steps (timed):
   mesh      bodies of the pose -> gmsh 10-node tetrahedra (or the mesh cache)
   assemble  scikit-fem P2 stiffness and consistent mass, joint constraint map T (u = T q),
-            reduced K_q = T^T K T, M_q = T^T M T (+ the rigid platform's 6x6 mass at o, Eqs. 7-9)
+            reduced K_q = T^T K T, M_q = T^T M T (+ the rigid platform's 6x6 mass at o, Eqs. 7-9,
+            integrated over its own meshed plate: rigid_platform.py)
   solve     shift-invert Lanczos for the lowest modes
 Every failure on bad input is a FemError with one line naming the offending value; nothing is
 written (cache entries and VTU files are atomic).
@@ -18,7 +19,6 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from common.plate import plate_inertia, plate_mass, rigid_mass_matrix
 from common.rigid_body import rigid_fit
 from common.settings import check_settings, nested_setting, setting
 from meshing.bodies import Assembly, GeometryError, Plate, platform_plate, pose_assembly
@@ -31,6 +31,7 @@ from .discretisation import Discretisation, discretise
 from .eigen import BACKENDS, EigenError, Modes, lowest_modes
 from .export import write_mode_collection, write_modes_vtu
 from .resources import MemoryLimitError, check_memory
+from .rigid_platform import meshed_plate_mass
 from common.worker import WorkerDied, stoppable
 from . import probes
 
@@ -62,6 +63,11 @@ class FemOptions:
                             "distributing (RBE3-like, the face may warp)")
     modes: int = setting(6, kind=int, minimum=1, scene=False,
                          doc="number of modes solved for")
+    platform_mesh: float = setting(
+        0.2, minimum=0.0, exclusive_minimum=True, maximum=2.0, scene=False,
+        doc="element size of the rigid platform's own mesh, over which its mass and inertia "
+        "are integrated, as a fraction of the platform radius (0.2: 1e-6 of the disk's "
+        "closed form, fem_reference/rigid_platform.py)")
 
     def __post_init__(self):
         if not isinstance(self.mesh, MeshSettings):
@@ -254,9 +260,16 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     t_ = cmap.T
     kq = (t_.T @ k @ t_).tocsr()
     mq = (t_.T @ m @ t_).tocsr()
+    plate = assembly.plate or platform_plate(manipulator, geometry)
     if not elastic:
         cols = cmap.columns["platform"]
-        mp = sp.coo_matrix(_rigid_platform_mass(manipulator, np.asarray(geometry.rotation)))
+        try:
+            mp = sp.coo_matrix(meshed_plate_mass(
+                plate, np.asarray(geometry.rotation), manipulator.material.density,
+                options.platform_mesh * plate.radius, runtime.cache_dir, runtime.use_cache))
+        except GmshFailure as exc:
+            raise FemError(f"platform_mesh = {options.platform_mesh:g}: gmsh failed on the "
+                           f"platform plate ({exc})") from None
         mq = mq + sp.csr_matrix((mp.data, (cols[mp.row], cols[mp.col])), shape=mq.shape)
     kq = 0.5 * (kq + kq.T)  # symmetric to round-off
     mq = 0.5 * (mq + mq.T)
@@ -289,7 +302,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         modes_q=vq,
         modes_raw=v_raw,
         mass_matrix=m,
-        plate=assembly.plate or platform_plate(manipulator, geometry),
+        plate=plate,
     )
     return result
 
@@ -305,9 +318,3 @@ def _normalise_signs(v: np.ndarray) -> np.ndarray:
 def with_size(options: FemOptions, size: float) -> FemOptions:
     return options.with_size(size)
 
-
-def _rigid_platform_mass(manipulator, rotation: np.ndarray) -> np.ndarray:
-    """6x6 mass of the rigid plate at o (Eqs. 7-9) from the plate's own shape and material."""
-    m = manipulator
-    args = (m.platform_shape, m.platform_radius, m.platform_thickness, m.material.density)
-    return rigid_mass_matrix(plate_mass(*args), plate_inertia(*args), rotation)

@@ -80,6 +80,7 @@ def test_every_fem_option_is_in_the_result_cache_key(scene):
         "platform": replace(base, platform="elastic"),
         "coupling": replace(base, coupling="distributing"),
         "modes": replace(base, modes=base.modes + 1),
+        "platform_mesh": replace(base, platform_mesh=base.platform_mesh * 0.5),
     }
     declared = {f.name for f in fields(MeshSettings)} | {f.name for f in fields(FemOptions)}
     assert declared - {"mesh"} == set(changed), "a new option needs a line here"

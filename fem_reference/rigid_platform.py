@@ -1,0 +1,67 @@
+"""The rigid platform's 6x6 mass at o, integrated over its own meshed plate.
+
+The FEM is the referee of the analytical model, so it does not take the plate's mass and inertia
+from the analytical side (nor from a shared closed form): the plate is meshed on its own (gmsh,
+10-node curved tetrahedra, the same `meshing` machinery as the legs, through the mesh cache) in
+its own frame (centre o at the origin, normal along z), and the rigid-body mass (the paper's
+Eqs. 7-9, written for a body of any shape) is integrated over its elements with the P2 basis's
+quadrature (scikit-fem, |det J| w_q on the curved elements):
+
+    m = int rho dV,   S = int rho r dV,   J = int rho (|r|^2 I - r r^T) dV,   r = x - o,
+    M = [[m I, -[S x]], [[S x], J]]   on (translation of o, rotation),
+
+then turned into base coordinates, diag(R, R) M diag(R, R)^T. S vanishes for a plate centred
+on o (to quadrature accuracy) but is kept: the matrix is the plate's, not an assumed symmetry.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from common.rigid_body import skew
+from meshing.bodies import Assembly, Plate
+from meshing.cache import cached_mesh
+from meshing.geometry import MeshSettings
+
+from .discretisation import discretise
+
+
+def local_plate(plate: Plate, rotation: np.ndarray) -> Plate:
+    """The same plate in its own frame: centre at the origin, normal along z."""
+    rot = np.asarray(rotation, float)
+    o = np.asarray(plate.centre, float)
+    corners = tuple(tuple(float(round(v, 12)) for v in rot.T @ (np.asarray(c) - o))
+                    for c in plate.corners)
+    return Plate(plate.name, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), plate.thickness, plate.shape,
+                 plate.radius, corners)
+
+
+def integrated_mass(points: np.ndarray, weights: np.ndarray, density: float) -> np.ndarray:
+    """6x6 rigid-body mass about the origin from quadrature points (n, 3) and weights (n,)."""
+    w = density * np.asarray(weights, float)
+    r = np.asarray(points, float)
+    m = w.sum()
+    s = w @ r
+    second = np.einsum("q,qi,qj->ij", w, r, r)
+    out = np.zeros((6, 6))
+    out[:3, :3] = m * np.eye(3)
+    out[:3, 3:] = -skew(s)
+    out[3:, :3] = skew(s)
+    out[3:, 3:] = np.trace(second) * np.eye(3) - second
+    return out
+
+
+def meshed_plate_mass(plate: Plate, rotation: np.ndarray, density: float, size: float,
+                      cache_dir=None, use_cache: bool = True) -> np.ndarray:
+    """6x6 mass of the rigid plate about its centre o in base coordinates (see the module
+    docstring); the plate is meshed in its own frame at element size `size` (m)."""
+    local = local_plate(plate, rotation)
+    solid, _ = cached_mesh(Assembly((), local), MeshSettings(size=size, rim_factor=1.0,
+                                                             rim_zone=0.0),
+                           cache_dir, use_cache)
+    basis = discretise(solid).basis
+    x = np.asarray(basis.global_coordinates())  # (3, ne, nq)
+    body_mass = integrated_mass(x.reshape(3, -1).T, basis.dx.ravel(), density)
+    rot = np.asarray(rotation, float)
+    r6 = np.zeros((6, 6))
+    r6[:3, :3] = r6[3:, 3:] = rot
+    return r6 @ body_mass @ r6.T
