@@ -23,7 +23,7 @@ from common.rigid_body import rigid_fit
 from common.settings import check_settings, nested_setting, setting
 from meshing.bodies import Assembly, GeometryError, Plate, platform_plate, pose_assembly
 from meshing.cache import cached_mesh
-from meshing.geometry import GmshFailure, MeshSettings
+from meshing.geometry import GmshFailure, MeshSettings, element_size
 
 from .assembly import stiffness_and_mass
 from .constraints import COUPLINGS, ConstraintMap, build_constraints
@@ -120,6 +120,7 @@ class FemResult:
     mesh_digest: str
     n_elements: int
     options: FemOptions
+    min_quality: float  # smallest scaled Jacobian of the curved elements (meshing.geometry)
     geometry: object = field(repr=False)  # analytical.kinematics.PoseGeometry
     assembly: Assembly = field(repr=False)  # the meshed bodies (names of legs and faces)
     disc: Discretisation = field(repr=False)
@@ -183,6 +184,7 @@ class FemResult:
             "raw_dofs": self.raw_dofs,
             "mesh_size_m": self.mesh_size,
             "elements": self.n_elements,
+            "min_scaled_jacobian": self.min_quality,
             "timings": dict(self.timings),
             "clusters": self.clusters,
             "cache_hit": self.cache_hit,
@@ -191,23 +193,36 @@ class FemResult:
             "coupling": self.options.coupling,
             "rim_factor": self.options.mesh.rim_factor,
             "rim_zone_m": self.options.mesh.rim_zone,
+            "rim_grading": self.options.mesh.rim_grading,
         }
 
 
 def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
-    """Raw dof count of the P2 mesh, estimated from volume and surface before meshing."""
+    """Raw dof count of the P2 mesh, estimated from volume and surface before meshing.
+
+    Uniform part: NODES_PER_VOLUME V / h^3 + NODES_PER_AREA A / h^2 (measured). Graded part,
+    at every joint-face rim (a circle of the leg radius R): the nodes the finer size s(r) of
+    `meshing.geometry.element_size` adds at a distance r from the rim, over the quarter disk
+    (pi/2) r dr of the solid's section times the rim length 2 pi R, and over the two surfaces
+    (the face and the wall) that meet there.
+    """
     h = settings.size
     try:
         nodes = NODES_PER_VOLUME * assembly.volume / h**3 + NODES_PER_AREA * assembly.area / h**2
         if settings.rim_factor < 1 and settings.rim_zone > 0:
-            # each joint-face rim: a quarter torus of radius rim_zone, mean size ~ (1 + f) h / 2
-            zone = sum(2 * (math.pi * min(settings.rim_zone, c.radius) ** 2 / 4)
-                       * 2 * math.pi * c.radius for c in assembly.cylinders)
-            h_zone = 0.5 * (1 + settings.rim_factor) * h
-            nodes += NODES_PER_VOLUME * zone * (1 / h_zone**3 - 1 / h**3)
-    except (ZeroDivisionError, OverflowError):  # sizes so small that h^3 underflows
+            for c in assembly.cylinders:
+                reach = min(settings.rim_zone, c.radius, 0.5 * c.length)
+                r = reach * np.concatenate([np.linspace(0.0, 1e-3, 50)[:-1],
+                                            np.geomspace(1e-3, 1.0, 400)])
+                size = element_size(settings, r)
+                volume = NODES_PER_VOLUME * (1 / size**3 - 1 / h**3) * (math.pi / 2) * r
+                area = NODES_PER_AREA * (1 / size**2 - 1 / h**2) * 2
+                nodes += 2 * 2 * math.pi * c.radius * float(np.trapezoid(volume + area, r))
+    except (ZeroDivisionError, OverflowError, FloatingPointError):  # h^3 underflows
         nodes = math.inf
-    return int(3 * nodes) if 3 * nodes < MAX_ESTIMATE else MAX_ESTIMATE  # NaN, inf: capped
+    if not math.isfinite(nodes):
+        return MAX_ESTIMATE
+    return int(3 * nodes) if 3 * nodes < MAX_ESTIMATE else MAX_ESTIMATE
 
 
 def check_mesh_size(assembly: Assembly, settings: MeshSettings, runtime: FemRuntime) -> None:
@@ -295,6 +310,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         mesh_digest=solid.digest(),
         n_elements=int(len(solid.tets)),
         options=options,
+        min_quality=float(solid.info.get("min_scaled_jacobian", float("nan"))),
         geometry=geometry,
         assembly=assembly,
         disc=disc,
