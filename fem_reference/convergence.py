@@ -18,8 +18,11 @@ the rim size a fixed fraction of h, meshing.geometry) then falls like h^(2 lambd
 asymptotically, whatever the element order. An observed order above that is pre-asymptotic
 (the smooth part of the error still dominates) and would make the extrapolation too short, so
 it is not used; an observed order below it is used as observed (it extrapolates further). The
-estimated relative error of every size is |f_h - f_inf| / f_inf plus the fit's RMS residual
-relative to f_inf (the scatter the model does not explain). h is the effective element size
+limit is extrapolated from the two finest sizes at that order (the classical Richardson step,
+f_inf = f_n - (f_{n-1} - f_n) / ((h_{n-1} / h_n)^p - 1): the coarse sizes of an unnested,
+pre-asymptotic sequence would pull a fit at a bounded order off), and the estimated relative
+error of every size is |f_h - f_inf| / f_inf plus the RMS residual of the fit at the observed
+order relative to f_inf (the mesh-to-mesh scatter that the model does not explain). h is the effective element size
 (V / n_nodes)^(1/3) of each mesh, which follows the mesh actually built better than the nominal
 gmsh size (both are reported).
 
@@ -136,8 +139,8 @@ def richardson(h, f, noise: float = 1e-9) -> ModeConvergence:
                                "non-monotone" if p_obs is None else "order out of range",
                                triplets, p_obs)
     p = min(p_obs, P_THEORY)
-    coef, rms = _fit(h / np.max(h), f, p)
-    f_inf = float(coef[0])
+    _, rms = _fit(h / np.max(h), f, p_obs)  # the scatter the observed model leaves
+    f_inf = float(finest - (f[-2] - finest) / ((h[-2] / h[-1]) ** p - 1.0))
     errs = [float((abs(x - f_inf) + rms) / abs(f_inf)) for x in f]
     status = "ok" if p_obs <= P_THEORY else "order bounded by theory"
     return ModeConvergence(float(p), f_inf, errs, status, triplets, float(p_obs))

@@ -45,7 +45,7 @@ class MeshSettings:
     size: float = setting(doc="global element size h of the solid mesh", unit="mm",
                           minimum=0.0, exclusive_minimum=True, scene_name="mesh_size")
     rim_factor: float = setting(
-        0.5, doc="smallest element size, at the rims of the joint faces (stress-singular edges "
+        0.4, doc="smallest element size, at the rims of the joint faces (stress-singular edges "
         "of rigidly coupled faces), as a fraction of the global size; 1 = no refinement",
         minimum=0.0, exclusive_minimum=True, maximum=1.0)
     rim_zone: float = setting(
