@@ -286,7 +286,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         try:
             mp = sp.coo_matrix(meshed_plate_mass(
                 plate, np.asarray(geometry.rotation), manipulator.material.density,
-                options.platform_mesh * plate.radius, runtime.cache_dir, runtime.use_cache))
+                options.platform_mesh * plate.radius))
         except GmshFailure as exc:
             raise FemError(f"platform_mesh = {options.platform_mesh:g}: gmsh failed on the "
                            f"platform plate ({exc})") from None

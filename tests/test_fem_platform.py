@@ -30,9 +30,9 @@ def _closed_form(shape):
 # default size 0.2 r that is measured at 1e-6 (2e-7 at 0.1 r), so 1e-5 leaves a margin of
 # ten without hiding a wrong formula (any missed term, e.g. h^2 / 12, is 0.3 % or more).
 @pytest.mark.parametrize("shape, tol", [("disk", 1e-5), ("triangle", 1e-9)])
-def test_meshed_plate_mass_and_inertia_equal_the_closed_forms(shape, tol, tmp_path):
+def test_meshed_plate_mass_and_inertia_equal_the_closed_forms(shape, tol):
     plate = Plate("platform", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), H, shape, R, CORNERS)
-    meshed = meshed_plate_mass(plate, np.eye(3), RHO, 0.2 * R, cache_dir=tmp_path)
+    meshed = meshed_plate_mass(plate, np.eye(3), RHO, 0.2 * R)
     exact = _closed_form(shape)
     scale = np.abs(exact[3:, 3:]).max()
     assert meshed[0, 0] == pytest.approx(exact[0, 0], rel=tol)
@@ -41,14 +41,13 @@ def test_meshed_plate_mass_and_inertia_equal_the_closed_forms(shape, tol, tmp_pa
     assert np.abs(meshed[:3, 3:]).max() <= tol * exact[0, 0] * R
 
 
-def test_a_tilted_platform_carries_its_inertia_into_base_coordinates(scene, tmp_path):
+def test_a_tilted_platform_carries_its_inertia_into_base_coordinates(scene):
     """diag(R, R) M diag(R, R)^T: the inertia turns with the plate, the mass does not."""
     geometry = pose_geometry(scene.manipulator, scene.case("case2").pose)
     plate = platform_plate(scene.manipulator, geometry)
     rot = np.asarray(geometry.rotation)
     m = scene.manipulator
-    meshed = meshed_plate_mass(plate, rot, m.material.density, 0.2 * m.platform_radius,
-                               cache_dir=tmp_path)
+    meshed = meshed_plate_mass(plate, rot, m.material.density, 0.2 * m.platform_radius)
     j = plate_inertia(m.platform_shape, m.platform_radius, m.platform_thickness,
                       m.material.density)
     assert np.abs(meshed[3:, 3:] - rot @ j @ rot.T).max() <= 1e-5 * j.max()
