@@ -22,9 +22,9 @@ limit is extrapolated from the two finest sizes at that order (the classical Ric
 f_inf = f_n - (f_{n-1} - f_n) / ((h_{n-1} / h_n)^p - 1): the coarse sizes of an unnested,
 pre-asymptotic sequence would pull a fit at a bounded order off), and the estimated relative
 error of every size is |f_h - f_inf| / f_inf plus the RMS residual of the fit at the observed
-order relative to f_inf (the mesh-to-mesh scatter that the model does not explain). h is the effective element size
-(V / n_nodes)^(1/3) of each mesh, which follows the mesh actually built better than the nominal
-gmsh size (both are reported).
+order relative to f_inf (the mesh-to-mesh scatter that the model does not explain). h is the
+effective element size (V / n_nodes)^(1/3) of each mesh, which follows the mesh actually built
+better than the nominal gmsh size (both are reported).
 
 A sequence whose differences change sign (non-monotone) or whose observed order is below P_MIN
 has no trustworthy order: then `order` is None, `status` says why, the extrapolated value is the

@@ -2,9 +2,10 @@
 
 The FEM is the referee of the analytical model, so it does not take the plate's mass and inertia
 from the analytical side (nor from a shared closed form): the plate is meshed on its own (gmsh,
-10-node curved tetrahedra, the same `meshing` machinery as the legs) in its own frame (centre o at the origin, normal along z), and the rigid-body mass (the paper's
-Eqs. 7-9, written for a body of any shape) is integrated over its elements with the P2 basis's
-quadrature (scikit-fem, |det J| w_q on the curved elements):
+10-node curved tetrahedra, the same `meshing` machinery as the legs) in its own frame (centre o
+at the origin, normal along z), and the rigid-body mass (the paper's Eqs. 7-9, written for a
+body of any shape) is integrated over its elements with the P2 basis's quadrature (scikit-fem,
+|det J| w_q on the curved elements):
 
     m = int rho dV,   S = int rho r dV,   J = int rho (|r|^2 I - r r^T) dV,   r = x - o,
     M = [[m I, -[S x]], [[S x], J]]   on (translation of o, rotation),
@@ -18,7 +19,7 @@ import functools
 
 import numpy as np
 
-from common.rigid_body import skew
+from common.rigid_body import rigid_body_mass
 from meshing.bodies import Assembly, Plate
 from meshing.geometry import MeshSettings, build_mesh
 
@@ -34,21 +35,6 @@ def local_plate(plate: Plate, rotation: np.ndarray) -> Plate:
         for c in plate.corners)
     return Plate(plate.name, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), plate.thickness, plate.shape,
                  plate.radius, corners)
-
-
-def integrated_mass(points: np.ndarray, weights: np.ndarray, density: float) -> np.ndarray:
-    """6x6 rigid-body mass about the origin from quadrature points (n, 3) and weights (n,)."""
-    w = density * np.asarray(weights, float)
-    r = np.asarray(points, float)
-    m = w.sum()
-    s = w @ r
-    second = np.einsum("q,qi,qj->ij", w, r, r)
-    out = np.zeros((6, 6))
-    out[:3, :3] = m * np.eye(3)
-    out[:3, 3:] = -skew(s)
-    out[3:, :3] = skew(s)
-    out[3:, 3:] = np.trace(second) * np.eye(3) - second
-    return out
 
 
 def meshed_plate_mass(plate: Plate, rotation: np.ndarray, density: float,
@@ -73,6 +59,6 @@ def body_frame_mass(local: Plate, density: float, size: float) -> np.ndarray:
                                                          rim_zone=0.0))
     basis = discretise(solid).basis
     x = np.asarray(basis.global_coordinates())  # (3, ne, nq)
-    out = integrated_mass(x.reshape(3, -1).T, basis.dx.ravel(), density)
+    out = rigid_body_mass(x.reshape(3, -1).T, density * basis.dx.ravel())
     out.setflags(write=False)
     return out

@@ -9,8 +9,9 @@ of rigidly coupled faces, where the stress is singular): at a distance r from th
 size is h (r / rim_zone)^a, at least rim_factor h and at most h. With a = 1 the elements near a
 rim are as large as a fixed fraction of their distance to it (geometric layers). Every length
 of the field is h times a function of r that does not depend on h, so meshes at different h
-form one family (the refinement study's observed order is that of the family). Every option that gmsh would otherwise read from its defaults or the environment is
-pinned below, with one thread, so the same input gives the same mesh, node for node.
+form one family (the refinement study's observed order is that of the family). Every option that
+gmsh would otherwise read from its defaults or the environment is pinned below, with one thread,
+so the same input gives the same mesh, node for node.
 
 gmsh is a process-wide singleton and neither thread-safe nor reentrant: calls are serialised by a
 lock, and gmsh is always finalised, also on error.
@@ -96,6 +97,7 @@ PINNED_OPTIONS = {
     "Mesh.SubdivisionAlgorithm": 0,
     "Mesh.Binary": 0,
 }
+
 
 def rim_size_expression(settings: MeshSettings, distance: str) -> str:
     """gmsh MathEval text of the element size at `distance` (a field) from the nearest rim:

@@ -9,7 +9,8 @@ import pytest
 
 from analytical.kinematics import pose_geometry
 from common.plate import plate_inertia, plate_mass
-from fem_reference.rigid_platform import integrated_mass, meshed_plate_mass
+from common.rigid_body import rigid_body_mass
+from fem_reference.rigid_platform import meshed_plate_mass
 from meshing.bodies import Plate, platform_plate
 
 R, H, RHO = 0.2, 0.02, 7820.0
@@ -57,7 +58,7 @@ def test_a_tilted_platform_carries_its_inertia_into_base_coordinates(scene):
 def test_an_off_centre_point_mass_couples_translation_and_rotation():
     """One point of mass 2 at r = (1, 0, 0): S = (2, 0, 0), J = diag(0, 2, 2); the coupling
     block is -[S x], so a rotation about z moves the mass along y."""
-    m6 = integrated_mass(np.array([[1.0, 0.0, 0.0]]), np.array([1.0]), 2.0)
+    m6 = rigid_body_mass(np.array([[1.0, 0.0, 0.0]]), np.array([2.0]))
     assert np.allclose(np.diag(m6), [2, 2, 2, 0, 2, 2])
     velocity_of_mass = np.array([0, 0, 0, 0, 0, 1.0])  # omega_z = 1: v = omega x r = (0, 1, 0)
     momentum = m6 @ velocity_of_mass
