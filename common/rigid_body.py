@@ -46,3 +46,20 @@ def rigid_fit(points: np.ndarray, displacements: np.ndarray, centre: np.ndarray,
         m_phi = mass @ phi
         sol = np.linalg.solve(phi.T @ m_phi, np.asarray(m_phi.T @ u))
     return sol.reshape((6,) + k_shape)
+
+
+def rigid_body_mass(points: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """6x6 mass of a rigid body about the origin on (translation, rotation), from point masses
+    (or quadrature points and their weights: `weights` (n,) at `points` (n, 3)):
+    [[m I, -[S x]], [[S x], J]], m = sum w, S = sum w r, J = sum w (|r|^2 I - r r^T).
+    With unit weights per area it is the Gram matrix of rigid motions over a surface."""
+    w = np.asarray(weights, float)
+    r = np.asarray(points, float)
+    s = w @ r
+    second = np.einsum("q,qi,qj->ij", w, r, r)
+    out = np.zeros((6, 6))
+    out[:3, :3] = w.sum() * np.eye(3)
+    out[:3, 3:] = -skew(s)
+    out[3:, :3] = skew(s)
+    out[3:, 3:] = np.trace(second) * np.eye(3) - second
+    return out

@@ -14,14 +14,25 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from analytical.params import Material
+from typing import Protocol
 
 from .discretisation import Discretisation
 
 
+class Material(Protocol):
+    """What the solid needs of an isotropic material (any record with these fields, e.g.
+    `analytical.params.Material`, the one declaration of the scene's material): E, G, rho in
+    SI. The FEM reads the values only; nu = E / 2G - 1."""
+
+    youngs_modulus: float  # Pa
+    shear_modulus: float  # Pa
+    density: float  # kg/m^3
+
+
 def lame(material: Material) -> tuple[float, float]:
     """(lambda, mu) from E and nu = E / 2G - 1."""
-    e, nu = material.youngs_modulus, material.poisson_ratio
+    e = material.youngs_modulus
+    nu = e / (2.0 * material.shear_modulus) - 1.0
     return e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
 
 

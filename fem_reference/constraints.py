@@ -49,7 +49,7 @@ import scipy.sparse as sp
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
-from common.rigid_body import skew
+from common.rigid_body import rigid_body_mass, skew
 
 from .discretisation import Discretisation
 
@@ -89,13 +89,7 @@ def face_projection(disc: Discretisation, name: str, ref: np.ndarray) -> FacePro
     j1, j2 = np.einsum("tkc,kq->tqc", x, dxi), np.einsum("tkc,kq->tqc", x, deta)
     da = np.linalg.norm(np.cross(j1, j2), axis=-1) * qw[None, :]  # (nt, nq)
     area = float(da.sum())
-    s = np.einsum("tq,tqc->c", da, pos)
-    ss = np.einsum("tq,tqc,tqd->cd", da, pos, pos)
-    g = np.zeros((6, 6))
-    g[:3, :3] = area * np.eye(3)
-    g[:3, 3:] = -skew(s)
-    g[3:, :3] = skew(s)
-    g[3:, 3:] = np.trace(ss) * np.eye(3) - ss
+    g = rigid_body_mass(pos.reshape(-1, 3), da.ravel())  # int Phi^T Phi dA
     w = np.zeros(len(nodes))
     m = np.zeros((len(nodes), 3))
     np.add.at(w, local, np.einsum("tq,kq->tk", da, n))

@@ -2,23 +2,35 @@
 
 For every mode, f(h) = f_inf + C h^p is fitted to all sizes of the study (at least three; the
 size ratios need not be equal) by least squares: for each trial p the fit is linear in (f_inf, C),
-and p minimises the residual (bounded search on [P_MIN, P_MAX]). With exactly three sizes this is
-the classical three-grid Richardson estimate, p solving
+and the observed order p_obs minimises the residual (bounded search on [P_MIN, P_FIT_MAX]). With
+exactly three sizes this is the classical three-grid Richardson estimate, p solving
     (f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p);
 with more sizes it averages out the mesh-to-mesh scatter of unstructured meshes (the orders of
 successive triplets, also reported, scatter by +-1 or more on these meshes because each gmsh mesh
-is a different tetrahedralisation, not a nested refinement). The estimated relative error of every
-size is |f_h - f_inf| / f_inf plus the fit's RMS residual relative to f_inf (the part of the
-scatter the model does not explain, added so the estimate stays honest). h is the effective element size (V / n_nodes)^(1/3) of each mesh, which
-follows the mesh actually built better than the nominal gmsh size at coarse sizes (both are
-reported).
+is a different tetrahedralisation, not a nested refinement).
 
-Rigidly coupled faces have stress-singular rims, so the observed order is well below the smooth
-value (2 k = 4 for the eigenvalues of P2 elements) - expect p ~ 1.5-2.5 there. A sequence whose
-differences change sign (non-monotone) or whose order falls outside [P_MIN, P_MAX] has no
-trustworthy order: then `order` is None, `status` says why, the extrapolated value is the finest
-result, and every size's error estimate is |f_h - f_finest| / f_finest plus the last change
-|f_finest - f_previous| / f_finest (a conservative bound, not an extrapolation).
+The order used is the observed one bounded by theory: p = min(p_obs, P_THEORY). A rigidly
+coupled joint face meets the cylinder wall at a bonded 90-degree edge, where the stress is
+singular like r^(lambda - 1) with Williams' exponent lambda = 0.712 (the smallest root for a
+wedge of angle pi/2 with one face clamped and one free, Poisson ratio 0.3); the eigenvalue error
+of any mesh family whose element sizes all scale with h (uniform, or graded toward the rims with
+the rim size a fixed fraction of h, meshing.geometry) then falls like h^(2 lambda) = h^1.42
+asymptotically, whatever the element order. An observed order above that is pre-asymptotic
+(the smooth part of the error still dominates) and would make the extrapolation too short, so
+it is not used; an observed order below it is used as observed (it extrapolates further). The
+limit is extrapolated from the two finest sizes at that order (the classical Richardson step,
+f_inf = f_n - (f_{n-1} - f_n) / ((h_{n-1} / h_n)^p - 1): the coarse sizes of an unnested,
+pre-asymptotic sequence would pull a fit at a bounded order off), and the estimated relative
+error of every size is |f_h - f_inf| / f_inf plus the RMS residual of the fit at the observed
+order relative to f_inf (the mesh-to-mesh scatter that the model does not explain). h is the
+effective element size (V / n_nodes)^(1/3) of each mesh, which follows the mesh actually built
+better than the nominal gmsh size (both are reported).
+
+A sequence whose differences change sign (non-monotone) or whose observed order is below P_MIN
+has no trustworthy order: then `order` is None, `status` says why, the extrapolated value is the
+finest result, and the bound is widened, not shrunk: every size's error is |f_h - f_finest|
+plus the largest change between successive sizes carried to the finest size as the tail of a
+sequence converging at P_THEORY, |largest change| / ((h_{n-1} / h_n)^P_THEORY - 1).
 """
 from __future__ import annotations
 
@@ -28,17 +40,20 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-P_MIN, P_MAX = 0.3, 4.0  # 4 = 2k, the smooth-solution order of P2 eigenvalues: the ceiling
-P_SINGULAR = 2.0  # the order the stress-singular rims of rigidly coupled faces allow
+P_MIN = 0.3  # below: no trustworthy order (a widened bound instead)
+P_FIT_MAX = 4.0  # 2 k, the smooth-solution order of P2 eigenvalues: the fit's search range
+WILLIAMS_LAMBDA = 0.712  # bonded 90-degree edge (clamped face meets free wall), nu = 0.3
+P_THEORY = 2 * WILLIAMS_LAMBDA  # ~1.42: the asymptotic order in h at the singular rims
 
 
 @dataclass
 class ModeConvergence:
-    order: float | None
+    order: float | None  # the order used: min(observed, P_THEORY); None without a trusted one
     extrapolated_hz: float
     relative_error: list[float]  # per size, coarse -> fine
     status: str  # "ok", "non-monotone", "order out of range", "converged"
     orders_by_triplet: list[float | None] = field(default_factory=list)
+    observed_order: float | None = None  # the fitted order before the theory bound
 
 
 def sequence_around(size: float, design) -> tuple[float, ...]:
@@ -90,7 +105,7 @@ def fit_order(h, f) -> tuple[float, float, float]:
     """(p, f_inf, rms residual) of the least-squares fit f = f_inf + C h^p."""
     h = np.asarray(h, float) / np.max(h)  # scale for conditioning; p is scale-free
     f = np.asarray(f, float)
-    grid = np.linspace(P_MIN, P_MAX, 155)
+    grid = np.linspace(P_MIN, P_FIT_MAX, 155)
     res = [_fit(h, f, p)[1] for p in grid]
     k = int(np.argmin(res))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
@@ -103,38 +118,32 @@ def fit_order(h, f) -> tuple[float, float, float]:
 
 
 def richardson(h, f, noise: float = 1e-9) -> ModeConvergence:
-    """Extrapolate one mode's frequencies f over sizes h (coarse -> fine, >= 3 sizes).
-
-    The extrapolated value uses the fitted order p (at most P_MAX). Three or four unnested
-    meshes pin p down poorly (the fit residual is nearly flat between p = 2 and 4 on this
-    problem), so the error estimate of every size is the larger of the two extrapolations, at
-    the fitted p and at the singular-rim order P_SINGULAR, plus the fit's RMS residual.
-    """
+    """Extrapolate one mode's frequencies f over sizes h (coarse -> fine, >= 3 sizes) with the
+    observed order bounded by theory (module docstring); a widened bound without one."""
     h = np.asarray(h, float)
     f = np.asarray(f, float)
     if len(h) < 3:
         raise ValueError(f"sizes = {h.tolist()}: Richardson extrapolation needs three sizes")
     triplets = [observed_order(h[k:k + 3], f[k:k + 3]) for k in range(len(h) - 2)]
-    finest, previous = f[-1], f[-2]
+    finest = f[-1]
     scale = abs(finest)
     if np.all(np.abs(f - finest) <= noise * scale):
         return ModeConvergence(None, float(finest), [0.0] * len(f), "converged", triplets)
     steps = np.diff(f)
     monotone = np.all(steps <= 0) or np.all(steps >= 0)
-    p, f_inf, rms = fit_order(h, f) if monotone else (None, None, None)
-    if p is None or not (P_MIN + 1e-6 < p < P_MAX - 1e-6):
-        status = "non-monotone" if p is None else "order out of range"
-        if p is not None and p >= P_MAX - 1e-6:  # converging faster than P2 can: cap at P_MAX
-            status = "order capped"
-        else:
-            last = abs(finest - previous) / scale
-            errs = [float(abs(x - finest) / scale + last) for x in f]
-            return ModeConvergence(None, float(finest), errs, status, triplets)
-    else:
-        status = "ok"
-    f_singular = _fit(np.asarray(h) / np.max(h), f, P_SINGULAR)[0][0]
-    errs = [float((max(abs(x - f_inf), abs(x - f_singular)) + rms) / abs(f_inf)) for x in f]
-    return ModeConvergence(float(p), float(f_inf), errs, status, triplets)
+    p_obs, _, _ = fit_order(h, f) if monotone else (None, None, None)
+    if p_obs is None or p_obs <= P_MIN + 1e-6:
+        tail = np.abs(steps).max() / ((h[-2] / h[-1]) ** P_THEORY - 1.0)
+        errs = [float((abs(x - finest) + tail) / scale) for x in f]
+        return ModeConvergence(None, float(finest), errs,
+                               "non-monotone" if p_obs is None else "order out of range",
+                               triplets, p_obs)
+    p = min(p_obs, P_THEORY)
+    _, rms = _fit(h / np.max(h), f, p_obs)  # the scatter the observed model leaves
+    f_inf = float(finest - (f[-2] - finest) / ((h[-2] / h[-1]) ** p - 1.0))
+    errs = [float((abs(x - f_inf) + rms) / abs(f_inf)) for x in f]
+    status = "ok" if p_obs <= P_THEORY else "order bounded by theory"
+    return ModeConvergence(float(p), f_inf, errs, status, triplets, float(p_obs))
 
 
 @dataclass
@@ -172,6 +181,7 @@ class RefinementStudy:
             "raw_dofs": self.raw_dofs,
             "timings": self.timings,
             "observed_order": self.orders,
+            "fitted_order": [m.observed_order for m in self.modes],
             "orders_by_triplet": [m.orders_by_triplet for m in self.modes],
             "status": [m.status for m in self.modes],
             "extrapolated_hz": self.extrapolated_hz,

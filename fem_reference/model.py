@@ -3,7 +3,8 @@
 solve_pose(manipulator, geometry, options) -> FemResult. Steps (timed):
   mesh      bodies of the pose -> gmsh 10-node tetrahedra (or the mesh cache)
   assemble  scikit-fem P2 stiffness and consistent mass, joint constraint map T (u = T q),
-            reduced K_q = T^T K T, M_q = T^T M T (+ the rigid platform's 6x6 mass at o, Eqs. 7-9)
+            reduced K_q = T^T K T, M_q = T^T M T (+ the rigid platform's 6x6 mass at o, Eqs. 7-9,
+            integrated over its own meshed plate: rigid_platform.py)
   solve     shift-invert Lanczos for the lowest modes
 Every failure on bad input is a FemError with one line naming the offending value; nothing is
 written (cache entries and VTU files are atomic).
@@ -18,12 +19,11 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from common.plate import plate_inertia, plate_mass, rigid_mass_matrix
 from common.rigid_body import rigid_fit
 from common.settings import check_settings, nested_setting, setting
 from meshing.bodies import Assembly, GeometryError, Plate, platform_plate, pose_assembly
 from meshing.cache import cached_mesh
-from meshing.geometry import GmshFailure, MeshSettings
+from meshing.geometry import GmshFailure, MeshSettings, element_size
 
 from .assembly import stiffness_and_mass
 from .constraints import COUPLINGS, ConstraintMap, build_constraints
@@ -31,13 +31,21 @@ from .discretisation import Discretisation, discretise
 from .eigen import BACKENDS, EigenError, Modes, lowest_modes
 from .export import write_mode_collection, write_modes_vtu
 from .resources import MemoryLimitError, check_memory
+from .rigid_platform import meshed_plate_mass
 from common.worker import WorkerDied, stoppable
 from . import probes
 
 PLATFORMS = ("rigid", "elastic")
-# Measured on the paper's legs (gmsh, pinned options): P2 nodes ~ 5.8 V/h^3 + 3.5 A/h^2
-NODES_PER_VOLUME = 5.8
-NODES_PER_AREA = 3.5
+# P2 nodes ~ NODES_PER_VOLUME V / h^3 + NODES_PER_AREA A / h^2 + NODES_PER_RIM_AREA times the
+# rims' surface term (estimate_raw_dofs). Fitted (relative least squares) to 82 meshes of the
+# pinned gmsh options with Netgen's optimiser: the paper's legs, three poses, 16-50 mm, uniform
+# and six graded families; then raised by 1.2 so that no mesh has more nodes than estimated:
+# estimate / actual 1.01-1.36 there, 1.15-1.38 on stocky (d = 150 mm) and slender (d = 30 mm)
+# legs. The fit leaves no separate volume term at the rims: the surface meshes carry the
+# grading, and the interior follows them.
+NODES_PER_VOLUME = 4.4
+NODES_PER_AREA = 7.4
+NODES_PER_RIM_AREA = 14.0
 MAX_ESTIMATE = 10**15  # dofs: the estimate of absurdly small sizes, far above any guard
 
 
@@ -62,6 +70,11 @@ class FemOptions:
                             "distributing (RBE3-like, the face may warp)")
     modes: int = setting(6, kind=int, minimum=1, scene=False,
                          doc="number of modes solved for")
+    platform_mesh: float = setting(
+        0.2, minimum=0.0, exclusive_minimum=True, maximum=2.0, scene=False,
+        doc="element size of the rigid platform's own mesh, over which its mass and inertia "
+        "are integrated, as a fraction of the platform radius (0.2: 1e-6 of the disk's "
+        "closed form, fem_reference/rigid_platform.py)")
 
     def __post_init__(self):
         if not isinstance(self.mesh, MeshSettings):
@@ -114,6 +127,7 @@ class FemResult:
     mesh_digest: str
     n_elements: int
     options: FemOptions
+    min_quality: float  # smallest scaled Jacobian of the curved elements (meshing.geometry)
     geometry: object = field(repr=False)  # analytical.kinematics.PoseGeometry
     assembly: Assembly = field(repr=False)  # the meshed bodies (names of legs and faces)
     disc: Discretisation = field(repr=False)
@@ -177,6 +191,7 @@ class FemResult:
             "raw_dofs": self.raw_dofs,
             "mesh_size_m": self.mesh_size,
             "elements": self.n_elements,
+            "min_scaled_jacobian": self.min_quality,
             "timings": dict(self.timings),
             "clusters": self.clusters,
             "cache_hit": self.cache_hit,
@@ -185,23 +200,34 @@ class FemResult:
             "coupling": self.options.coupling,
             "rim_factor": self.options.mesh.rim_factor,
             "rim_zone_m": self.options.mesh.rim_zone,
+            "rim_grading": self.options.mesh.rim_grading,
         }
 
 
 def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
-    """Raw dof count of the P2 mesh, estimated from volume and surface before meshing."""
+    """Raw dof count of the P2 mesh, estimated from volume and surface before meshing.
+
+    Uniform part: NODES_PER_VOLUME V / h^3 + NODES_PER_AREA A / h^2. Graded part, at every
+    joint-face rim (a circle of the leg radius R): the surface nodes that the finer size s(r) of
+    `meshing.geometry.element_size` adds at a distance r from the rim, on the two surfaces that
+    meet there (the face and the wall), NODES_PER_RIM_AREA int (1/s^2 - 1/h^2) 2 (2 pi R) dr.
+    """
     h = settings.size
     try:
         nodes = NODES_PER_VOLUME * assembly.volume / h**3 + NODES_PER_AREA * assembly.area / h**2
         if settings.rim_factor < 1 and settings.rim_zone > 0:
-            # each joint-face rim: a quarter torus of radius rim_zone, mean size ~ (1 + f) h / 2
-            zone = sum(2 * (math.pi * min(settings.rim_zone, c.radius) ** 2 / 4)
-                       * 2 * math.pi * c.radius for c in assembly.cylinders)
-            h_zone = 0.5 * (1 + settings.rim_factor) * h
-            nodes += NODES_PER_VOLUME * zone * (1 / h_zone**3 - 1 / h**3)
-    except (ZeroDivisionError, OverflowError):  # sizes so small that h^3 underflows
+            for c in assembly.cylinders:
+                reach = min(settings.rim_zone, c.radius, 0.5 * c.length)
+                r = reach * np.concatenate([np.linspace(0.0, 1e-3, 50)[:-1],
+                                            np.geomspace(1e-3, 1.0, 400)])
+                finer = 1 / element_size(settings, r) ** 2 - 1 / h**2
+                nodes += (NODES_PER_RIM_AREA * 2 * (2 * math.pi * c.radius)
+                          * float(np.trapezoid(2 * finer, r)))
+    except (ZeroDivisionError, OverflowError, FloatingPointError):  # h^3 underflows
         nodes = math.inf
-    return int(3 * nodes) if 3 * nodes < MAX_ESTIMATE else MAX_ESTIMATE  # NaN, inf: capped
+    if not math.isfinite(nodes):
+        return MAX_ESTIMATE
+    return int(3 * nodes) if 3 * nodes < MAX_ESTIMATE else MAX_ESTIMATE
 
 
 def check_mesh_size(assembly: Assembly, settings: MeshSettings, runtime: FemRuntime) -> None:
@@ -254,9 +280,16 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     t_ = cmap.T
     kq = (t_.T @ k @ t_).tocsr()
     mq = (t_.T @ m @ t_).tocsr()
+    plate = assembly.plate or platform_plate(manipulator, geometry)
     if not elastic:
         cols = cmap.columns["platform"]
-        mp = sp.coo_matrix(_rigid_platform_mass(manipulator, np.asarray(geometry.rotation)))
+        try:
+            mp = sp.coo_matrix(meshed_plate_mass(
+                plate, np.asarray(geometry.rotation), manipulator.material.density,
+                options.platform_mesh * plate.radius))
+        except GmshFailure as exc:
+            raise FemError(f"platform_mesh = {options.platform_mesh:g}: gmsh failed on the "
+                           f"platform plate ({exc})") from None
         mq = mq + sp.csr_matrix((mp.data, (cols[mp.row], cols[mp.col])), shape=mq.shape)
     kq = 0.5 * (kq + kq.T)  # symmetric to round-off
     mq = 0.5 * (mq + mq.T)
@@ -282,6 +315,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         mesh_digest=solid.digest(),
         n_elements=int(len(solid.tets)),
         options=options,
+        min_quality=float(solid.info.get("min_scaled_jacobian", float("nan"))),
         geometry=geometry,
         assembly=assembly,
         disc=disc,
@@ -289,7 +323,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         modes_q=vq,
         modes_raw=v_raw,
         mass_matrix=m,
-        plate=assembly.plate or platform_plate(manipulator, geometry),
+        plate=plate,
     )
     return result
 
@@ -305,9 +339,3 @@ def _normalise_signs(v: np.ndarray) -> np.ndarray:
 def with_size(options: FemOptions, size: float) -> FemOptions:
     return options.with_size(size)
 
-
-def _rigid_platform_mass(manipulator, rotation: np.ndarray) -> np.ndarray:
-    """6x6 mass of the rigid plate at o (Eqs. 7-9) from the plate's own shape and material."""
-    m = manipulator
-    args = (m.platform_shape, m.platform_radius, m.platform_thickness, m.material.density)
-    return rigid_mass_matrix(plate_mass(*args), plate_inertia(*args), rotation)

@@ -38,6 +38,20 @@ the estimate lies above every measured peak, by 5 to 48 % (10.9 GB against 8.23 
 and agrees with the one larger run on record, `fem --size 9` (395k dofs), which passed 15.7 GB
 after 10 minutes and was still growing (issue 11): estimated here 17.1 GB.
 
+Graded meshes (issue 13: rim_factor 0.4, rim_zone 0.15 d, rim_grading 1, Netgen-optimised;
+case 1, one solve in-process, peak of the process or its solver child) fill less per dof than
+their global size suggests (the refinement is local to the rims, the leg's middle sections stay
+at h), so the same formula stays above them with the dof estimate of fem_reference.model:
+
+    scene            h (mm)  dofs n   estimated n   peak      estimate
+    paper              25     32,160     28,565*    0.40 GB   0.58 GB
+    paper              20     53,142     50,950*    0.69 GB   1.00 GB
+    paper              16     93,438     91,948*    1.28 GB   2.00 GB
+    stocky (d 150)     32     34,131     46,699     0.45 GB   0.89 GB
+    stocky (d 150)     24     69,006     90,016     0.96 GB   1.96 GB
+    slender (d 30)    7.5     87,390    111,425     0.91 GB   1.67 GB
+    (* estimated before the dof constants were re-fitted; now 10-36 % above the raw count)
+
 The limit is half the memory available now (MemAvailable, or a cgroup's remaining limit if
 lower): the machine is shared, the estimate scatters by tens of per cent, and the rest of the
 run keeps its own memory.

@@ -1,7 +1,8 @@
 """On-disk mesh cache keyed by the geometry content and the mesh settings.
 
 Key: SHA-256 of the canonical JSON of the bodies (rounded to 1e-12 m), the mesh settings, the
-pinned gmsh options, the gmsh version and the cache format version. An entry is two files:
+pinned gmsh options, the element-quality threshold and its repair options, the gmsh version and
+the cache format version. An entry is two files:
 `<key>.vtu` (the mesh, written by meshio) and `<key>.json` (digest of the mesh arrays and
 metadata, with the SHA-256 of the mesh file and of the JSON itself), each written to a
 temporary file in the same directory and moved into place with os.replace, the JSON last: an
@@ -25,7 +26,8 @@ from common.locations import cache_root
 from common.checksum import ChecksumError, report_dropped, seal, verify
 
 from .bodies import Assembly
-from .geometry import PINNED_OPTIONS, MeshSettings, build_mesh, gmsh_version
+from .geometry import (MIN_QUALITY, PINNED_OPTIONS, REPAIR_OPTIONS, MeshSettings, build_mesh,
+                       gmsh_version)
 from .mesh import MeshFormatError, SolidMesh
 
 FORMAT_VERSION = 1
@@ -38,6 +40,7 @@ def cache_key(assembly: Assembly, settings: MeshSettings) -> str:
         "format": FORMAT_VERSION,
         "gmsh": gmsh_version(),
         "options": PINNED_OPTIONS,
+        "quality": {"minimum": MIN_QUALITY, "repair": REPAIR_OPTIONS},
         "assembly": assembly.canonical(),
         "settings": settings.canonical(),
     }

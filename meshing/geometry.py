@@ -4,10 +4,14 @@ Each leg is its own solid cylinder B_i -> A_i, the (optional) elastic platform i
 nothing is fused, so the bodies share no node and are joined only by the FEM's joint
 constraints. Elements are 10-node tetrahedra with curved (geometry-following) mid-edge nodes.
 
-Size control: a global size h everywhere; optionally a finer size `rim_factor * h` within
-`rim_zone` of the rims of the joint faces (the edges of rigidly coupled faces, where the stress is
-singular). Every option that gmsh would otherwise read from its defaults or the environment is
-pinned below, with one thread, so the same input gives the same mesh, node for node.
+Size control: a global size h everywhere, graded toward the rims of the joint faces (the edges
+of rigidly coupled faces, where the stress is singular): at a distance r from the nearest rim the
+size is h (r / rim_zone)^a, at least rim_factor h and at most h. With a = 1 the elements near a
+rim are as large as a fixed fraction of their distance to it (geometric layers). Every length
+of the field is h times a function of r that does not depend on h, so meshes at different h
+form one family (the refinement study's observed order is that of the family). Every option that
+gmsh would otherwise read from its defaults or the environment is pinned below, with one thread,
+so the same input gives the same mesh, node for node.
 
 gmsh is a process-wide singleton and neither thread-safe nor reentrant: calls are serialised by a
 lock, and gmsh is always finalised, also on error.
@@ -42,12 +46,17 @@ class MeshSettings:
     size: float = setting(doc="global element size h of the solid mesh", unit="mm",
                           minimum=0.0, exclusive_minimum=True, scene_name="mesh_size")
     rim_factor: float = setting(
-        0.5, doc="element size at the rims of the joint faces (stress-singular edges of "
-        "rigidly coupled faces), as a fraction of the global size; 1 = no refinement",
+        0.4, doc="smallest element size, at the rims of the joint faces (stress-singular edges "
+        "of rigidly coupled faces), as a fraction of the global size; 1 = no refinement",
         minimum=0.0, exclusive_minimum=True, maximum=1.0)
     rim_zone: float = setting(
-        0.015, doc="distance from the joint-face rims over which the element size grows back "
-        "to the global size (0 = no refinement)", unit="mm", minimum=0.0)
+        0.015, doc="distance from the joint-face rims at which the element size is back to the "
+        "global size (0 = no refinement)", unit="mm", minimum=0.0)
+    rim_grading: float = setting(
+        1.0, doc="exponent a of the graded size h (distance / rim_zone)^a near the rims, "
+        "bounded by rim_factor h below and h above; 1: geometric (elements as large as a "
+        "fixed fraction of their distance to the rim)", minimum=0.0, exclusive_minimum=True,
+        maximum=1.0)
 
     def __post_init__(self):
         check_settings(self)
@@ -72,7 +81,7 @@ PINNED_OPTIONS = {
     "Mesh.Algorithm": 6,
     "Mesh.Algorithm3D": 1,
     "Mesh.Optimize": 1,
-    "Mesh.OptimizeNetgen": 0,
+    "Mesh.OptimizeNetgen": 1,
     "Mesh.OptimizeThreshold": 0.3,
     "Mesh.Smoothing": 1,
     "Mesh.ElementOrder": 2,
@@ -88,6 +97,24 @@ PINNED_OPTIONS = {
     "Mesh.SubdivisionAlgorithm": 0,
     "Mesh.Binary": 0,
 }
+
+
+def rim_size_expression(settings: MeshSettings, distance: str) -> str:
+    """gmsh MathEval text of the element size at `distance` (a field) from the nearest rim:
+    h (distance / rim_zone)^a, bounded by rim_factor h and h (see `element_size`)."""
+    h, z = float(settings.size), float(settings.rim_zone)
+    return (f"Max({h * settings.rim_factor!r}, Min({h!r}, "
+            f"{h!r} * ({distance} / {z!r})^{float(settings.rim_grading)!r}))")
+
+
+def element_size(settings: MeshSettings, distance):
+    """The size that the mesh is asked for at `distance` (m, array) from the nearest rim."""
+    h = float(settings.size)
+    if settings.rim_factor >= 1.0 or settings.rim_zone <= 0.0:
+        return np.full_like(np.asarray(distance, float), h)
+    ratio = np.asarray(distance, float) / settings.rim_zone
+    return np.clip(h * ratio ** settings.rim_grading, h * settings.rim_factor, h)
+
 
 _GMSH_LOCK = threading.Lock()
 GMSH_TETRA10_TO_MESHIO = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]  # gmsh edge 8 is 23, 9 is 13
@@ -125,25 +152,45 @@ def _add_plate(plate: Plate, occ) -> int:
     return next(t for d, t in out if d == 3)
 
 
-# Second attempt when the first mesh has folded curved tetrahedra (seen at coarse sizes with
-# rim refinement): Netgen's optimiser reshapes the linear mesh before it is curved. Measured on
-# the paper's four poses at 32-45 mm: it removes every fold, costs ~0.1 s and ~10 % more nodes.
-FALLBACK_OPTIONS = {"Mesh.OptimizeNetgen": 1}
+# Element quality: the minimum scaled Jacobian (gmsh "minSJ", 1 for an undistorted element,
+# <= 0 folded) of every curved tetrahedron. Without Netgen's optimiser most meshes of the
+# paper's poses had nearly degenerate curved elements (minSJ 0.000-0.02 at 25-50 mm, measured
+# on six poses, some folded); with it (pinned above, +0.1-0.2 s at 40 mm) 0.15-0.88. Below
+# MIN_QUALITY the mesh is rebuilt once with gmsh's high-order optimiser on top (REPAIR_OPTIONS,
+# 0.68-0.85 on the same poses, twice the meshing time); in a child process, because that
+# optimiser can abort the whole process (std::runtime_error, measured without Netgen). A mesh
+# still below the threshold is refused (GmshFailure naming the value).
+MIN_QUALITY = 0.1
+REPAIR_OPTIONS = {"Mesh.HighOrderOptimize": 2}
 
 
 def build_mesh(assembly: Assembly, settings: MeshSettings) -> SolidMesh:
     """Mesh the bodies with 10-node tetrahedra; physical groups per body and joint face.
 
-    A mesh with inverted curved tetrahedra is rebuilt once with FALLBACK_OPTIONS (the same
-    input always takes the same path, so meshes stay deterministic). Raises GmshFailure when
-    gmsh fails or returns an empty or inverted mesh.
+    A mesh whose worst curved element has a scaled Jacobian below MIN_QUALITY is rebuilt once
+    with REPAIR_OPTIONS (the same input always takes the same path, so meshes stay
+    deterministic); `info["min_scaled_jacobian"]` records the quality of the mesh returned.
+    Raises GmshFailure when gmsh fails or the repaired mesh is still below the threshold.
     """
+    from common.worker import WorkerDied, stoppable
+
+    mesh = _build_with(assembly, settings, {})
+    if _quality(mesh) >= MIN_QUALITY:
+        return mesh
+    first = _quality(mesh)
     try:
-        return _build_with(assembly, settings, {})
-    except GmshFailure as exc:
-        if "inverted" not in str(exc):
-            raise
-        return _build_with(assembly, settings, FALLBACK_OPTIONS)
+        mesh = stoppable(_build_with, assembly, settings, REPAIR_OPTIONS)
+    except WorkerDied:
+        raise GmshFailure(f"min scaled Jacobian {first:.3g} below {MIN_QUALITY:g}, and gmsh's "
+                          "high-order optimiser aborted on the repair") from None
+    if _quality(mesh) < MIN_QUALITY:
+        raise GmshFailure(f"min scaled Jacobian {_quality(mesh):.3g} below {MIN_QUALITY:g} "
+                          f"after repair ({first:.3g} before; inverted if <= 0)")
+    return mesh
+
+
+def _quality(mesh: SolidMesh) -> float:
+    return float(mesh.info["min_scaled_jacobian"])
 
 
 def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> SolidMesh:
@@ -204,13 +251,9 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
         dist = model.mesh.field.add("Distance")
         model.mesh.field.setNumbers(dist, "CurvesList", rims)
         model.mesh.field.setNumber(dist, "Sampling", 200)
-        thr = model.mesh.field.add("Threshold")
-        model.mesh.field.setNumber(thr, "InField", dist)
-        model.mesh.field.setNumber(thr, "SizeMin", h * settings.rim_factor)
-        model.mesh.field.setNumber(thr, "SizeMax", h)
-        model.mesh.field.setNumber(thr, "DistMin", 0.0)
-        model.mesh.field.setNumber(thr, "DistMax", settings.rim_zone)
-        model.mesh.field.setAsBackgroundMesh(thr)
+        graded = model.mesh.field.add("MathEval")
+        model.mesh.field.setString(graded, "F", rim_size_expression(settings, f"F{dist}"))
+        model.mesh.field.setAsBackgroundMesh(graded)
 
     model.mesh.generate(3)
 
@@ -238,9 +281,6 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
     tets = np.concatenate(tets)
     all_tags = np.concatenate(elem_tags)
     quality = np.asarray(model.mesh.getElementQualities(all_tags.tolist(), "minSJ"))
-    if quality.size and quality.min() <= 0.0:
-        raise GmshFailure(f"{int((quality <= 0).sum())} inverted curved tetrahedra "
-                          f"(min scaled Jacobian {quality.min():.3g})")
 
     face_conn = {}
     for name in face_names:
@@ -257,7 +297,7 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
     remap = np.full(len(points), -1, np.int64)
     remap[used] = np.arange(len(used))
     info = {"gmsh": gmsh_version(), "settings": settings.canonical(),
-            "min_scaled_jacobian": float(quality.min()) if quality.size else None}
+            "min_scaled_jacobian": float(quality.min())}
     return SolidMesh(points[used], remap[tets], np.concatenate(tet_body),
                      tuple(n for n, _ in volumes),
                      {n: remap[f] for n, f in face_conn.items()}, info)

@@ -320,6 +320,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         "frequencies_hz": [float(x) for x in result.frequencies_hz[:count]],
         "dofs": int(result.dofs),
         "mesh_size_m": float(result.mesh_size),
+        "min_scaled_jacobian": float(result.min_quality),
         "timings": {k: float(v) for k, v in result.timings.items()},
         "seconds": seconds,
     }

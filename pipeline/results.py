@@ -184,7 +184,7 @@ class Refinement(TypedDict):
     mesh_cache_hit: list[bool]
     observed_order: list[FiniteFloat | None]
     orders_by_triplet: list[list[FiniteFloat | None]]
-    status: list[str]  # ok, order capped, non-monotone, order out of range, converged
+    status: list[str]  # ok, order bounded by theory, non-monotone, order out of range, converged
     extrapolated_hz: Hz
     estimated_error_percent: list[list[FiniteFloat]]  # [size][mode]
     estimated_error_percent_max: list[FiniteFloat]

@@ -77,9 +77,11 @@ def test_every_fem_option_is_in_the_result_cache_key(scene):
         "size": replace(base, mesh=replace(base.mesh, size=base.mesh.size * 0.9)),
         "rim_factor": replace(base, mesh=replace(base.mesh, rim_factor=0.7)),
         "rim_zone": replace(base, mesh=replace(base.mesh, rim_zone=0.02)),
+        "rim_grading": replace(base, mesh=replace(base.mesh, rim_grading=0.5)),
         "platform": replace(base, platform="elastic"),
         "coupling": replace(base, coupling="distributing"),
         "modes": replace(base, modes=base.modes + 1),
+        "platform_mesh": replace(base, platform_mesh=base.platform_mesh * 0.5),
     }
     declared = {f.name for f in fields(MeshSettings)} | {f.name for f in fields(FemOptions)}
     assert declared - {"mesh"} == set(changed), "a new option needs a line here"
