@@ -1,6 +1,7 @@
 """One case, both models: solve, sample shapes on shared points, pair, and tabulate errors."""
 from __future__ import annotations
 
+import math
 import os
 import time
 from dataclasses import dataclass, replace
@@ -110,6 +111,8 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
             "mesh_cache_hit": bool(result.cache_hit),  # then "mesh" timed a cache read
             "platform_motion": result.platform_motion.tolist(),
             "station_shapes": shapes.reshape(-1, shapes.shape[-1]).tolist(),
+            "min_scaled_jacobian": (float(result.min_quality)
+                                    if math.isfinite(result.min_quality) else None),
         }
         return value, {".vtu": vtu}
 
@@ -126,7 +129,8 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
 
 # what a cached FEM value holds (an entry lacking any of them is recomputed)
 FEM_CACHED = ("frequencies_hz", "dofs", "raw_dofs", "mesh_size_m", "platform", "coupling",
-              "timings", "mesh_cache_hit", "platform_motion", "station_shapes")
+              "timings", "mesh_cache_hit", "platform_motion", "station_shapes",
+              "min_scaled_jacobian")
 
 
 def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:

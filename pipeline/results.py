@@ -148,6 +148,7 @@ class FemRecord(TypedDict):
     mesh_cache_hit: bool  # then "mesh" timed a cache read
     cache_hit: bool  # the whole result came from the result cache
     platform_motion: Motion
+    min_scaled_jacobian: FiniteFloat | None  # worst curved element of the mesh (1 = ideal)
 
 
 @with_config(_STRICT)

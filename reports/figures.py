@@ -98,14 +98,14 @@ def fem_refinement(ref: dict, path: Path, scene_size_m: float | None = None) -> 
 
 def _limit_note(ref: dict, k: int) -> str:
     """What the star of mode k is when the extrapolation did not run as usual: the finest
-    mesh's value, or an extrapolation at a capped order."""
+    mesh's value, or an extrapolation at the order theory bounds it to."""
     status, order = ref["status"][k], ref["observed_order"][k]
     if status == "ok":
         return ""
     if ref["extrapolated_hz"][k] == ref["frequencies_hz"][-1][k]:
         return f"{status}, limit = finest"
-    if status == "order capped" and order is not None:
-        return f"p capped at {order:.2g}"
+    if status == "order bounded by theory" and order is not None:
+        return f"p = {order:.3g} (theory)"
     return status
 
 

@@ -349,11 +349,12 @@ def html_text(built) -> str:
 def test_convergence_panels_say_what_the_limit_is():
     from reports.figures import _limit_note
 
-    ref = {"status": ["ok", "order capped", "non-monotone"], "observed_order": [2.5, 4.0, None],
+    ref = {"status": ["ok", "order bounded by theory", "non-monotone"],
+           "observed_order": [1.3, 1.424, None],
            "extrapolated_hz": [99.0, 98.0, 100.5], "frequencies_hz": [[101, 101, 101],
                                                                       [100, 99, 100.5]]}
     assert _limit_note(ref, 0) == ""
-    assert _limit_note(ref, 1) == "p capped at 4"  # extrapolated, not the finest mesh
+    assert _limit_note(ref, 1) == "p = 1.42 (theory)"  # extrapolated, not the finest mesh
     assert _limit_note(ref, 2) == "non-monotone, limit = finest"
 
 
