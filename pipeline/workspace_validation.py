@@ -22,6 +22,7 @@ from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
 from analytical.workspace import max_tilt, regular_radii
 from common.settings import as_dict
+from fem_reference.convergence import P_THEORY
 
 from .cache import ResultCache
 from .compare import analytical_case, error_table, fem_case
@@ -29,7 +30,6 @@ from .studies import height_range
 
 PAPER_MODEL = "paper (EB, s=3, Eq. 8 inertia)"  # a label of studies.model_variants
 SOBOL_SEED = 20231
-SINGULAR_ORDER = 1.42  # eigenvalue error ~ h^(2 lambda), Williams' lambda = 0.712 (RESEARCH.md)
 LIMIT_TOL = 1e-4
 # Below this MAC a FEM mode has no partner: its shape is not seen on the leg axes (e.g. a leg's
 # torsion, which moves no axis point) or no beam mode resembles it. Its error is not a number.
@@ -113,7 +113,7 @@ def coarse_size(scene, size: float) -> float:
     return min(coarser) if coarser else size * 1.25
 
 
-def two_mesh_error(fine_hz, coarse_hz, ratio: float, order: float = SINGULAR_ORDER):
+def two_mesh_error(fine_hz, coarse_hz, ratio: float, order: float = P_THEORY):
     """Estimated relative error (%) of the fine solution from two sizes h and ratio * h:
     |f_h - f_H| / ((H / h)^p - 1) / f_h, Richardson with the singular-rim order p (the lowest
     order these meshes show, so the estimate errs on the large side)."""
