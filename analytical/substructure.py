@@ -166,8 +166,11 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
         arm = geometry.platform_points[i] - geometry.platform_centre
         t = _leg_map(n, i, geometry.leg_joints(i), arm, options.r_joint_coordinate)
         local = _to_limb_frame(t, geometry.leg_frames[i])  # u_i = T_i^T T q, Eqs. (5)-(6)
-        k_total += local.T @ k_local @ local
-        m_total += local.T @ m_local @ local
+        cols = np.flatnonzero(np.any(local != 0.0, axis=0))  # this leg's and the platform's
+        local = local[:, cols]
+        block = np.ix_(cols, cols)
+        k_total[block] += local.T @ k_local @ local
+        m_total[block] += local.T @ m_local @ local
         maps.append(t)
         nodes[i] = geometry.base_points[i] + np.outer(stations[i], geometry.platform_points[i]
                                                       - geometry.base_points[i])
