@@ -67,7 +67,7 @@ def model_variants(scene: Scene) -> dict[str, ModelOptions]:
     }
 
 
-SOLID_END_ELEMENTS = (1, 2, 3, 5)  # s of the beam middle between two solid end zones
+SOLID_END_ELEMENTS = (1, 2, 3, 4, 5)  # s of the beam middle between two solid end zones
 
 
 def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
