@@ -56,15 +56,16 @@ def segments(options: ModelOptions) -> int:
 def solid_end_zone(manipulator: Manipulator, options: ModelOptions) -> EndZone:
     """The condensed end zone of this leg diameter, material and joint coupling (built once,
     then read from the cache of `joint_ends`)."""
+    mat = manipulator.material
     try:
         from joint_ends import end_zone
-    except ImportError as exc:
+        return end_zone(manipulator.leg_diameter, options.end_zone * manipulator.leg_diameter,
+                        mat.youngs_modulus, mat.shear_modulus, mat.density,
+                        options.joint_coupling)
+    except ModuleNotFoundError as exc:  # gmsh, scikit-fem or the package itself
         raise JointEndsUnavailable(
             f"joint_ends = 'solid' needs the solid sub-model ({exc.name or exc} is not "
             "installed): install the [fem] extra or use joint_ends = 'beam'") from None
-    mat = manipulator.material
-    return end_zone(manipulator.leg_diameter, options.end_zone * manipulator.leg_diameter,
-                    mat.youngs_modulus, mat.shear_modulus, mat.density, options.joint_coupling)
 
 
 def leg_stations(options: ModelOptions, zone: EndZone | None, lengths) -> np.ndarray:
