@@ -244,3 +244,26 @@ def test_without_the_solid_builder_solid_ends_fail_in_one_line(scene, monkeypatc
         end_zones.solid_end_zone(scene.manipulator, opts)
     message = str(info.value)
     assert "\n" not in message and missing in message and "joint_ends = 'beam'" in message
+
+
+def test_workspace_maps_assemble_the_same_solid_ends_as_the_single_pose_model(scene):
+    """The batched model of the maps (analytical.batch_model) against the per-pose model, at
+    poses from compact to tall and tilted."""
+    from analytical.batch_model import assemble_batch
+    from analytical.kinematics import pose_geometry
+    from analytical.params import Pose
+    from analytical.pose_batch import pose_batch
+    from analytical.substructure import assemble
+
+    opts = _options(scene, "rigid", elements=3)
+    poses = [Pose(0.3, 0.2, -0.1), Pose(0.5436, math.radians(10), math.radians(-12)),
+             Pose(0.8, 0.9, 0.3)]
+    batch = assemble_batch(scene.manipulator,
+                           pose_batch(scene.manipulator, np.array([p.height for p in poses]),
+                                      np.array([p.azimuth for p in poses]),
+                                      np.array([p.tilt for p in poses])), opts)
+    for k, pose in enumerate(poses):
+        single = assemble(scene.manipulator, pose_geometry(scene.manipulator, pose), opts)
+        assert single.stiffness.shape == (18 * 5, 18 * 5)  # s + 2 segments per leg
+        for a, b in ((single.stiffness, batch.stiffness[k]), (single.mass, batch.mass[k])):
+            assert np.allclose(a, b, rtol=0, atol=1e-12 * np.abs(a).max())
