@@ -14,7 +14,8 @@ The independent coordinates (Eq. 19), per leg i then for the platform, are
 
     q = [phi_1, u_in,1, Phi_A1, phi_2, u_in,2, Phi_A2, phi_3, u_in,3, Phi_A3, Delta_p, Phi_p]
 
-with 6s - 2 per leg and 6 for the platform: 18 s in all. With the joint order of the paper's
+with 6s - 2 per leg and 6 for the platform: 18 s in all (18 (s + 2) with solid joint ends,
+whose two end zones per leg add two segments: analytical.end_zones). With the joint order of the paper's
 Section 2 text (S at B_i, R at A_i with its axis fixed in the platform) the same count holds:
 per leg [Phi_Bi (3), u_in,i, phi_i (1)], the S joint's leg end fixed in translation with a free
 rotation, the R joint's leg end translating with the platform (Eq. 10) and turning with it
