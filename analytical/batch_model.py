@@ -4,7 +4,8 @@ The same reduced K and M as `substructure.assemble`, pose by pose, built with nu
 batch of poses, and the eigen solves of `modal.solve_modes` without its per-call overhead:
 
 - the element matrices depend only on the leg length: one batched `frame_element` call gives
-  every element of every leg of every pose (a leg's s elements are equal);
+  every element of every leg of every pose (a leg's s elements are equal); solid end zones
+  (analytical.end_zones) are the same two matrices in every pose;
 - every joint map T_i (Eqs. 10, 12, 17, 21) is affine in the arm A_i - o and in the R-joint
   direction, so it is read from `substructure._leg_map` once, at zero and unit arms and
   directions, and combined per pose (`LegMapBasis`);
@@ -28,7 +29,7 @@ import math
 import numpy as np
 import scipy.linalg
 
-from .beam import Section, frame_element
+from .end_zones import leg_segments, segments, zone_for
 from .kinematics import Joint
 from .modal import ModalError
 from .params import Manipulator, ModelOptions
@@ -139,17 +140,14 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
 
     `plan` (from `assembly_plan`) may be passed to reuse it over many batches.
     """
-    s = options.elements
+    s = segments(options)  # frame elements, and the end zones with solid joint ends
     if plan is None or plan.elements != s:
         plan = assembly_plan(s, poses.base_joint, poses.platform_joint)
-    mat = manipulator.material
-    section = Section.solid_circle(manipulator.leg_diameter, mat.poisson_ratio, options.shear)
     n, n_q = len(poses), 18 * s
     matrices = np.zeros((2, n, n_q, n_q))  # K and M
     arms = poses.platform_points - poses.platform_centre[:, None, :]
-    k_e, m_e = frame_element(mat.youngs_modulus, mat.shear_modulus, mat.density, section,
-                             poses.leg_lengths.T / s, options.beam)  # (3, N, 12, 12), Eq. (4)
-    element = np.stack([k_e, m_e], axis=1)  # (3, 2, N, 12, 12)
+    parts = leg_segments(manipulator, options, zone_for(manipulator, options),
+                         poses.leg_lengths.T)  # (s, 2, 3, N, 12, 12), Eq. (4)
     maps = []
     for i, (basis, per_element) in enumerate(plan.legs):
         try:
@@ -161,7 +159,7 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
         local = (limb_to_base @ t.reshape(n, 2 * (s + 1), 3, -1)).reshape(t.shape)  # Eq. (6)
         for e, (columns, runs) in enumerate(per_element):
             rows = local[:, 6 * e:6 * e + 12][:, :, columns]
-            reduced = np.swapaxes(rows, 1, 2) @ element[i] @ rows  # (2, N, c_e, c_e)
+            reduced = np.swapaxes(rows, 1, 2) @ parts[e, :, i] @ rows  # (2, N, c_e, c_e)
             for to_rows, a in runs:
                 for to_cols, b in runs:
                     matrices[:, :, to_rows, to_cols] += reduced[:, :, a, b]

@@ -84,9 +84,10 @@ def leg_axis_displacements(model: SubstructureModel, leg_frames: np.ndarray,
                            shapes: np.ndarray, fractions) -> np.ndarray:
     """Translations of the leg axis at fractions t of B_i -> A_i, for each mode.
 
-    The beam field is interpolated inside each element as the element assumes it: linear
+    The beam field is interpolated inside each segment as a frame element assumes it: linear
     axial displacement, cubic Hermite transverse displacement from end translations and
-    rotations (theta_z = +dv/dx, theta_y = -dw/dx in the limb frame). Returns
+    rotations (theta_z = +dv/dx, theta_y = -dw/dx in the limb frame); a solid end zone is read
+    the same way between its joint and interface nodes. Returns
     (3, len(fractions), 3, n) in base coordinates.
     """
     s = model.elements
@@ -94,23 +95,26 @@ def leg_axis_displacements(model: SubstructureModel, leg_frames: np.ndarray,
     if np.any((t < 0) | (t > 1)):
         raise ValueError(f"fractions {t.tolist()}: must lie in [0, 1]")
     nodal = leg_displacements(model, shapes)  # (3, s+1, 6, n)
-    element = np.minimum((t * s).astype(int), s - 1)
-    xi = t * s - element
-    h1, h2 = 1 - 3 * xi**2 + 2 * xi**3, xi - 2 * xi**2 + xi**3
-    h3, h4 = 3 * xi**2 - 2 * xi**3, -xi**2 + xi**3
     legs = len(model.leg_maps)
     out = np.empty((legs, len(t), 3, shapes.shape[1]))
     for i in range(legs):
         frame = leg_frames[i]
-        length = np.linalg.norm(model.leg_nodes[i, -1] - model.leg_nodes[i, 0]) / s
+        along = np.linalg.norm(model.leg_nodes[i] - model.leg_nodes[i, 0], axis=1)
+        stations = along / along[-1]  # node positions as fractions of the leg
+        element = np.clip(np.searchsorted(stations, t, side="right") - 1, 0, s - 1)
+        length = along[element + 1] - along[element]
+        xi = (t - stations[element]) * along[-1] / length
+        h1, h2 = 1 - 3 * xi**2 + 2 * xi**3, xi - 2 * xi**2 + xi**3
+        h3, h4 = 3 * xi**2 - 2 * xi**3, -xi**2 + xi**3
         local_u = np.einsum("ba,kbn->kan", frame, nodal[i, :, :3, :])  # R_i^T u
         local_r = np.einsum("ba,kbn->kan", frame, nodal[i, :, 3:, :])
         a, b = element, element + 1
+        lk = length[:, None]
         ax = (1 - xi)[:, None] * local_u[a, 0] + xi[:, None] * local_u[b, 0]
-        v = (h1[:, None] * local_u[a, 1] + h2[:, None] * length * local_r[a, 2]
-             + h3[:, None] * local_u[b, 1] + h4[:, None] * length * local_r[b, 2])
-        w = (h1[:, None] * local_u[a, 2] - h2[:, None] * length * local_r[a, 1]
-             + h3[:, None] * local_u[b, 2] - h4[:, None] * length * local_r[b, 1])
+        v = (h1[:, None] * local_u[a, 1] + h2[:, None] * lk * local_r[a, 2]
+             + h3[:, None] * local_u[b, 1] + h4[:, None] * lk * local_r[b, 2])
+        w = (h1[:, None] * local_u[a, 2] - h2[:, None] * lk * local_r[a, 1]
+             + h3[:, None] * local_u[b, 2] - h4[:, None] * lk * local_r[b, 1])
         local = np.stack([ax, v, w], axis=1)  # (nt, 3, n)
         out[i] = np.einsum("ab,kbn->kan", frame, local)
     return out

@@ -16,6 +16,8 @@ BEAM_THEORIES = ("euler-bernoulli", "timoshenko")
 PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
 R_JOINT_COORDINATES = ("axis", "paper-eq18")
+JOINT_ENDS = ("beam", "solid")
+JOINT_COUPLINGS = ("rigid", "distributing")
 MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
 
 
@@ -140,6 +142,16 @@ class ModelOptions:
     shear: str = setting("cowper", kind=str, choices=SHEAR_COEFFICIENTS,
                          doc="Timoshenko shear coefficient of the round legs: Cowper's "
                          "6(1+nu)/(7+6nu) or Hutchinson's 6(1+nu)^2/(7+12nu+4nu^2)")
+    joint_ends: str = setting("beam", kind=str, choices=JOINT_ENDS,
+                              doc="leg ends at the joints: beam elements to the joint centre, or "
+                              "a solid end zone condensed from a small solid model (captures "
+                              "the joint face's restraint of warping and Poisson contraction)")
+    joint_coupling: str = setting("rigid", kind=str, choices=JOINT_COUPLINGS,
+                                  doc="how a solid end zone's joint face follows the joint "
+                                  "centre, as the FEM's coupling (default: the scene's [fem] "
+                                  "coupling)")
+    end_zone: float = setting(0.5, minimum=0.1, maximum=3.0,
+                              doc="length of each solid end zone, in leg diameters")
 
     def __post_init__(self) -> None:
         check_settings(self)

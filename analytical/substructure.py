@@ -14,7 +14,8 @@ The independent coordinates (Eq. 19), per leg i then for the platform, are
 
     q = [phi_1, u_in,1, Phi_A1, phi_2, u_in,2, Phi_A2, phi_3, u_in,3, Phi_A3, Delta_p, Phi_p]
 
-with 6s - 2 per leg and 6 for the platform: 18 s in all. With the joint order of the paper's
+with 6s - 2 per leg and 6 for the platform: 18 s in all (18 (s + 2) with solid joint ends,
+whose two end zones per leg add two segments: analytical.end_zones). With the joint order of the paper's
 Section 2 text (S at B_i, R at A_i with its axis fixed in the platform) the same count holds:
 per leg [Phi_Bi (3), u_in,i, phi_i (1)], the S joint's leg end fixed in translation with a free
 rotation, the R joint's leg end translating with the platform (Eq. 10) and turning with it
@@ -37,7 +38,7 @@ import numpy as np
 
 from common.rigid_body import skew
 
-from .beam import Section, assemble_beam
+from .end_zones import leg_segments, leg_stations, segments, zone_for
 from .kinematics import PoseGeometry
 from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
@@ -54,9 +55,9 @@ class SubstructureModel:
     stiffness: np.ndarray  # (18s, 18s)
     mass: np.ndarray  # (18s, 18s)
     leg_maps: tuple[np.ndarray, ...]  # T_i: (6(s+1), 18s), global leg nodal DOFs from q
-    leg_nodes: np.ndarray  # (3, s+1, 3) node positions along each leg, base coordinates
+    leg_nodes: np.ndarray  # (3, n+1, 3) node positions along each leg, base coordinates
     platform_slice: slice  # position of (Delta_p, Phi_p) in q
-    elements: int
+    elements: int  # n, segments per leg: s frame elements (+ 2 end zones with solid ends)
 
 
 def r_joint_direction(axis: np.ndarray, form: str) -> np.ndarray:
@@ -138,32 +139,43 @@ def _to_limb_frame(leg_map: np.ndarray, rotation: np.ndarray) -> np.ndarray:
 
 def assemble(manipulator: Manipulator, geometry: PoseGeometry,
              options: ModelOptions) -> SubstructureModel:
-    """Reduced stiffness K and mass M of the whole manipulator in one pose (Eqs. 4-22)."""
-    s = options.elements
-    mat = manipulator.material
-    section = Section.solid_circle(manipulator.leg_diameter, mat.poisson_ratio,
-                                   options.shear)
+    """Reduced stiffness K and mass M of the whole manipulator in one pose (Eqs. 4-22).
+
+    With solid joint ends every leg has s + 2 segments (analytical.end_zones): the condensed
+    end zones at B_i and A_i and s frame elements between them; the joints act on the zones'
+    joint nodes exactly as on a beam's end nodes.
+    """
+    n = segments(options)
     if geometry.leg_count != 3:
         raise ValueError(f"{geometry.leg_count} legs: the substructure model is for three")
-    n_q = 18 * s
+    zone = zone_for(manipulator, options)
+    n_q = 18 * n
     k_total = np.zeros((n_q, n_q))
     m_total = np.zeros((n_q, n_q))
     maps = []
-    nodes = np.empty((geometry.leg_count, s + 1, 3))
-    stations = np.linspace(0.0, 1.0, s + 1)
+    nodes = np.empty((geometry.leg_count, n + 1, 3))
+    lengths = np.asarray(geometry.leg_lengths, float)
+    stations = leg_stations(options, zone, lengths)
+    parts = leg_segments(manipulator, options, zone, lengths)  # (n, 2, 3, 12, 12), Eq. (4)
     for i in range(geometry.leg_count):
-        k_local, m_local = assemble_beam(mat.youngs_modulus, mat.shear_modulus, mat.density,
-                                         section, float(geometry.leg_lengths[i]), s,
-                                         options.beam)
+        k_local = np.zeros((6 * (n + 1), 6 * (n + 1)))
+        m_local = np.zeros_like(k_local)
+        for e in range(n):
+            sl = slice(6 * e, 6 * e + 12)
+            k_local[sl, sl] += parts[e, 0, i]
+            m_local[sl, sl] += parts[e, 1, i]
         arm = geometry.platform_points[i] - geometry.platform_centre
-        t = _leg_map(s, i, geometry.leg_joints(i), arm, options.r_joint_coordinate)
+        t = _leg_map(n, i, geometry.leg_joints(i), arm, options.r_joint_coordinate)
         local = _to_limb_frame(t, geometry.leg_frames[i])  # u_i = T_i^T T q, Eqs. (5)-(6)
-        k_total += local.T @ k_local @ local
-        m_total += local.T @ m_local @ local
+        cols = np.flatnonzero(np.any(local != 0.0, axis=0))  # this leg's and the platform's
+        local = local[:, cols]
+        block = np.ix_(cols, cols)
+        k_total[block] += local.T @ k_local @ local
+        m_total[block] += local.T @ m_local @ local
         maps.append(t)
-        nodes[i] = geometry.base_points[i] + np.outer(stations, geometry.platform_points[i]
+        nodes[i] = geometry.base_points[i] + np.outer(stations[i], geometry.platform_points[i]
                                                       - geometry.base_points[i])
     p = slice(n_q - 6, n_q)
     m_total[p, p] += platform_mass_matrix(manipulator, geometry.rotation,
                                           options.platform_inertia)
-    return SubstructureModel(k_total, m_total, tuple(maps), nodes, p, s)
+    return SubstructureModel(k_total, m_total, tuple(maps), nodes, p, n)

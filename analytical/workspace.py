@@ -24,6 +24,7 @@ import numpy as np
 
 from .batch_model import (assemble_batch, assembly_plan, batch_frequencies, batch_modes,
                           probe_shapes, standard_form)
+from .end_zones import segments, zone_for
 from .kinematics import PoseError, pose_geometry
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import pose_batch
@@ -164,7 +165,7 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radiu
     where[ring_of[feasible], az_of[feasible]] = np.arange(len(feasible))
     where[0, :] = where[0, 0]  # the level pose is the same for every azimuth
     solvable = poses.take(feasible)
-    plan = assembly_plan(options.elements, poses.base_joint, poses.platform_joint)
+    plan = assembly_plan(segments(options), poses.base_joint, poses.platform_joint)
     solved = []  # per chunk of poses: (its slice, its model, its standard form)
     for chunk in _chunks(len(feasible)):
         model = assemble_batch(manipulator, solvable.take(chunk), options, plan)
@@ -345,10 +346,11 @@ def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, ring
     phis = np.linspace(0.0, 2 * math.pi, azimuths, endpoint=False)
     fractions = np.linspace(0.0, 1.0, rings)
     modes = options.modes
-    window = min(modes + GUARD_MODES, 18 * options.elements - 1)
+    window = min(modes + GUARD_MODES, 18 * segments(options) - 1)
     if not len(heights):
         raise ValueError("heights = []: a map needs at least one height")
     radii = regular_radii(manipulator, heights)
+    zone_for(manipulator, options)  # build or load solid end zones once, before the workers
     tasks = [(manipulator, options, float(z), float(r), fractions, phis, window)
              for z, r in zip(heights, radii)]
     layers = _run_layers(tasks, default_workers() if workers is None else workers)

@@ -60,6 +60,12 @@ def bench_analytical(scene, case_name: str, runs: int) -> dict:
         opts = replace(scene.analytical, elements=s)
         median, samples = _median_seconds(lambda: analyse(scene.manipulator, case.pose, opts), runs)
         out[f"s={s}"] = {"median_seconds": median, "min_seconds": min(samples), "runs": runs}
+    for s in (3, 5):  # Timoshenko middles between solid end zones (analytical.end_zones)
+        opts = replace(scene.analytical, elements=s, beam="timoshenko", shear="hutchinson",
+                       joint_ends="solid")
+        median, samples = _median_seconds(lambda: analyse(scene.manipulator, case.pose, opts), runs)
+        out[f"s={s}, solid ends"] = {"median_seconds": median, "min_seconds": min(samples),
+                                     "runs": runs}
     return out
 
 

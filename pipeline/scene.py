@@ -338,11 +338,6 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     fidelity = fid.settings(FidelitySettings)
     fid.done()
 
-    analytical_given = "analytical" in raw
-    ana = top.table("analytical", {})
-    analytical = ana.settings(ModelOptions, modes=fidelity.modes)
-    ana.done()
-
     fem_t = top.table("fem", {})
     fem_size_given = "mesh_size_mm" in fem_t.data
     defaults = geometry_defaults(manipulator)
@@ -354,6 +349,13 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
                          "decrease")
     runtime = fem_t.settings(FemRuntime, defaults)
     fem_t.done()
+
+    analytical_given = "analytical" in raw
+    ana = top.table("analytical", {})
+    # solid joint ends model the FEM's joint faces unless the scene says otherwise
+    analytical = ana.settings(ModelOptions, {"joint_coupling": fem.coupling},
+                              modes=fidelity.modes)
+    ana.done()
 
     calibrated, reason = None, ""
     if "calibration" in raw:

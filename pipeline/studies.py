@@ -42,32 +42,50 @@ def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli")
 
 
 def model_variants(scene: Scene) -> dict[str, ModelOptions]:
-    """The analytical settings compared throughout: the paper's and ours. "Timoshenko" uses
-    Cowper's shear coefficient, "Timoshenko-Hutchinson" Hutchinson's (analytical.beam)."""
+    """The analytical settings compared throughout: the paper's and ours. Every Timoshenko
+    label names its shear coefficient (analytical.beam: Cowper's or Hutchinson's); "solid
+    ends" are the condensed solid end zones at the joints (analytical.end_zones)."""
     base = scene.analytical
     return {
         "paper (EB, s=3, Eq. 8 inertia)": replace(base, elements=3, beam="euler-bernoulli",
-                                                  platform_inertia="paper-eq8"),
+                                                  platform_inertia="paper-eq8",
+                                                  joint_ends="beam"),
         "EB, s=3, plate inertia": replace(base, elements=3, beam="euler-bernoulli",
-                                          platform_inertia="plate"),
-        "Timoshenko, s=3, plate inertia": replace(base, elements=3, beam="timoshenko",
-                                                  platform_inertia="plate"),
-        "Timoshenko-Hutchinson, s=3, plate inertia": replace(
-            base, elements=3, beam="timoshenko", shear="hutchinson", platform_inertia="plate"),
-        "Timoshenko, s=10, plate inertia": replace(base, elements=10, beam="timoshenko",
-                                                   platform_inertia="plate"),
+                                          platform_inertia="plate", joint_ends="beam"),
+        "Timoshenko (Cowper), s=3, plate inertia": replace(
+            base, elements=3, beam="timoshenko", shear="cowper", platform_inertia="plate",
+            joint_ends="beam"),
+        "Timoshenko (Hutchinson), s=3, plate inertia": replace(
+            base, elements=3, beam="timoshenko", shear="hutchinson", platform_inertia="plate",
+            joint_ends="beam"),
+        "Timoshenko (Cowper), s=10, plate inertia": replace(
+            base, elements=10, beam="timoshenko", shear="cowper", platform_inertia="plate",
+            joint_ends="beam"),
+        "Timoshenko (Hutchinson), s=5, solid ends, plate inertia": replace(
+            base, elements=5, beam="timoshenko", shear="hutchinson", platform_inertia="plate",
+            joint_ends="solid"),
     }
 
 
+SOLID_END_ELEMENTS = (1, 2, 3, 4, 5)  # s of the beam middle between two solid end zones
+
+
 def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
-    """Every analytical setting whose time and error the speed-vs-error plot shows."""
+    """Every analytical setting whose time and error the speed-vs-error plot shows: beam
+    theories (with their shear coefficient) at s = 1..10, and Timoshenko (Hutchinson) middles
+    between solid end zones."""
     out = {}
     for beam, shear, tag in (("euler-bernoulli", "cowper", "EB"),
-                             ("timoshenko", "cowper", "Timoshenko"),
-                             ("timoshenko", "hutchinson", "Timoshenko-Hutchinson")):
+                             ("timoshenko", "cowper", "Timoshenko (Cowper)"),
+                             ("timoshenko", "hutchinson", "Timoshenko (Hutchinson)")):
         for s in (1, 2, 3, 5, 10):
             out[f"{tag}, s={s}"] = replace(scene.analytical, elements=s, beam=beam,
-                                           shear=shear, platform_inertia="plate")
+                                           shear=shear, platform_inertia="plate",
+                                           joint_ends="beam")
+    for s in SOLID_END_ELEMENTS:
+        out[f"Timoshenko (Hutchinson) + solid ends, s={s}"] = replace(
+            scene.analytical, elements=s, beam="timoshenko", shear="hutchinson",
+            platform_inertia="plate", joint_ends="solid")
     return out
 
 

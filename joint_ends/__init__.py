@@ -1,0 +1,37 @@
+"""Solid end zones of the legs, condensed to superelements for the analytical model.
+
+    from joint_ends import end_zone
+    zone = end_zone(diameter, length, E, G, rho, coupling)   # analytical.end_zones.EndZone
+
+The zone is built by `joint_ends.zone` (gmsh + scikit-fem, the FEM reference's machinery), once
+per content: the matrices are cached on disk (`joint_ends.cache`) and in this process.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+from .zone import COUPLINGS, ZoneMesh
+
+__all__ = ["COUPLINGS", "ZoneMesh", "end_zone"]
+
+
+def end_zone(diameter: float, length: float, youngs_modulus: float, shear_modulus: float,
+             density: float, coupling: str, mesh: ZoneMesh = ZoneMesh(), cache_dir=None):
+    """The condensed end zone (`analytical.end_zones.EndZone`) of a leg of this diameter and
+    material, `length` long, its joint face coupled as `coupling`; SI units."""
+    return _memo(float(diameter), float(length), float(youngs_modulus), float(shear_modulus),
+                 float(density), str(coupling), mesh, None if cache_dir is None
+                 else str(cache_dir))
+
+
+@lru_cache(maxsize=16)
+def _memo(diameter, length, youngs_modulus, shear_modulus, density, coupling, mesh, cache_dir):
+    from analytical.end_zones import EndZone
+
+    from .cache import cached_zone
+
+    model = cached_zone(diameter, length, youngs_modulus, shear_modulus, density, coupling,
+                        mesh, cache_dir)
+    model.stiffness.setflags(write=False)
+    model.mass.setflags(write=False)
+    return EndZone(model.length, model.stiffness, model.mass)
