@@ -20,7 +20,7 @@ from common.atomic import write_text_atomic
 from common.checksum import ChecksumError, report_dropped, seal, side_files, verify
 
 ROOT = Path(__file__).resolve().parents[1]
-CODE_PACKAGES = ("analytical", "common", "meshing", "fem_reference")
+CODE_PACKAGES = ("analytical", "common", "joint_ends", "meshing", "fem_reference")
 
 
 @lru_cache(maxsize=None)

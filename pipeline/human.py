@@ -108,9 +108,9 @@ def summary(results: dict, out: Path, report: bool) -> str:
         return "  ".join(c.ljust(w) if k in (0, len(cells) - 1) else c.rjust(w)
                          for k, (c, w) in enumerate(zip(cells, widths))).rstrip()
 
-    a = results["cases"][0]["analytical"] if results["cases"] else {}
-    model = (f" ({a['beam']}, s = {a['elements']}, {a['platform_inertia']} inertia)"
-             if {"beam", "elements", "platform_inertia"} <= set(a) else "")
+    fidelity = results.get("fidelity") or {}
+    a = fidelity.get("analytical") or {}
+    model = f" ({a['setting']})" if "setting" in a else ""
     text = [f"Analytical model{model} against the FEM, worst |error| per mode range:",
             line(head)]
     text += [line(row) for row in body]

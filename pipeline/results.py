@@ -129,6 +129,8 @@ class Pair(TypedDict):
 class AnalyticalRecord(TypedDict):
     elements: int
     beam: str
+    shear: str  # Timoshenko shear coefficient: cowper | hutchinson
+    joint_ends: str  # beam | solid (end zones condensed from a solid, joint_ends/)
     platform_inertia: str
     frequencies_hz: Hz
     timings: dict[str, FiniteFloat]  # seconds; "total": one pose
@@ -377,6 +379,8 @@ class Studies(TypedDict):
 @with_config(_STRICT)
 class AnalyticalChoice(TypedDict):
     beam: str
+    shear: str
+    joint_ends: str
     elements: int
     platform_inertia: str
     setting: str  # label of the chosen candidate
