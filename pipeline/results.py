@@ -315,11 +315,13 @@ class ValidationPose(TypedDict):
     tilt_deg: FiniteFloat
     kind: str  # which part of the design: layer, boundary ring, joint limit, Sobol interior
     error: str | None  # why the pose could not be solved (then the rest is null)
-    fem_hz: Hz | None
+    fem_hz: Hz | None  # the finer of the two meshes
+    fem_limit_hz: list[FiniteFloat] | None  # Richardson's step between them at order 1.42
     fem_estimated_error_percent: list[FiniteFloat] | None  # two-mesh estimate, per mode
     fem_seconds: FiniteFloat | None
     slenderness: list[FiniteFloat] | None  # shortest and longest leg, in leg diameters
-    models: dict[str, list[FiniteFloat | None]] | None  # error vs FEM per mode; null: unpaired
+    models: dict[str, list[FiniteFloat | None]] | None  # error vs the FEM limit per mode, %;
+    # null: unpaired
 
 
 @with_config(_STRICT)

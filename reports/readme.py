@@ -33,7 +33,7 @@ def variants_markdown(results: Results) -> str:
 
 
 def workspace_markdown(results: Results) -> str:
-    """The workspace validation's |error vs FEM| percentiles per mode for the run's chosen model
+    """The workspace validation's |error vs FEM limit| percentiles per mode for the run's chosen model
     (its p95 is the figure quoted) and the paper's model, and the worst pose; the report has
     every candidate."""
     wv = results["studies"]["workspace_validation"]
@@ -44,8 +44,9 @@ def workspace_markdown(results: Results) -> str:
              if label != default and options.get("platform_inertia") == "paper-eq8"]
     labels = [default] + [label for label in paper if label in wv["per_mode"]]
     n = max(len(s["p95"]) for s in wv["per_mode"].values())
-    lines = [f"**The model over the workspace**: |error vs FEM| (%) at {len(wv['poses'])} poses "
-             f"(FEM h = {wv['fem_mesh_size_mm']:g} mm, modes paired by shape); the run's model "
+    lines = [f"**The model over the workspace**: |error vs FEM limit| (%) at {len(wv['poses'])} "
+             f"poses (FEM limit per pose from h = {wv['fem_mesh_size_mm']:g} and "
+             f"{wv['fem_coarse_size_mm']:g} mm, modes paired by shape); the run's model "
              f"is {default}\n",
              "| model | statistic | " + " | ".join(f"f{k + 1}" for k in range(n)) + " |",
              "|---|---|" + "---:|" * n]
