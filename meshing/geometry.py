@@ -193,9 +193,6 @@ def _quality(mesh: SolidMesh) -> float:
     return float(mesh.info["min_scaled_jacobian"])
 
 
-HANDLED_SIGNALS = (signal.SIGTERM, signal.SIGINT)  # the handlers gmsh must not keep
-
-
 def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> SolidMesh:
     import gmsh
 
@@ -203,12 +200,9 @@ def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> Soli
         if gmsh.isInitialized():
             raise GmshFailure("gmsh is already initialised in this process (not reentrant)")
         # gmsh's library installs its own SIGTERM handler (measured: a `kill` after a mesh
-        # ended the process without Python's cleanup), and with the Netgen optimiser on, a
-        # SIGINT after a mesh was ignored (measured: Ctrl-C no longer stopped the solve that
-        # followed); put the caller's handlers of both back after.
+        # ended the process without Python's cleanup); put the caller's handler back after.
         on_main_thread = threading.current_thread() is threading.main_thread()
-        previous = ({sig: signal.getsignal(sig) for sig in HANDLED_SIGNALS}
-                    if on_main_thread else {})
+        previous = signal.getsignal(signal.SIGTERM) if on_main_thread else None
         gmsh.initialize(readConfigFiles=False, interruptible=False)
         try:
             for name, value in {**PINNED_OPTIONS, **extra}.items():
@@ -221,9 +215,8 @@ def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> Soli
                 from None
         finally:
             gmsh.finalize()
-            for sig, handler in previous.items():
-                if handler is not None:
-                    signal.signal(sig, handler)
+            if on_main_thread and previous is not None:
+                signal.signal(signal.SIGTERM, previous)
 
 
 def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
