@@ -41,29 +41,27 @@ def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli")
                                       frequencies_hz=rows)
 
 
+def _setting(base: ModelOptions, beam: str, elements: int, shear: str = "cowper",
+             joint_ends: str = "beam", platform_inertia: str = "plate") -> ModelOptions:
+    """The scene's analytical options with one compared setting in place."""
+    return replace(base, beam=beam, elements=elements, shear=shear, joint_ends=joint_ends,
+                   platform_inertia=platform_inertia)
+
+
 def model_variants(scene: Scene) -> dict[str, ModelOptions]:
     """The analytical settings compared throughout: the paper's and ours. Every Timoshenko
     label names its shear coefficient (analytical.beam: Cowper's or Hutchinson's); "solid
     ends" are the condensed solid end zones at the joints (analytical.end_zones)."""
     base = scene.analytical
+    eb, timo = "euler-bernoulli", "timoshenko"
     return {
-        "paper (EB, s=3, Eq. 8 inertia)": replace(base, elements=3, beam="euler-bernoulli",
-                                                  platform_inertia="paper-eq8",
-                                                  joint_ends="beam"),
-        "EB, s=3, plate inertia": replace(base, elements=3, beam="euler-bernoulli",
-                                          platform_inertia="plate", joint_ends="beam"),
-        "Timoshenko (Cowper), s=3, plate inertia": replace(
-            base, elements=3, beam="timoshenko", shear="cowper", platform_inertia="plate",
-            joint_ends="beam"),
-        "Timoshenko (Hutchinson), s=3, plate inertia": replace(
-            base, elements=3, beam="timoshenko", shear="hutchinson", platform_inertia="plate",
-            joint_ends="beam"),
-        "Timoshenko (Cowper), s=10, plate inertia": replace(
-            base, elements=10, beam="timoshenko", shear="cowper", platform_inertia="plate",
-            joint_ends="beam"),
-        "Timoshenko (Hutchinson), s=5, solid ends, plate inertia": replace(
-            base, elements=5, beam="timoshenko", shear="hutchinson", platform_inertia="plate",
-            joint_ends="solid"),
+        "paper (EB, s=3, Eq. 8 inertia)": _setting(base, eb, 3, platform_inertia="paper-eq8"),
+        "EB, s=3, plate inertia": _setting(base, eb, 3),
+        "Timoshenko (Cowper), s=3, plate inertia": _setting(base, timo, 3),
+        "Timoshenko (Hutchinson), s=3, plate inertia": _setting(base, timo, 3, "hutchinson"),
+        "Timoshenko (Cowper), s=10, plate inertia": _setting(base, timo, 10),
+        "Timoshenko (Hutchinson), s=5, solid ends, plate inertia": _setting(
+            base, timo, 5, "hutchinson", joint_ends="solid"),
     }
 
 
@@ -74,18 +72,15 @@ def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
     """Every analytical setting whose time and error the speed-vs-error plot shows: beam
     theories (with their shear coefficient) at s = 1..10, and Timoshenko (Hutchinson) middles
     between solid end zones."""
-    out = {}
+    base, out = scene.analytical, {}
     for beam, shear, tag in (("euler-bernoulli", "cowper", "EB"),
                              ("timoshenko", "cowper", "Timoshenko (Cowper)"),
                              ("timoshenko", "hutchinson", "Timoshenko (Hutchinson)")):
         for s in (1, 2, 3, 5, 10):
-            out[f"{tag}, s={s}"] = replace(scene.analytical, elements=s, beam=beam,
-                                           shear=shear, platform_inertia="plate",
-                                           joint_ends="beam")
+            out[f"{tag}, s={s}"] = _setting(base, beam, s, shear)
     for s in SOLID_END_ELEMENTS:
-        out[f"Timoshenko (Hutchinson) + solid ends, s={s}"] = replace(
-            scene.analytical, elements=s, beam="timoshenko", shear="hutchinson",
-            platform_inertia="plate", joint_ends="solid")
+        out[f"Timoshenko (Hutchinson) + solid ends, s={s}"] = _setting(
+            base, "timoshenko", s, "hutchinson", joint_ends="solid")
     return out
 
 
