@@ -99,9 +99,11 @@ class ResultCache:
         self.discard(kind, key)
 
     def get_or_compute(self, kind: str, payload: Any, compute: Callable[[], tuple[dict, dict]],
-                       required: tuple[str, ...] = ()) -> tuple[dict, str, bool]:
-        """(value, key, hit). `compute` returns (value, side files)."""
-        key = content_key(payload)
+                       required: tuple[str, ...] = (), modules: tuple[str, ...] = ()
+                       ) -> tuple[dict, str, bool]:
+        """(value, key, hit). `compute` returns (value, side files); `modules`: the modules
+        beyond the model packages that the value depends on (see `content_key`)."""
+        key = content_key(payload, modules)
         hit = self.get(kind, key, required)
         if hit is not None:
             return hit, key, True

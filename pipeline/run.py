@@ -24,6 +24,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from analytical.kinematics import PoseError, pose_geometry
+from common.settings import as_dict
 from fem_reference.export import write_mode_collection
 from reports.tables import write_tables
 
@@ -36,6 +37,7 @@ from .outdir import staged_output
 from .compare import STATIONS, Solve, analytical_case, error_table, fem_case
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
+from .timing import seconds_per_pose
 
 PROJECT = "rps-elastodynamics"
 
@@ -213,7 +215,7 @@ def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh
     for label, opts in studies.model_variants(scene).items():
         a = analytical_case(scene, case, opts)
         entry["models"][label] = schema.ModelVariant(
-            **a.reported(count), median_seconds=studies.time_model(scene, case, opts),
+            **a.reported(count), median_seconds=seconds_per_pose(scene, case, opts, cache),
             pairs=error_table(a, fem, count, fem_error, reference))
     step("element convergence")
     entry["element_convergence"] = {
@@ -234,8 +236,21 @@ def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh
             **v.reported(count), pairs=shifted,
             shift_percent=[r["error_percent"] for r in shifted])
     step("speed vs error")
-    entry["speed_vs_error"] = speed_vs_error(scene, case, fem, reference, refinement_study)
+    entry["speed_vs_error"] = speed_vs_error(scene, case, fem, reference, refinement_study,
+                                             cache)
     return entry
+
+
+def hard_case_rows(scene: Scene, cache: ResultCache, workers: int = 1) -> list[dict]:
+    """The analytical hard cases of the scene's machine, cases and chosen setting
+    (`hard_cases.evaluate`), through the result cache: recomputed when any of them or the
+    code changes."""
+    payload = {"manipulator": as_dict(scene.manipulator), "analytical": as_dict(scene.analytical),
+               "poses": [as_dict(c.pose) for c in scene.cases.values()]}
+    value, _, _ = cache.get_or_compute(
+        "hard-cases", payload, lambda: ({"rows": hard_cases.evaluate(scene, workers)}, {}),
+        required=("rows",), modules=("pipeline.hard_cases",))
+    return value["rows"]
 
 
 def fem_refinement(scene: Scene, geometry, cache: ResultCache,
@@ -266,16 +281,17 @@ def fem_refinement(scene: Scene, geometry, cache: ResultCache,
         estimated_error_percent_max=[100 * study.max_error(k) for k in range(len(sizes))])
 
 
-def speed_vs_error(scene: Scene, case: Case, fem: Solve, reference, refinement
-                   ) -> list[dict]:
-    """Wall time per pose against the worst |error| of f1..f6, for every setting."""
+def speed_vs_error(scene: Scene, case: Case, fem: Solve, reference, refinement,
+                   cache: ResultCache | None = None) -> list[dict]:
+    """Wall time per pose against the worst |error| of f1..f6, for every setting (times
+    through the cache: `timing.seconds_per_pose`)."""
     count = scene.analytical.modes
     ref = np.asarray(reference if reference is not None else fem.record["frequencies_hz"][:count])
     out = []
     for label, opts in studies.speed_settings(scene).items():
         rows = error_table(analytical_case(scene, case, opts), fem, count, None, ref)
         out.append(schema.SpeedPoint(
-            model="analytical", setting=label, seconds=studies.time_model(scene, case, opts),
+            model="analytical", setting=label, seconds=seconds_per_pose(scene, case, opts, cache),
             worst_error_percent=max(abs(schema.best_error(r)) for r in rows),
             single_run=False, mesh_from_cache=None))
     if refinement:
@@ -342,12 +358,13 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
         if profile == "full":
             results["studies"]["workspace"] = studies.workspace_map(scene)
             results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
-            results["studies"]["hard_cases"] = hard_cases.evaluate(scene)
+            results["studies"]["hard_cases"] = hard_case_rows(scene, cache, workers)
         results = _write_outputs(results, mode_files, stage)
         if build_report:
             from common.worker import stoppable
             from reports.build import render_report
-            stoppable(render_report, stage / "results.json", stage)  # stops at once on a signal
+            stoppable(render_report, stage / "results.json", stage,  # stops at once on a
+                      cache.directory, workers)                       # signal
     console.print(f"fidelity: {results['fidelity']['reason']}", soft_wrap=True)
     console.print(f"wrote {out}/results.json" + (", report.html, report.pdf"
                                                   if build_report else ""), soft_wrap=True)

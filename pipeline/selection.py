@@ -20,6 +20,7 @@ from .compare import analytical_case, error_table, fem_case
 from .fidelity import (FEM_ERROR_SHARE, AnalyticalChoice, FemChoice, choose_analytical,
                        choose_fem_size)
 from .scene import Scene
+from .timing import seconds_per_pose
 
 SCENE_SETTING = "scene's [analytical]"
 
@@ -161,7 +162,7 @@ def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: 
             table = error_table(a, fem_result, count, None, reference)
             rows[label].append({
                 "case": name,
-                "seconds": studies.time_model(sized, case, opts),
+                "seconds": seconds_per_pose(sized, case, opts, cache),
                 "worst_error_percent": max(abs(r["error_vs_reference_percent"])
                                            for r in table)})
     for label, extra in (extra_rows or {}).items():

@@ -8,6 +8,7 @@ as `data-src` (tests check them).
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from common.worker import stoppable
@@ -23,26 +24,31 @@ REPORT_ENTRIES = ("report.html", "report.pdf", "figures")
 LEGACY_TEMPORARIES = (".report-", ".figures-old-")  # left inside out/ by earlier versions
 
 
-def build_report(results_json_path, out_dir) -> tuple[Path, Path]:
+def build_report(results_json_path, out_dir, cache_dir: Path | None = None,
+                 workers: int | None = None) -> tuple[Path, Path]:
     """Write out_dir/report.html, out_dir/report.pdf and out_dir/figures/ from a results file.
 
     The new out_dir is built whole beside it (its other files copied, then the report
     rendered) and swapped in as one step (pipeline.outdir): never a temporary folder inside
     out_dir, never a report of one run beside the figures of another. ValueError (naming the
     path) for a missing, malformed or outdated results file, ReportError when a picture or the
-    PDF cannot be rendered; either way out_dir is left as it was.
+    PDF cannot be rendered; either way out_dir is left as it was. Figures are drawn on
+    `workers` processes (default: the cores) and reused from `cache_dir` when given.
     """
     out = Path(out_dir)
     load_results(results_json_path)  # a bad results file is refused before out_dir is locked
     with staged_output(out, keep=lambda name: name not in REPORT_ENTRIES
                        and not name.startswith(LEGACY_TEMPORARIES)) as stage:
-        stoppable(render_report, results_json_path, stage)  # Ctrl-C / SIGTERM stop it at once
+        stoppable(render_report, results_json_path, stage, cache_dir,  # Ctrl-C / SIGTERM
+                  workers or os.cpu_count() or 1)                   # stop it at once
     return out / "report.html", out / "report.pdf"
 
 
-def render_report(results_json_path, directory) -> tuple[Path, Path]:
+def render_report(results_json_path, directory, cache_dir: Path | None = None,
+                  workers: int = 1) -> tuple[Path, Path]:
     """Render report.html, report.pdf and figures/ into `directory`, a staging directory that
-    the caller swaps in whole (nothing here is visible until then)."""
+    the caller swaps in whole (nothing here is visible until then); the figures on `workers`
+    processes, reused from the figure cache under `cache_dir` (`figure_jobs`)."""
     results_path = Path(results_json_path)
     target = Path(directory)
     results = load_results(results_path)
@@ -50,7 +56,8 @@ def render_report(results_json_path, directory) -> tuple[Path, Path]:
     fig_dir.mkdir()
     try:
         html = render_html(context(results, results_path,
-                                   make_figures(results, results_path, fig_dir)))
+                                   make_figures(results, results_path, fig_dir, cache_dir,
+                                                workers)))
     except (ReportError, ValueError):
         raise
     except Exception as exc:  # noqa: BLE001

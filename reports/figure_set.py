@@ -6,6 +6,7 @@ from pathlib import Path
 
 from . import figures, validation, workspace_figures
 from .beam_figure import beam_mode
+from .figure_jobs import Job, draw
 from .results import joint_points, leg_axis_shapes, platform_centre, platform_motion
 
 
@@ -30,9 +31,33 @@ def reference(case: dict) -> tuple[list[float], str]:
     return case["fem"]["frequencies_hz"], "our FEM"
 
 
-def make_figures(results: dict, results_path: Path, fig_dir: Path) -> dict:
-    """Draw every figure into fig_dir; return what the template needs to show them."""
+class _Plan:
+    """The figures to draw, each with what to do with its outcome (default: a failure fails
+    the report)."""
+
+    def __init__(self):
+        self.jobs: list[Job] = []
+        self.then: list = []
+
+    def add(self, draw_fn, outputs, *args, then=None, errors=(), **kwargs) -> None:
+        outputs = tuple(outputs) if isinstance(outputs, (list, tuple)) else (outputs,)
+        self.jobs.append(Job(draw_fn, outputs, args, kwargs, errors))
+        self.then.append(then)
+
+    def draw(self, cache_dir: Path | None, workers: int) -> None:
+        for outcome, then in zip(draw(self.jobs, cache_dir, workers), self.then):
+            if then is not None:
+                then(outcome)
+            elif outcome.error is not None:
+                raise outcome.error
+
+
+def make_figures(results: dict, results_path: Path, fig_dir: Path,
+                 cache_dir: Path | None = None, workers: int = 1) -> dict:
+    """Draw every figure into fig_dir (on `workers` processes, reusing the pictures of
+    `cache_dir`: `figure_jobs`); return what the template needs to show them."""
     figs: dict = {"cases": {}, "notes": []}
+    plan = _Plan()
     main = main_cases(results)
     for i, case in enumerate(results["cases"]):
         name = case["name"]
@@ -40,46 +65,62 @@ def make_figures(results: dict, results_path: Path, fig_dir: Path) -> dict:
         if case["element_convergence"]:
             ref, label = reference(case)
             path = fig_dir / f"element_convergence_{name}.png"
-            figures.element_convergence(case["element_convergence"], ref, label, path)
+            plan.add(figures.element_convergence, path, case["element_convergence"], ref, label,
+                     path)
             entry["element_convergence"] = (path, label)
         if case["fem_refinement"]:
             path = fig_dir / f"fem_refinement_{name}.png"
-            figures.fem_refinement(case["fem_refinement"], path, case["fem"]["mesh_size_m"])
+            plan.add(figures.fem_refinement, path, case["fem_refinement"], path,
+                     case["fem"]["mesh_size_m"])
             entry["fem_refinement"] = path
         if case in main:
             entry["mac"] = fig_dir / f"mac_{name}.png"
-            figures.mac_matrix(case["mac_matrix"], case["pairs"], entry["mac"])
-            entry["modes"] = mode_figures(results, results_path, i, fig_dir, figs["notes"])
+            plan.add(figures.mac_matrix, entry["mac"], case["mac_matrix"], case["pairs"],
+                     entry["mac"])
+            entry["modes"] = mode_figures(results, results_path, i, fig_dir, figs["notes"], plan)
         figs["cases"][name] = entry
     speed = {c["name"]: c["speed_vs_error"] for c in results["cases"] if c["speed_vs_error"]}
     if speed:
         figs["speed"] = fig_dir / "speed_vs_error.png"
-        figures.speed_vs_error(speed, figs["speed"], paper=has_paper(results))
+        plan.add(figures.speed_vs_error, figs["speed"], speed, figs["speed"],
+                 paper=has_paper(results))
     wv = results["studies"]["workspace_validation"]
     if wv and wv["worst_pose"]:
         figs["validation_map"] = fig_dir / "workspace_validation.png"
-        try:
-            validation.error_maps(results, figs["validation_map"])
-        except ValueError as exc:
-            figs.pop("validation_map")
-            figs["notes"].append(f"workspace validation map: {exc}")
+
+        def validation_done(outcome):
+            if outcome.error is not None:
+                figs.pop("validation_map")
+                figs["notes"].append(f"workspace validation map: {outcome.error}")
+        plan.add(validation.error_maps, figs["validation_map"], wv,
+                 figs["validation_map"], then=validation_done)
     ws = results["studies"]["workspace"]
     if ws:
         figs["workspace_polar"] = fig_dir / "workspace_polar.png"
-        try:
-            figs["workspace_heights"] = workspace_figures.workspace_polar(
-                ws, figs["workspace_polar"])
-        except ValueError as exc:
-            figs.pop("workspace_polar")
-            figs["notes"].append(f"workspace map: {exc}")
-        else:
-            figs["workspace_height"] = fig_dir / "workspace_height.png"
-            workspace_figures.workspace_height(ws, figs["workspace_height"])
+        figs["workspace_height"] = fig_dir / "workspace_height.png"
+
+        def polar_done(outcome):
+            if outcome.error is not None:
+                figs.pop("workspace_polar")
+                figs["notes"].append(f"workspace map: {outcome.error}")
+            else:
+                figs["workspace_heights"] = outcome.value
+
+        def height_done(outcome):
+            if "workspace_polar" not in figs:  # no reachable layer: neither is shown
+                figs.pop("workspace_height")
+            elif outcome.error is not None:
+                raise outcome.error
+        plan.add(workspace_figures.workspace_polar, figs["workspace_polar"], ws,
+                 figs["workspace_polar"], then=polar_done)
+        plan.add(workspace_figures.workspace_height, figs["workspace_height"], ws,
+                 figs["workspace_height"], then=height_done)
+    plan.draw(cache_dir, workers)
     return figs
 
 
 def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
-                 notes: list[str]) -> dict:
+                 notes: list[str], plan: _Plan) -> dict:
     """FEM solid (pyvista) and beam model (matplotlib) pictures of the paired modes."""
     from . import render3d
 
@@ -99,15 +140,18 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
         plate = render3d.Platform(platform, centre, radius, m["platform_thickness_mm"] * 1e-3,
                                   {k: platform_motion(fem, k) for k in modes})
         labels = {k: f"FEM mode {k}: {fem['frequencies_hz'][k - 1]:.2f} Hz" for k in modes}
-        try:
-            file_hz = render3d.render_modes((results_path.parent / fem["vtu"]).resolve(),
-                                            modes, labels, fem_paths, platform=plate)
-        except render3d.RenderError as exc:
-            raise ReportError(f"{name}: {exc}") from None
-        if file_hz and any(abs(file_hz[k - 1] / fem["frequencies_hz"][k - 1] - 1) > 1e-6
-                           for k in modes if k - 1 < len(file_hz)):
-            notes.append(f"{name}: the frequencies stored in {fem['vtu']} differ from "
-                         f"results.json (mode file from another run?)")
+
+        def rendered(outcome):
+            if outcome.error is not None:
+                raise ReportError(f"{name}: {outcome.error}") from None
+            file_hz = outcome.value
+            if file_hz and any(abs(file_hz[k - 1] / fem["frequencies_hz"][k - 1] - 1) > 1e-6
+                               for k in modes if k - 1 < len(file_hz)):
+                notes.append(f"{name}: the frequencies stored in {fem['vtu']} differ from "
+                             f"results.json (mode file from another run?)")
+        plan.add(render3d.render_modes, list(fem_paths.values()),
+                 (results_path.parent / fem["vtu"]).resolve(), modes, labels, fem_paths,
+                 platform=plate, then=rendered, errors=(render3d.RenderError,))
     else:
         out["fem_note"] = "results.json names no FEM mode file (fem.vtu) for this case."
     stations, shapes = leg_axis_shapes(case)
@@ -118,8 +162,9 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
                 "beam_png": None}
         if j <= shapes.shape[-1]:
             item["beam_png"] = fig_dir / f"mode_{name}_beam_{j}.png"
-            beam_mode(base, platform, centre, stations, shapes[..., j - 1],
-                      platform_motion(case["analytical"], j), radius, item["beam_png"],
-                      f"beam model mode {j}: {p['f_analytical_hz']:.2f} Hz", 0.1 * size)
+            plan.add(beam_mode, item["beam_png"], base, platform, centre, stations,
+                     shapes[..., j - 1], platform_motion(case["analytical"], j), radius,
+                     item["beam_png"], f"beam model mode {j}: {p['f_analytical_hz']:.2f} Hz",
+                     0.1 * size)
         out["pairs"].append(item)
     return out

@@ -102,10 +102,10 @@ def sentences(results: dict) -> list[str]:
     return out
 
 
-def error_maps(results: dict, path: Path) -> None:
+def error_maps(wv: dict, path: Path) -> None:
     """|error| of the default model per mode over the workspace poses: polar maps (angle =
-    azimuth, radius = tilt, every height), and the worst error against leg slenderness."""
-    wv = results["studies"]["workspace_validation"]
+    azimuth, radius = tilt, every height), and the worst error against leg slenderness, from
+    the workspace-validation study `wv` of results.json."""
     label = wv["default_model"]
     poses = [p for p in wv["poses"] if p["models"] and label in p["models"]]
     errs = np.array([[np.nan if e is None else abs(e) for e in p["models"][label]]

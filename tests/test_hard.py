@@ -319,3 +319,22 @@ def test_fem_and_beam_model_agree_on_hard_geometry(name, tmp_path):
                                                       beam="timoshenko", elements=10, modes=6))
     assert np.all(np.abs(beam / result.frequencies_hz - 1) < 0.02), (
         np.round(100 * (beam / result.frequencies_hz - 1), 2))
+
+
+def test_the_hard_cases_spread_over_two_workers_give_the_serial_rows(scene):
+    assert hc.evaluate(scene, workers=2) == hc.evaluate(scene, workers=1)
+
+
+def test_the_hard_cases_of_a_run_are_computed_once_per_scene_and_code(scene, tmp_path,
+                                                                       monkeypatch):
+    from pipeline.cache import ResultCache
+    from pipeline.run import hard_case_rows
+
+    calls = []
+    monkeypatch.setattr(hc, "evaluate", lambda scene, workers=1: calls.append(1) or
+                        [{"case": "x", "claim": "y", "tolerance": 1.0, "measured": 0.5}])
+    cache = ResultCache(tmp_path)
+    first = hard_case_rows(scene, cache)
+    assert hard_case_rows(scene, cache) == first and len(calls) == 1
+    hard_case_rows(replace(scene, analytical=replace(scene.analytical, elements=5)), cache)
+    assert len(calls) == 2
