@@ -18,7 +18,6 @@ import dataclasses
 import hashlib
 import shutil
 import tempfile
-import warnings
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -132,16 +131,7 @@ def draw(jobs: list[Job], cache_dir: Path | None = None, workers: int = 1) -> li
         outcomes[i] = Outcome(hit["value"], cached=True)
     todo = [i for i, o in enumerate(outcomes) if o is None]
     if workers > 1 and len(todo) > 1:
-        from joblib import Parallel, delayed, parallel_config
-
-        with parallel_config(backend="loky", inner_max_num_threads=1), \
-                warnings.catch_warnings():
-            # loky replaces a worker whose memory grew (VTK's renderer keeps its buffers) and
-            # says so; the job is not lost, and the user has nothing to act on
-            warnings.filterwarnings("ignore", message="A worker stopped while some jobs",
-                                    category=UserWarning)
-            done = Parallel(n_jobs=min(workers, len(todo)))(
-                delayed(_run)(jobs[i]) for i in todo)
+        done = _in_processes([jobs[i] for i in todo], min(workers, len(todo)))
     else:
         done = [_run(jobs[i]) for i in todo]
     for i, outcome in zip(todo, done):
@@ -157,6 +147,17 @@ def draw(jobs: list[Job], cache_dir: Path | None = None, workers: int = 1) -> li
                 files[f".{k}{source.suffix}"] = copy
             cache.put(KIND, keys[i], {"value": outcome.value}, files)
     return outcomes  # type: ignore[return-value]
+
+
+def _in_processes(jobs: list[Job], workers: int) -> list[Outcome]:
+    """The jobs on a pool of freshly spawned processes. Not joblib's reusable loky pool: the
+    report is drawn in a forked child of the run (common.worker), which inherits the run's
+    own pool and would wait forever on workers that are not its own (measured: a hang)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        return list(pool.map(_run, jobs))
 
 
 def _tmp(cache) -> Path:

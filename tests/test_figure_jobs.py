@@ -102,3 +102,17 @@ def test_parallel_drawing_gives_the_serial_files(tmp_path):
     for k in range(2):
         assert (tmp_path / "serial" / f"fig{k}.png").read_bytes() == \
             (tmp_path / "parallel" / f"fig{k}.png").read_bytes()
+
+
+@pytest.mark.slow
+def test_drawing_in_parallel_in_a_forked_child_of_a_process_with_a_pool_does_not_hang(
+        tmp_path):
+    """The run draws its report in a forked child (common.worker.stoppable) after its sweeps
+    used joblib's reusable pool; joblib's pool inherited by the child hung it forever."""
+    from joblib import Parallel, delayed
+
+    from common.worker import stoppable
+
+    Parallel(n_jobs=2, backend="loky")(delayed(abs)(-k) for k in range(4))
+    outcomes = stoppable(draw, _jobs(tmp_path / "child"), None, 2)
+    assert [o.value for o in outcomes] == [6.0, 6.0]
