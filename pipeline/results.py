@@ -20,7 +20,7 @@ from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from pydantic import ConfigDict, FiniteFloat, TypeAdapter, ValidationError, with_config
 
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
 
 Hz = list[FiniteFloat]
@@ -309,6 +309,30 @@ class JointOrderCase(TypedDict):
 
 
 @with_config(_STRICT)
+class CouplingModel(TypedDict):
+    frequencies_hz: Hz
+    error_percent: list[FiniteFloat]  # vs the FEM limit of the same coupling, per FEM mode
+    mac: list[FiniteFloat]
+
+
+@with_config(_STRICT)
+class CouplingReading(TypedDict):
+    coupling: str  # "rigid" or "distributing" joint faces, in both models
+    scene_coupling: bool  # the coupling of the scene's FEM
+    error: str | None  # why this coupling could not be solved
+    fem_sizes_mm: list[FiniteFloat]  # the refinement study behind the limit
+    fem_limit_hz: Hz | None  # Richardson limit h -> 0
+    fem_limit_error_percent: list[FiniteFloat] | None  # stated error of the finest size
+    models: dict[str, CouplingModel] | None
+
+
+@with_config(_STRICT)
+class CouplingCase(TypedDict):
+    case: str
+    readings: list[CouplingReading]
+
+
+@with_config(_STRICT)
 class ValidationPose(TypedDict):
     height_mm: FiniteFloat
     azimuth_deg: FiniteFloat
@@ -374,6 +398,7 @@ class Studies(TypedDict):
     angle_conventions: list[AngleConventions]
     workspace: Workspace | None
     joint_orders: list[JointOrderCase]
+    joint_couplings: list[CouplingCase]  # empty: not run (the CI profile)
     workspace_validation: WorkspaceValidation | None
     hard_cases: list[HardCase]  # empty: not run (the CI profile)
 

@@ -31,6 +31,7 @@ from reports.tables import write_tables
 from . import results as schema
 from . import hard_cases, studies
 from .cache import ROOT, ResultCache
+from .couplings import coupling_study
 from .joint_orders import joint_order_study
 from .selection import validate_fidelity
 from .outdir import staged_output
@@ -324,7 +325,8 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             scene=scene_summary(scene, scene_path), environment=environment(), cases=[],
             studies=schema.Studies(height_calibration=None, angle_conventions=[],
                                    workspace=None, joint_orders=[],
-                                   workspace_validation=None, hard_cases=[]),
+                                   joint_couplings=[], workspace_validation=None,
+                                   hard_cases=[]),
             fidelity=None,
             fixture_note=None)
         mode_files = {}
@@ -358,6 +360,9 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
         if profile == "full":
             results["studies"]["workspace"] = studies.workspace_map(scene)
             results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
+            results["studies"]["joint_couplings"] = coupling_study(
+                scene, scene.ci_cases, cache, results["fidelity"]["analytical"]["setting"],
+                workers, scheduler)
             results["studies"]["hard_cases"] = hard_case_rows(scene, cache, workers)
         results = _write_outputs(results, mode_files, stage)
         if build_report:

@@ -14,7 +14,8 @@ from .cells import Cells, align, tables_in
 from .figure_set import has_paper, main_cases
 from .figures import PAPER_SECONDS
 from .setup_tables import setup_tables
-from .study_tables import (calibration_table, convention_tables, hard_cases_table,
+from .study_tables import (calibration_table, convention_tables, coupling_tables,
+                           hard_cases_table,
                            joint_order_tables, speed_table)
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -57,6 +58,7 @@ def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
               "workspace": "Workspace maps",
               "validation": "The model against the FEM over the workspace",
               "joint-orders": "Both joint orders",
+              "joint-couplings": "Joint faces: rigid and distributing couplings",
               "hard-cases": "Hard cases: numerical stability and physics checks",
               "studies": "Reading the paper: angle conventions and height calibration",
               "other": "Other cases"}
@@ -66,7 +68,8 @@ def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
 
 STUDY_SECTIONS = {"convergence": "convergence studies", "speed": "speed vs error",
                   "workspace": "workspace maps", "validation": "workspace validation",
-                  "joint-orders": "both joint orders", "hard-cases": "hard cases"}
+                  "joint-orders": "both joint orders",
+                  "joint-couplings": "both joint-face couplings", "hard-cases": "hard cases"}
 
 
 def context(results: dict, results_path: Path, figs: dict) -> dict:
@@ -80,6 +83,7 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
     conventions = convention_tables(results, c)
     calibration = calibration_table(results, c)
     joint_orders = joint_order_tables(results, c)
+    couplings = coupling_tables(results, c)
     hard = hard_cases_table(results, c)
     env = results["environment"]
     ctx = {
@@ -98,12 +102,17 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
             "convergence": any(x["fig_element"] or x["refinement"] for x in main),
             "speed": bool(figs.get("speed")), "workspace": bool(figs.get("workspace_polar")),
             "validation": bool(results["studies"]["workspace_validation"]),
-            "joint-orders": bool(joint_orders), "hard-cases": bool(hard), "studies": bool(conventions or calibration),
+            "joint-orders": bool(joint_orders), "joint-couplings": bool(couplings),
+            "hard-cases": bool(hard), "studies": bool(conventions or calibration),
             "other": bool(other)}),
         "cases": cases, "main_cases": main, "other_cases": other,
         "tables": setup_tables(results, c),
         "speed_table": speed_table(results, c),
         "joint_orders": joint_orders,
+        "couplings": couplings,
+        "couplings_sizes": ", ".join(
+            f"{h:g}" for h in (studies["joint_couplings"][0]["readings"][0]["fem_sizes_mm"]
+                               if studies["joint_couplings"] else [])),
         "hard_cases": hard,
         "hard_failed": [r for r in results["studies"]["hard_cases"] if not r["passed"]],
         "conventions": conventions,

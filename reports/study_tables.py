@@ -62,6 +62,38 @@ def joint_order_tables(results: dict, c: Cells) -> list[dict]:
     return tables
 
 
+def coupling_tables(results: dict, c: Cells) -> list[dict]:
+    """Per case: both joint-face couplings side by side, the FEM limit of each and every
+    model's error against it (with and without the joint-end model)."""
+    tables = []
+    for ci, study in enumerate(results["studies"]["joint_couplings"]):
+        readings = study["readings"]
+        labels = next((list(r["models"]) for r in readings if r["models"]), [])
+        n = max((len(r["fem_limit_hz"]) for r in readings if r["fem_limit_hz"]), default=0)
+        width = 2 + len(labels)
+        rows = []
+        for k in range(n):
+            row = [cell(f"f{k + 1}", "text")]
+            for r, reading in enumerate(readings):
+                q = f"/studies/joint_couplings/{ci}/readings/{r}"
+                if reading["error"] is not None:
+                    note = c.text(f"{q}/error", cls="text note") if k == 0 else cell("")
+                    row.append(dict(note, colspan=width))
+                    continue
+                row += [c.num(f"{q}/fem_limit_hz/{k}", 2),
+                        c.num(f"{q}/fem_limit_error_percent/{k}", 3)]
+                row += [c.num(f"{q}/models/{escape(m)}/error_percent/{k}", 3, signed=True)
+                        for m in labels]
+            rows.append(row)
+        titles = [f"{r['coupling']} joint faces" + (" (the scene's)" if r["scene_coupling"]
+                                                    else "") for r in readings]
+        tables.append({"case": study["case"], "cls": "jointorders", "rows": rows, "head": [
+            head("mode", *titles, spans=[1] + [width] * len(readings)),
+            head("", *(["FEM limit (Hz)", "its error (%)"]
+                       + [f"{m} (%)" for m in labels]) * len(readings))]})
+    return tables
+
+
 def convention_tables(results: dict, c: Cells) -> list[dict]:
     """Per tilted case with paper rows: every reading of its printed angles and the deviation
     of our analytical frequencies from the paper's theoretical row."""

@@ -32,8 +32,9 @@ SECTIONS = ("1 Summary", "2 Fidelity: what the scene asked, what was chosen",
             "3 Scene and set-up", "4 Table I reproduction", "5 Convergence",
             "6 Mode shapes", "7 Speed vs error", "8 Workspace maps",
             "9 The model against the FEM over the workspace", "10 Both joint orders",
-            "11 Hard cases: numerical stability and physics checks",
-            "12 Reading the paper: angle conventions and height calibration", "13 Other cases")
+            "11 Joint faces: rigid and distributing couplings",
+            "12 Hard cases: numerical stability and physics checks",
+            "13 Reading the paper: angle conventions and height calibration", "14 Other cases")
 NUMBER = re.compile(r"^[+\-\u2212]?[\d\u2009]+(\.\d+)?(e[+\-\u2212]?\d+)?$")
 
 
@@ -183,7 +184,7 @@ def _ci_profile(results: dict) -> dict:
     ci = copy.deepcopy(results)
     ci["profile"] = "ci"
     ci["studies"] = {"height_calibration": None, "angle_conventions": [], "workspace": None,
-                     "joint_orders": [], "workspace_validation": None, "hard_cases": []}
+                     "joint_orders": [], "joint_couplings": [], "workspace_validation": None, "hard_cases": []}
     ci["cases"] = [c for c in ci["cases"] if c["name"] in ("case1", "case2")]
     for case in ci["cases"]:
         for key in ("fem_refinement", "models", "element_convergence", "fem_variants",
@@ -212,10 +213,11 @@ def test_ci_profile_results_build(tmp_path):
     assert "names no FEM mode file" in page
     headings = _parse(page).headings
     for absent in ("Convergence", "Speed vs error", "Workspace maps", "Both joint orders",
-                   "Reading the paper"):  # sections without data are omitted, not empty
+                   "Joint faces", "Reading the paper"):  # sections without data are omitted, not empty
         assert not any(absent in h for h in headings), absent
     assert ("Not in these results (profile ci): convergence studies, speed vs error, "
-            "workspace maps, workspace validation, both joint orders, hard cases") in page
+            "workspace maps, workspace validation, both joint orders, both joint-face couplings, "
+            "hard cases") in page
     assert headings[:5] == ["1 Summary", "2 Fidelity: what the scene asked, what was chosen",
                             "3 Scene and set-up", "4 Table I reproduction",
                             "5 Mode shapes"]  # numbered without gaps
@@ -238,10 +240,10 @@ def _assert_untouched(out: Path, before: dict[str, bytes]) -> None:
 @pytest.mark.parametrize("content, message", [
     (None, "results file not found"),
     ("{ not json", "not valid JSON"),
-    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 3"),
-    ('{"schema": 2, "cases": []}', "results schema 2, this version reads schema 3: rerun `make`"),
+    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 4"),
+    ('{"schema": 2, "cases": []}', "results schema 2, this version reads schema 4: rerun `make`"),
     ('{"cases": []}', "results schema None"),
-    ('{"schema": 3, "cases": []}', "profile: field required"),
+    ('{"schema": 4, "cases": []}', "profile: field required"),
 ])
 def test_bad_results_file(tmp_path, content, message):
     path = tmp_path / "results.json"

@@ -46,7 +46,7 @@ def test_ci_profile_run_writes_the_contract(tmp_path):
     assert (out / "tables" / "case1.csv").read_text().startswith("mode,paper_fea_hz")
     assert (out / "modes" / "case2_fem.vtu").stat().st_size > 0
     assert results["cases"][0]["pose"]["height_origin"] == "calibrated"
-    assert on_disk["schema"] == 3 and on_disk["environment"]["project_version"]
+    assert on_disk["schema"] == 4 and on_disk["environment"]["project_version"]
     assert on_disk["studies"]["height_calibration"]["case"] == "case1"  # calibrated, with rows
     assert [s["case"] for s in on_disk["studies"]["angle_conventions"]] == ["case2"]  # tilted
 
