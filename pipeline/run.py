@@ -9,6 +9,7 @@ content-keyed cache, so a second run with nothing changed takes seconds.
 from __future__ import annotations
 
 import datetime as dt
+from dataclasses import replace
 import hashlib
 import math
 import os
@@ -33,7 +34,7 @@ from . import hard_cases, studies
 from .cache import ROOT, ResultCache
 from .couplings import coupling_study
 from .joint_orders import joint_order_study
-from .selection import validate_fidelity
+from .selection import prefetch_fem, validate_fidelity
 from .outdir import staged_output
 from .compare import STATIONS, Solve, analytical_case, error_table, fem_case
 from .pairing import mac_matrix
@@ -206,6 +207,10 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
     return entry, fem.vtu
 
 
+FEM_VARIANTS = {"elastic platform": {"platform": "elastic"},
+                "distributing coupling": {"coupling": "distributing"}}
+
+
 def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh_size: float,
                     fem: Solve, fem_error, reference, refinement_study, step) -> dict:
     """Model variants, element convergence, FEM idealisations, speed vs error of one case."""
@@ -224,8 +229,7 @@ def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh
         for beam in ("euler-bernoulli", "timoshenko")}
     step("FEM joint and platform idealisations")
     entry["fem_variants"], entry["fem_variant_errors"] = {}, {}
-    for label, kwargs in {"elastic platform": {"platform": "elastic"},
-                          "distributing coupling": {"coupling": "distributing"}}.items():
+    for label, kwargs in FEM_VARIANTS.items():
         try:
             v = fem_case(scene, geometry, cache, mesh_size, **kwargs)
         except (ValueError, RuntimeError) as exc:
@@ -342,6 +346,12 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             results["fidelity"] = fidelity.summary()
             results["studies"]["workspace_validation"] = workspace
             bar.advance(task)
+            if profile == "full":  # the FEM idealisations of every case, on the workers
+                geometries = [pose_geometry(scene.manipulator, scene.case(n).pose)
+                              for n in case_names]
+                for idealisation in FEM_VARIANTS.values():
+                    prefetch_fem(replace(scene, fem=replace(scene.fem, **idealisation)),
+                                 geometries, (scene.fem.mesh_size,), cache, workers, scheduler)
             for name in case_names:
                 case = scene.case(name)
                 entry, mode_files[name] = run_case(

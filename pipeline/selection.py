@@ -211,7 +211,7 @@ def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
                          workers=workers, scheduler=scheduler, announce=announce,
                          progress=lambda done, total: step(f"workspace pose {done}/{total}"),
                          seconds_per_pose=seconds)
-    extra = worst_pose_rows(scene, sized, study, cache, full, step)
+    extra = worst_pose_rows(scene, sized, study, cache, full, step, workers, scheduler)
     fidelity = choose_model(scene, sized, fem, case_names, cache, refinements, step, extra)
     return fidelity, wv.summarise(study, fidelity.analytical.setting)
 
@@ -227,7 +227,8 @@ def _fem_seconds_of(refinements: dict, *sizes) -> float | None:
 
 
 def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache, full: bool,
-                    step=lambda text: None) -> dict:
+                    step=lambda text: None, workers: int = 1,
+                    scheduler: str | None = None) -> dict:
     """Every candidate's error at the study's worst pose, against the FEM limit there.
 
     The worst pose is where the candidate that is best over the study (least largest error)
@@ -254,6 +255,7 @@ def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache,
         step("workspace worst pose: FEM refinement study")
         sizes = tuple(sorted(set(scene.fem_study.refinement) | {sized.fem.mesh_size},
                              reverse=True))
+        prefetch_fem(sized, [geometry], sizes, cache, workers, scheduler)
         reference = np.asarray(fem_refinement(sized, geometry, cache, sizes)["extrapolated_hz"])
     where = (f"workspace worst pose (z = {worst['height_mm']:.0f} mm, tilt = "
              f"{worst['tilt_deg']:.1f} deg, {worst['kind']})")
