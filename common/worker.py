@@ -88,6 +88,12 @@ def _receive(fd: int) -> bytes:
         chunks.append(chunk)
 
 
+def die_with_parent(parent: int) -> None:
+    """Initializer of a pool's worker process: it is killed when `parent` (the process that
+    started it) dies, so stopping a stoppable call also stops the pools it started."""
+    _die_with(parent)
+
+
 def _die_with(parent: int) -> None:
     """Ask the kernel to SIGKILL this process when its parent dies (Linux)."""
     try:

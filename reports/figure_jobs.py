@@ -150,13 +150,22 @@ def draw(jobs: list[Job], cache_dir: Path | None = None, workers: int = 1) -> li
 
 
 def _in_processes(jobs: list[Job], workers: int) -> list[Outcome]:
-    """The jobs on a pool of freshly spawned processes. Not joblib's reusable loky pool: the
+    """The jobs on a fresh pool of forked processes. Not joblib's reusable loky pool: the
     report is drawn in a forked child of the run (common.worker), which inherits the run's
-    own pool and would wait forever on workers that are not its own (measured: a hang)."""
+    own pool and would wait forever on workers that are not its own (measured: a hang). Not
+    spawned either: spawning starts multiprocessing's resource tracker, which outlives a
+    stopped report and writes to the caller's terminal after it."""
     import multiprocessing
+    import os
     from concurrent.futures import ProcessPoolExecutor
 
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+    from common.worker import die_with_parent
+
+    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
+    # its workers die with this process: a report stopped by a signal (common.worker kills
+    # the child that draws it) leaves no worker drawing on, nor holding the caller's pipes
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method),
+                             initializer=die_with_parent, initargs=(os.getpid(),)) as pool:
         return list(pool.map(_run, jobs))
 
 
