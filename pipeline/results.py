@@ -322,7 +322,7 @@ class CouplingReading(TypedDict):
     error: str | None  # why this coupling could not be solved
     fem_sizes_mm: list[FiniteFloat]  # the refinement study behind the limit
     fem_limit_hz: Hz | None  # Richardson limit h -> 0
-    fem_limit_error_percent: list[FiniteFloat] | None  # stated error of the finest size
+    fem_finest_error_percent: list[FiniteFloat] | None  # stated error of the finest mesh
     models: dict[str, CouplingModel] | None
 
 

@@ -81,7 +81,7 @@ def coupling_tables(results: dict, c: Cells) -> list[dict]:
                     row.append(dict(note, colspan=width))
                     continue
                 row += [c.num(f"{q}/fem_limit_hz/{k}", 2),
-                        c.num(f"{q}/fem_limit_error_percent/{k}", 3)]
+                        c.num(f"{q}/fem_finest_error_percent/{k}", 3)]
                 row += [c.num(f"{q}/models/{escape(m)}/error_percent/{k}", 3, signed=True)
                         for m in labels]
             rows.append(row)
@@ -89,7 +89,7 @@ def coupling_tables(results: dict, c: Cells) -> list[dict]:
                                                     else "") for r in readings]
         tables.append({"case": study["case"], "cls": "jointorders", "rows": rows, "head": [
             head("mode", *titles, spans=[1] + [width] * len(readings)),
-            head("", *(["FEM limit (Hz)", "its error (%)"]
+            head("", *(["FEM limit (Hz)", "finest FEM's error (%)"]
                        + [f"{m} (%)" for m in labels]) * len(readings))]})
     return tables
 

@@ -68,3 +68,18 @@ def test_readme_block_without_workspace_validation_has_no_workspace_table():
 
     studies = dict(RESULTS["studies"], workspace_validation=None)
     assert "over the workspace" not in readme_block(dict(RESULTS, studies=studies))
+
+
+def test_readme_block_quotes_each_coupling_and_each_models_worst_error():
+    from reports.readme import readme_block
+
+    block = readme_block(RESULTS).splitlines()
+    for case in RESULTS["studies"]["joint_couplings"]:
+        for reading in case["readings"]:
+            row = next(line for line in block
+                       if line.startswith(f"| {case['case']} | {reading['coupling']} |"))
+            worst = [max(abs(e) for e in m["error_percent"])
+                     for m in reading["models"].values()]
+            assert row.split("|")[4:-1] == [f" {w:.3f} " for w in worst]
+    assert readme_block(dict(RESULTS, studies=dict(RESULTS["studies"], joint_couplings=[]))
+                        ).count("Joint faces rigid") == 0
