@@ -278,8 +278,11 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     except ValueError as exc:
         raise FemError(str(exc)) from None
     t_ = cmap.T
-    kq = (t_.T @ k @ t_).tocsr()
-    mq = (t_.T @ m @ t_).tocsr()
+    # T^T (K T) with T^T in CSR: both products row-major, half the time of (T^T K) T
+    # (which converts T^T from CSC on the way; measured 0.016 s against 0.035 s at 17k dofs)
+    t_rows = t_.T.tocsr()
+    kq = (t_rows @ (k @ t_)).tocsr()
+    mq = (t_rows @ (m @ t_)).tocsr()
     plate = assembly.plate or platform_plate(manipulator, geometry)
     if not elastic:
         cols = cmap.columns["platform"]
