@@ -3,6 +3,7 @@
 #   make test     set up (first time) and run the test suite
 #   make bench    timing benchmarks (medians of repeated runs) into out/bench.json
 #   make report   rebuild out/report.html and out/report.pdf from out/results.json
+#   make clean-cache  empty the result, mesh, timing and figure caches (out/ stays)
 #   make clean    remove outputs and caches
 
 SCENE  ?= scenes/paper.toml
@@ -14,7 +15,7 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run setup test bench report readme docs clean update-baselines
+.PHONY: run setup test bench report readme docs clean clean-cache update-baselines
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -44,6 +45,9 @@ docs: $(STAMP)
 
 update-baselines: $(STAMP)
 	$(PYTHON) -m pipeline update-baselines --scene $(SCENE)
+
+clean-cache: $(STAMP)
+	$(PYTHON) -m pipeline cache clear
 
 clean:
 	rm -rf out .out.staging-* .out.previous-* .out.lock out.partial .cache .pytest_cache .hypothesis
