@@ -41,7 +41,7 @@ def stoppable(fn: Callable[..., Any], *args, **kwargs) -> Any:
         status = 1
         try:
             os.close(read_end)
-            _die_with(parent)
+            die_with_parent(parent)
             signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group:
             signal.signal(signal.SIGTERM, signal.SIG_DFL)  # the parent decides, and kills us
             _send(write_end, fn, args, kwargs)
@@ -89,13 +89,9 @@ def _receive(fd: int) -> bytes:
 
 
 def die_with_parent(parent: int) -> None:
-    """Initializer of a pool's worker process: it is killed when `parent` (the process that
-    started it) dies, so stopping a stoppable call also stops the pools it started."""
-    _die_with(parent)
-
-
-def _die_with(parent: int) -> None:
-    """Ask the kernel to SIGKILL this process when its parent dies (Linux)."""
+    """Ask the kernel to SIGKILL this process when its parent dies (Linux): the stoppable
+    child, and the workers of a pool it starts (as their initializer), so stopping a stoppable
+    call stops everything it started."""
     try:
         ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
     except (OSError, AttributeError):

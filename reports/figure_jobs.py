@@ -83,16 +83,19 @@ def _canonical(value, digest, outputs: dict) -> None:
 
 
 def _code() -> bytes:
-    digest = hashlib.sha256()
-    for path in sorted(PACKAGE.rglob("*.py")):
-        digest.update(path.relative_to(PACKAGE).as_posix().encode())
-        digest.update(path.read_bytes())
+    """The source this package draws with (`pipeline.cache.code_fingerprint` of its modules)
+    and the versions of the drawing libraries."""
+    from pipeline.cache import ROOT, code_fingerprint
+
+    modules = tuple(".".join(p.relative_to(ROOT).with_suffix("").parts)
+                    for p in sorted(PACKAGE.rglob("*.py")))
+    versions = []
     for name in LIBRARIES:
         try:
-            digest.update(f"{name}={metadata.version(name)};".encode())
+            versions.append(f"{name}={metadata.version(name)}")
         except metadata.PackageNotFoundError:
-            digest.update(f"{name}=none;".encode())
-    return digest.digest()
+            versions.append(f"{name}=none")
+    return f"{code_fingerprint(modules)};{';'.join(versions)}".encode()
 
 
 def job_key(job: Job, code: bytes) -> str:
