@@ -196,11 +196,16 @@ def _rigid_face(builder: _Builder, nodes: np.ndarray, xyz: np.ndarray, ref: np.n
 
 
 def _eliminate(builder: _Builder, face_dofs: np.ndarray, c: np.ndarray,
-               rhs_cols: np.ndarray | None, rhs: np.ndarray | None, rhs_extra: bool):
-    """Solve C u_face = D q for len(C) face dofs chosen by pivoted QR; record them in T."""
-    _, _, piv = la.qr(c, mode="economic", pivoting=True)
+               rhs_cols: np.ndarray | None, rhs: np.ndarray | None, rhs_extra: bool,
+               candidates: np.ndarray | None = None):
+    """Solve C u_face = D q for len(C) face dofs chosen by pivoted QR (among the columns
+    `candidates`, default all: a dof that another constraint refers to must stay
+    independent); record them in T."""
+    allowed = np.arange(c.shape[1]) if candidates is None else np.asarray(candidates)
+    _, _, piv = la.qr(c[:, allowed], mode="economic", pivoting=True)
     m = c.shape[0]
-    dep, ind = np.sort(piv[:m]), np.sort(piv[m:])
+    dep = np.sort(allowed[piv[:m]])
+    ind = np.setdiff1d(np.arange(c.shape[1]), dep)
     cd_inv = la.inv(c[:, dep])
     builder.dependent[face_dofs[dep]] = True
     coeff = -cd_inv @ c[:, ind]  # (m, n_ind)

@@ -98,13 +98,20 @@ def modes_to_meshio(disc: Discretisation, modes: np.ndarray, frequencies_hz: np.
                     plate=None, platform_motion: np.ndarray | None = None) -> meshio.Mesh:
     """modes: (n_raw, n_modes) displacement fields on dofs 3 s + c. With `plate` and
     `platform_motion` (6, n_modes), the rigid platform is added as a plate solid."""
-    frequencies_hz = np.asarray(frequencies_hz, float)
     count = modes.shape[1]
-    points = disc.node_xyz
-    u = modes.reshape(disc.n_nodes, 3, count)
-    cells = [("tetra10", np.ascontiguousarray(disc.basis.element_dofs.T))]
-    body = [disc.tet_body.astype(np.int32)]
-    n_bodies = len(disc.bodies)
+    return solid_to_meshio(disc.node_xyz, [("tetra10", np.ascontiguousarray(
+        disc.basis.element_dofs.T))], [disc.tet_body.astype(np.int32)], len(disc.bodies),
+        modes.reshape(disc.n_nodes, 3, count), frequencies_hz, plate, platform_motion)
+
+
+def solid_to_meshio(points: np.ndarray, cells: list, body: list, n_bodies: int, u: np.ndarray,
+                    frequencies_hz: np.ndarray, plate=None,
+                    platform_motion: np.ndarray | None = None) -> meshio.Mesh:
+    """The VTU content of any display of the legs: points (n, 3), meshio cell blocks, their
+    body ids, u (n, 3, n_modes); the rigid platform added as in `modes_to_meshio`."""
+    frequencies_hz = np.asarray(frequencies_hz, float)
+    count = u.shape[2]
+    cells, body = list(cells), list(body)
     if plate is not None:
         if platform_motion is None:
             raise ValueError("platform_motion is required to display a rigid platform")

@@ -36,6 +36,7 @@ from common.worker import WorkerDied, stoppable
 from . import probes
 
 PLATFORMS = ("rigid", "elastic")
+LEG_MODELS = ("harmonic", "tetrahedra")
 # P2 nodes ~ NODES_PER_VOLUME V / h^3 + NODES_PER_AREA A / h^2 + NODES_PER_RIM_AREA times the
 # rims' surface term (estimate_raw_dofs). Fitted (relative least squares) to 82 meshes of the
 # pinned gmsh options with Netgen's optimiser: the paper's legs, three poses, 16-50 mm, uniform
@@ -65,6 +66,11 @@ class FemOptions:
     platform: str = setting("rigid", kind=str, choices=PLATFORMS,
                             doc="rigid: 6 coordinates at o with the plate's inertia (as the "
                             "paper); elastic: the plate meshed as a solid")
+    legs: str = setting("harmonic", kind=str, choices=LEG_MODELS,
+                        doc="how the solid legs are discretised: harmonic (the exact Fourier "
+                        "split of each cylinder's 3D elasticity on a 2D meridian mesh of P2 "
+                        "triangles, harmonic.py; rigid platform only) or tetrahedra (a 3D "
+                        "mesh of 10-node tetrahedra, graded toward the rims)")
     coupling: str = setting("rigid", kind=str, choices=COUPLINGS,
                             doc="how a joint face follows its joint centre: rigid (RBE2-like) or "
                             "distributing (RBE3-like, the face may warp)")
@@ -83,6 +89,9 @@ class FemOptions:
             check_settings(self)
         except ValueError as exc:
             raise FemError(str(exc)) from None
+        if self.legs == "harmonic" and self.platform != "rigid":
+            raise FemError(f"legs = 'harmonic' with platform = {self.platform!r}: harmonic legs "
+                           "need the rigid platform (use legs = 'tetrahedra')")
 
     @property
     def mesh_size(self) -> float:
@@ -261,6 +270,16 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     except GeometryError as exc:
         raise FemError(str(exc)) from None
     settings = options.mesh
+    if options.legs == "harmonic":
+        from .harmonic import HarmonicError, solve_pose_harmonic
+        diameter = 2 * assembly.cylinders[0].radius
+        if settings.size > diameter:
+            raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
+                           f"{diameter:g} m (needs at least one element across a leg)")
+        try:  # sub-second: in this process, so its per-leg caches serve the next pose
+            return solve_pose_harmonic(manipulator, geometry, options)
+        except HarmonicError as exc:
+            raise FemError(str(exc)) from None
     check_mesh_size(assembly, settings, runtime)
     try:
         solid, hit = cached_mesh(assembly, settings, runtime.cache_dir, runtime.use_cache)

@@ -1,0 +1,688 @@
+"""The solid legs by Fourier harmonics: the same 3D elasticity on a 2D meridian mesh, exactly.
+
+A leg is a solid circular cylinder of radius R and length L whose end faces are tied to joint
+centres (`constraints.py`). Its geometry and material do not depend on the polar angle theta
+about its axis, so 3D linear elasticity splits exactly into uncoupled Fourier harmonics
+(Wilson 1965; Zienkiewicz & Taylor, The Finite Element Method, Vol. 1, "axisymmetric solids
+under non-symmetric loading"). In the leg's frame (r, theta, z; z from B_i to A_i), harmonic n
+of family "c" is
+
+    u_r = U_r(r, z) cos n theta,  u_theta = U_t(r, z) sin n theta,  u_z = U_z(r, z) cos n theta
+
+and family "s" the same turned by 90 degrees about the axis (its matrices are family c's). For
+n = 0, U_t is the torsion field and the weight of every term is 2 pi (pi for n >= 1). The
+strains of a harmonic (the cos group rr, tt, zz, rz and the sin group rt, tz) are
+
+    e_rr = U_r,r        e_tt = (U_r + n U_t) / r     e_zz = U_z,z      g_rz = U_r,z + U_z,r
+    g_rt = U_t,r - (U_t + n U_r) / r                 g_tz = U_t,z - n U_z / r
+
+and K_n = w_n int B^T D B r dr dz, M_n = w_n rho int N^T N r dr dz on P2 triangles of the
+meridian rectangle [0, R] x [0, L] (gmsh, graded toward the two rim corners, where the rigid
+face meets the wall: the stress singularity of issue 13, a point here, not an edge).
+
+Why this is exact and not a model: a rigid motion (t, phi) of an end face, written in the
+leg's frame, is u_r = t_x cos + t_y sin, u_theta = -t_x sin + t_y cos + phi_z r,
+u_z = t_z + r (phi_x sin - phi_y cos): harmonics 0 and 1 only. So a rigid (RBE2) face ties
+exactly harmonics 0 and 1 to its joint, and the distributing (RBE3) average of a face reads
+harmonics 0 and 1 only. Harmonics n >= 2 of a leg never couple to anything: they are modes of
+one leg alone (faces held for rigid coupling, free for distributing), which the solver includes
+whenever the lowest of them falls within the range of frequencies solved for (`solve_pose`
+checks every leg), so the answer is the 3D solid's.
+
+Regularity on the axis (r = 0), imposed exactly: n = 0: U_r = U_t = 0; n = 1: U_z = 0 and
+U_t = -U_r (a single-valued lateral translation); n >= 2: U = 0.
+
+What is shared with the tetrahedral model (`model.py`): the joints and couplings
+(`constraints.py`, the same equations in the same global coordinates, paper Eqs. 10, 14-17),
+the rigid platform's mass from its own meshed plate (`rigid_platform.py`), the eigen solver
+(`eigen.py`). Nothing of `analytical/` but the pose geometry.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+import functools
+import math
+import signal
+import threading
+import time
+
+import numpy as np
+import scipy.linalg as la
+import scipy.sparse as sp
+from skfem import Basis, ElementTriP2, FacetBasis, LinearForm, MeshTri
+
+from common.rigid_body import skew
+
+from .assembly import lame
+from .constraints import COUPLINGS, _Builder, _eliminate
+from .eigen import EigenError, lowest_modes
+from .rigid_platform import meshed_plate_mass
+
+AXIS_TOL = 1e-12  # relative to R: a node on the axis
+FACE_TOL = 1e-12  # relative to L: a node on an end face
+
+
+class HarmonicError(ValueError):
+    """Bad input or a failed step of the harmonic model; one line naming the value."""
+
+
+# The meridian's grading toward each rim corner: size h (distance / (CORNER_ZONE R)), at least
+# CORNER_FACTOR h. Measured on paper.toml case 2 (both couplings alike), max error over f1-f6
+# against a 0.15 R mesh graded to 0.005: at h = 0.8 R (40 mm) 0.006 % with 7.8k dofs (0.4 h
+# within 0.3 R, the tetrahedra's rim grading: 0.05 %; 0.01 within R: 0.005 % with 11k dofs);
+# at h = 0.5 R 0.002 %. In 2D deep grading costs little: a point, not an edge, is refined.
+CORNER_FACTOR = 0.05
+CORNER_ZONE = 1.0  # leg radii
+# the two families of n >= 1; n = 0 has one (its U_t is the torsion field)
+LOWEST_EXCLUDED_MARGIN = 1.2  # harmonic n + 1 is left out if its lowest mode is this far above
+
+
+# ---------------------------------------------------------------- meridian mesh (gmsh, 2D)
+
+_GMSH_LOCK = threading.Lock()
+
+
+@functools.lru_cache(maxsize=64)
+def meridian_mesh(radius: float, length: float, size: float) -> MeshTri:
+    """Linear triangles of the rectangle [0, R] x [0, L] (x = r, y = z), graded toward the rim
+    corners (R, 0) and (R, L); the P2 basis adds the mid-edge nodes (straight edges: the
+    geometry is exact). Read-only, remembered per process (same leg, same mesh)."""
+    import gmsh
+    from meshing.geometry import PINNED_OPTIONS
+
+    h = float(size)
+    h_min = h * CORNER_FACTOR
+    zone = CORNER_ZONE * radius
+    with _GMSH_LOCK:
+        if gmsh.isInitialized():
+            raise HarmonicError("gmsh is already initialised in this process (not reentrant)")
+        on_main = threading.current_thread() is threading.main_thread()
+        previous = signal.getsignal(signal.SIGTERM) if on_main else None
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+        try:
+            for name, value in PINNED_OPTIONS.items():
+                gmsh.option.setNumber(name, value)
+            gmsh.option.setNumber("Mesh.ElementOrder", 1)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", h)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", h_min)
+            model = gmsh.model
+            model.add("meridian")
+            geo = model.geo
+            corners = [geo.addPoint(0, 0, 0), geo.addPoint(radius, 0, 0),
+                       geo.addPoint(radius, length, 0), geo.addPoint(0, length, 0)]
+            lines = [geo.addLine(corners[k], corners[(k + 1) % 4]) for k in range(4)]
+            geo.addPlaneSurface([geo.addCurveLoop(lines)])
+            geo.synchronize()
+            dist = model.mesh.field.add("Distance")
+            model.mesh.field.setNumbers(dist, "PointsList", [corners[1], corners[2]])
+            graded = model.mesh.field.add("MathEval")
+            model.mesh.field.setString(
+                graded, "F", f"Max({h_min!r}, Min({h!r}, {h!r} * F{dist} / {zone!r}))")
+            model.mesh.field.setAsBackgroundMesh(graded)
+            model.mesh.generate(2)
+            tags, coords, _ = model.mesh.getNodes()
+            types, _, enodes = model.mesh.getElements(2)
+            tri = np.concatenate([np.asarray(n_, np.int64).reshape(-1, 3)
+                                  for ty, n_ in zip(types, enodes) if ty == 2])
+        except Exception as exc:  # gmsh raises plain Exception with its last error
+            raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: gmsh "
+                                f"failed ({str(exc).splitlines()[0] if str(exc) else exc})") \
+                from None
+        finally:
+            gmsh.finalize()
+            if on_main and previous is not None:
+                signal.signal(signal.SIGTERM, previous)
+    tags = np.asarray(tags, np.int64)
+    index = np.full(int(tags.max()) + 1, -1, np.int64)
+    index[tags] = np.arange(len(tags))
+    points = np.asarray(coords, float).reshape(-1, 3)[:, :2]
+    used, tri = np.unique(index[tri], return_inverse=True)
+    tri = tri.reshape(-1, 3)
+    p = points[used]
+    # snap the boundary exactly (gmsh's nodes on straight lines are exact to round-off)
+    for col, lo, hi in ((0, 0.0, radius), (1, 0.0, length)):
+        scale = hi - lo
+        p[np.abs(p[:, col] - lo) <= 1e-12 * scale, col] = lo
+        p[np.abs(p[:, col] - hi) <= 1e-12 * scale, col] = hi
+    # counter-clockwise triangles
+    a, b, c = (p[tri[:, k]] for k in range(3))
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    tri[cross < 0] = tri[cross < 0][:, [0, 2, 1]]
+    mesh = MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(tri.T))
+    return mesh
+
+
+# ---------------------------------------------------------------- one leg, one harmonic
+
+@dataclass(frozen=True)
+class LegHarmonics:
+    """Matrices and node sets of one leg's meridian mesh (per unit weight, see module doc)."""
+
+    radius: float
+    length: float
+    basis: Basis  # scalar P2 on the meridian mesh
+    node_rz: np.ndarray  # (n_scalar, 2) P2 node positions (r, z)
+    stiffness: dict  # n -> K_n (3 n_s, 3 n_s) CSR, dofs 3 s + c, c = (r, t, z), weight included
+    mass: sp.csr_matrix  # M for n >= 1 (weight pi); n = 0 is twice it
+    axis_nodes: np.ndarray  # scalar nodes at r = 0
+    face_nodes: tuple  # (nodes at z = 0, nodes at z = L)
+    face_weights: tuple  # per face: (W1, W2) = (int phi r dr, int phi r^2 dr) over the face
+
+    @property
+    def n_scalar(self) -> int:
+        return len(self.node_rz)
+
+
+def _element_arrays(basis: Basis):
+    values = np.stack([np.asarray(phi[0]) for phi in basis.basis])  # (6, ne, nq)
+    grads = np.stack([phi[0].grad for phi in basis.basis])  # (6, 2, ne, nq)
+    r = np.asarray(basis.global_coordinates())[0]  # (ne, nq)
+    return values, grads, r, basis.dx
+
+
+def _strain_operator(values, grads, r, n: int) -> np.ndarray:
+    """B (ne, nq, 6 strains, 18 = 6 nodes x 3 components), strains (rr, tt, zz, rt, tz, rz),
+    components (r, t, z) node-major."""
+    ne, nq = r.shape
+    nloc = values.shape[0]
+    b = np.zeros((ne, nq, 6, nloc, 3))
+    phi = values.transpose(1, 2, 0)  # (ne, nq, a)
+    dr = grads[:, 0].transpose(1, 2, 0)
+    dz = grads[:, 1].transpose(1, 2, 0)
+    over_r = phi / r[..., None]
+    b[:, :, 0, :, 0] = dr
+    b[:, :, 1, :, 0] = over_r
+    b[:, :, 1, :, 1] = n * over_r
+    b[:, :, 2, :, 2] = dz
+    b[:, :, 3, :, 1] = dr - over_r
+    b[:, :, 3, :, 0] = -n * over_r
+    b[:, :, 4, :, 1] = dz
+    b[:, :, 4, :, 2] = -n * over_r
+    b[:, :, 5, :, 0] = dz
+    b[:, :, 5, :, 2] = dr
+    return b.reshape(ne, nq, 6, 3 * nloc)
+
+
+def _sparse(element_dofs: np.ndarray, blocks: np.ndarray, n: int) -> sp.csr_matrix:
+    """Sum element matrices (ne, 18, 18) on dofs 3 s + c into CSR."""
+    ed = element_dofs.T  # (ne, 6)
+    dofs = (3 * ed[:, :, None] + np.arange(3)).reshape(len(ed), -1)
+    rows = np.repeat(dofs[:, :, None], dofs.shape[1], axis=2)
+    cols = np.repeat(dofs[:, None, :], dofs.shape[1], axis=1)
+    out = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=(3 * n, 3 * n))
+    out.sum_duplicates()
+    return out
+
+
+@functools.lru_cache(maxsize=64)
+def leg_harmonics(radius: float, length: float, lam: float, mu: float, density: float,
+                  size: float, harmonics: tuple) -> LegHarmonics:
+    """K_n (n in `harmonics`) and M of one leg on its graded meridian mesh (read-only,
+    remembered per process)."""
+    mesh = meridian_mesh(radius, length, size)
+    basis = Basis(mesh, ElementTriP2(), intorder=6)
+    n_s = basis.N
+    values, grads, r, dx = _element_arrays(basis)
+    d = np.zeros((6, 6))
+    d[:3, :3] = lam
+    d[[0, 1, 2], [0, 1, 2]] += 2 * mu
+    d[[3, 4, 5], [3, 4, 5]] = mu
+    w = r * dx  # r dr dz
+    stiffness = {}
+    for n in harmonics:
+        b = _strain_operator(values, grads, r, n)
+        ke = np.einsum("eqsa,st,eqtb,eq->eab", b, d, b, w, optimize=True)
+        weight = 2 * math.pi if n == 0 else math.pi
+        stiffness[n] = (weight * _sparse(basis.element_dofs, ke, n_s)).tocsr()
+    me_scalar = np.einsum("aeq,beq,eq->eab", values, values, w, optimize=True)
+    me = np.zeros((len(me_scalar), 6, 3, 6, 3))
+    for c in range(3):
+        me[:, :, c, :, c] = me_scalar
+    mass = (math.pi * density * _sparse(basis.element_dofs, me.reshape(-1, 18, 18), n_s)).tocsr()
+    locs = basis.doflocs.T  # (n_s, 2)
+    axis = np.flatnonzero(locs[:, 0] <= AXIS_TOL * radius)
+    faces, weights = [], []
+    for z0 in (0.0, length):
+        on = np.flatnonzero(np.abs(locs[:, 1] - z0) <= FACE_TOL * length)
+        facets = mesh.facets_satisfying(lambda x, z0=z0: np.abs(x[1] - z0) <= FACE_TOL * length)
+        fb = FacetBasis(mesh, ElementTriP2(), facets=facets, intorder=6)
+        w1 = LinearForm(lambda v, p: v * p.x[0]).assemble(fb)
+        w2 = LinearForm(lambda v, p: v * p.x[0] ** 2).assemble(fb)
+        faces.append(on)
+        weights.append((w1[on], w2[on]))
+    for arr in [*stiffness.values(), mass]:
+        arr.data.setflags(write=False)
+    return LegHarmonics(radius, length, basis, locs, stiffness, mass, axis, tuple(faces),
+                        tuple(weights))
+
+
+# ---------------------------------------------------------------- the face's rigid motions
+
+def rigid_face_coefficients(n: int, family: str, rho: np.ndarray) -> np.ndarray:
+    """(len(rho), 3 components, 6): the face dofs (U_r, U_t, U_z) at radii rho of harmonic
+    (n, family) as linear functions of the face's rigid motion (t_x, t_y, t_z, phi_x, phi_y,
+    phi_z) in the leg frame (module docstring); zero for n >= 2."""
+    h = np.zeros((len(rho), 3, 6))
+    if n == 0:
+        h[:, 1, 5] = rho  # U_t = phi_z r
+        h[:, 2, 2] = 1.0  # U_z = t_z
+    elif n == 1 and family == "c":
+        h[:, 0, 0] = 1.0  # U_r = t_x
+        h[:, 1, 0] = -1.0  # U_t = -t_x
+        h[:, 2, 4] = -rho  # U_z = -phi_y r
+    elif n == 1:
+        h[:, 0, 1] = 1.0  # V_r = t_y
+        h[:, 1, 1] = -1.0  # V_t = -t_y
+        h[:, 2, 3] = rho  # V_z = phi_x r
+    return h
+
+
+def face_projection_coefficients(leg: LegHarmonics, face: int, n: int, family: str
+                                 ) -> np.ndarray:
+    """(6, len(face nodes), 3): the L2 projection of the face's displacement onto rigid
+    motions about its centre, a = G^-1 int Phi^T u dA (constraints.face_projection), read from
+    harmonic (n, family) of the face's nodal values, in the leg frame."""
+    w1, w2 = leg.face_weights[face]
+    r = leg.radius
+    area, i_xx, i_zz = math.pi * r**2, math.pi * r**4 / 4, math.pi * r**4 / 2
+    p = np.zeros((6, len(w1), 3))
+    if n == 0:
+        p[2, :, 2] = 2 * math.pi * w1 / area  # t_z
+        p[5, :, 1] = 2 * math.pi * w2 / i_zz  # phi_z
+    elif n == 1 and family == "c":
+        p[0, :, 0] = math.pi * w1 / area  # t_x = pi/A int (U_r - U_t) r dr
+        p[0, :, 1] = -math.pi * w1 / area
+        p[4, :, 2] = -math.pi * w2 / i_xx  # phi_y = -pi/I int U_z r^2 dr
+    elif n == 1:
+        p[1, :, 0] = math.pi * w1 / area
+        p[1, :, 1] = -math.pi * w1 / area
+        p[3, :, 2] = math.pi * w2 / i_xx
+    return p
+
+
+def families(harmonics) -> list[tuple[int, str]]:
+    """(n, family) blocks of a leg's raw dofs, in order: n = 0 once, n >= 1 twice (c, s)."""
+    return [(n, f) for n in harmonics for f in (("c",) if n == 0 else ("c", "s"))]
+
+
+# ---------------------------------------------------------------- the assembled pose
+
+@dataclass
+class HarmonicResult:
+    """One pose solved with harmonic legs; the interface of `model.FemResult` (frequencies,
+    leg-axis and platform motions, VTU, record) so the pipeline takes either."""
+
+    frequencies_hz: np.ndarray  # (modes,) ascending
+    dofs: int  # free coordinates after the joints (and the axis) are eliminated
+    raw_dofs: int  # harmonic dofs of the legs
+    mesh_size: float  # m, the meridian's element size h
+    timings: dict  # seconds: mesh, assemble, solve, total
+    clusters: list
+    mesh_digest: str
+    n_elements: int  # meridian triangles over the legs
+    options: object  # model.FemOptions
+    min_quality: float  # smallest triangle quality 4 sqrt(3) area / sum of squared edges
+    harmonics: tuple  # harmonic orders included
+    lowest_excluded_hz: float  # lowest mode of the first harmonic left out, over the legs
+    geometry: object = field(repr=False)
+    modes_q: np.ndarray = field(repr=False)
+    modes_raw: np.ndarray = field(repr=False)
+    columns: dict = field(repr=False)
+    legs: list = field(repr=False)  # per leg: (LegHarmonics, frame E (3, 3), raw offset)
+    plate: object = field(default=None, repr=False)
+    cache_hit: bool = False
+
+    @property
+    def platform_motion(self) -> np.ndarray:
+        """(6, n_modes): translation of o and rotation of the rigid platform."""
+        return self.modes_q[self.columns["platform"]].copy()
+
+    def _blocks(self, leg_index: int) -> dict:
+        leg, _, offset = self.legs[leg_index]
+        n3 = 3 * leg.n_scalar
+        return {fam: self.modes_raw[offset + k * n3: offset + (k + 1) * n3]
+                for k, fam in enumerate(families(self.harmonics))}
+
+    def local_displacements(self, leg_index: int, r, theta, z) -> np.ndarray:
+        """(n_points, 3, n_modes): the 3D displacement at points (r, theta, z) of a leg, in
+        base coordinates, summed over the harmonics (module docstring)."""
+        leg, frame, _ = self.legs[leg_index]
+        r, theta, z = (np.asarray(a, float).ravel() for a in (r, theta, z))
+        eps = 1e-9  # points on the boundary, nudged inside for the element search
+        probe = leg.basis.probes(np.vstack([np.clip(r, eps * leg.radius, (1 - eps) * leg.radius),
+                                            np.clip(z, eps * leg.length, (1 - eps) * leg.length)]))
+        ur = np.zeros((len(r), self.modes_raw.shape[1]))
+        ut, uz = ur.copy(), ur.copy()
+        for (n, fam), block in self._blocks(leg_index).items():
+            vr, vt, vz = (probe @ block[c::3] for c in range(3))
+            if n == 0:
+                ur += vr
+                ut += vt
+                uz += vz
+            elif fam == "c":
+                cos, sin = np.cos(n * theta)[:, None], np.sin(n * theta)[:, None]
+                ur += vr * cos
+                ut += vt * sin
+                uz += vz * cos
+            else:
+                cos, sin = np.cos(n * theta)[:, None], np.sin(n * theta)[:, None]
+                ur += vr * sin
+                ut -= vt * cos
+                uz += vz * sin
+        c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
+        local = np.stack([ur * c - ut * s, ur * s + ut * c, uz], axis=1)
+        return np.einsum("ab,pbm->pam", frame, local)
+
+    def leg_axis_displacements(self, fractions) -> np.ndarray:
+        """Translation of the leg axis points B_i + t (A_i - B_i) per mode, base coordinates:
+        (3 legs, len(fractions), 3, n_modes). At t = 0 and 1 the face's projected rigid
+        motion (its joint's reference point, as `FemResult`), inside the axis itself."""
+        t = np.atleast_1d(np.asarray(fractions, float))
+        if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
+            raise HarmonicError(f"fractions = {np.asarray(fractions).tolist()!r}: need values "
+                                "in [0, 1]")
+        out = np.zeros((len(self.legs), len(t), 3, self.modes_raw.shape[1]))
+        for i, (leg, frame, _) in enumerate(self.legs):
+            out[i] = self.local_displacements(i, np.zeros_like(t), np.zeros_like(t),
+                                              t * leg.length)
+            blocks = self._blocks(i)
+            for face, end in ((0, 0.0), (1, 1.0)):
+                sel = np.abs(t - end) <= 1e-9
+                if not sel.any():
+                    continue
+                nodes = leg.face_nodes[face]
+                a = sum(face_projection_coefficients(leg, face, n, fam).reshape(6, -1)
+                        @ blocks[(n, fam)].reshape(-1, 3, blocks[(n, fam)].shape[1])[nodes]
+                        .reshape(-1, blocks[(n, fam)].shape[1])
+                        for n, fam in families((0, 1)))
+                out[i, sel] = (frame @ a[:3])[None]
+        return out
+
+    def display_mesh(self, rings: int = 3, sectors: int = 24):
+        """Points, meshio cell blocks and body ids of a structured display of the legs (wedges
+        around the axis, hexahedra outside), and the modes' displacements at the points."""
+        points, wedges, hexes, u, body_w, body_h = [], [], [], [], [], []
+        start = 0
+        for i, (leg, frame, _) in enumerate(self.legs):
+            layers = max(8, int(math.ceil(leg.length / leg.radius)))
+            z = np.linspace(0.0, leg.length, layers + 1)
+            theta = 2 * math.pi * np.arange(sectors) / sectors
+            rr = leg.radius * np.arange(1, rings + 1) / rings
+            # per layer: the axis point, then rings x sectors
+            r_pts = np.concatenate([[0.0], np.repeat(rr, sectors)])
+            t_pts = np.concatenate([[0.0], np.tile(theta, rings)])
+            per = len(r_pts)
+            rz = np.tile(r_pts, layers + 1)
+            tz = np.tile(t_pts, layers + 1)
+            zz = np.repeat(z, per)
+            base = np.asarray(self.geometry.base_points[i], float)
+            local = np.stack([rz * np.cos(tz), rz * np.sin(tz), zz], axis=1)
+            points.append(base + local @ frame.T)
+            u.append(self.local_displacements(i, rz, tz, zz))
+            k = np.arange(sectors)
+            nxt = (k + 1) % sectors
+            for layer in range(layers):
+                lo, hi = start + layer * per, start + (layer + 1) * per
+                ring1 = 1 + k
+                ring1n = 1 + nxt
+                wedges.append(np.column_stack([np.full(sectors, lo), lo + ring1n, lo + ring1,
+                                               np.full(sectors, hi), hi + ring1n, hi + ring1]))
+                for j in range(rings - 1):
+                    a, b = 1 + j * sectors + k, 1 + j * sectors + nxt
+                    c, d = 1 + (j + 1) * sectors + nxt, 1 + (j + 1) * sectors + k
+                    hexes.append(np.column_stack([lo + a, lo + d, lo + c, lo + b,
+                                                  hi + a, hi + d, hi + c, hi + b]))
+            body_w.append(np.full(layers * sectors, i, np.int32))
+            body_h.append(np.full(layers * sectors * (rings - 1), i, np.int32))
+            start += per * (layers + 1)
+        cells = [("wedge", np.vstack(wedges)), ("hexahedron", np.vstack(hexes))]
+        return (np.vstack(points), cells, [np.concatenate(body_w), np.concatenate(body_h)],
+                np.concatenate(u))
+
+    def write_vtu(self, path, pvd: bool = False) -> None:
+        """Mode shapes for ParaView: the legs' 3D displacement on a structured display mesh
+        (from the harmonics) and the rigid platform, as `FemResult.write_vtu`."""
+        from .export import _write_vtu, solid_to_meshio, write_mode_collection
+        points, cells, body, u = self.display_mesh()
+        _write_vtu(Path(path), solid_to_meshio(points, cells, body, len(self.legs), u,
+                                               self.frequencies_hz, self.plate,
+                                               self.platform_motion))
+        if pvd:
+            write_mode_collection(path)
+
+    def to_dict(self) -> dict:
+        return {
+            "frequencies_hz": [float(f) for f in self.frequencies_hz],
+            "dofs": self.dofs,
+            "raw_dofs": self.raw_dofs,
+            "mesh_size_m": self.mesh_size,
+            "elements": self.n_elements,
+            "min_scaled_jacobian": self.min_quality,
+            "timings": dict(self.timings),
+            "clusters": self.clusters,
+            "cache_hit": self.cache_hit,
+            "mesh_digest": self.mesh_digest,
+            "platform": self.options.platform,
+            "coupling": self.options.coupling,
+            "legs": "harmonic",
+            "harmonics": list(self.harmonics),
+            "lowest_excluded_harmonic_hz": self.lowest_excluded_hz,
+        }
+
+
+def leg_frame(geometry, leg: int) -> np.ndarray:
+    """(3, 3) columns e1, e2, e3: e3 along the leg from B_i to A_i, e1 and e2 the limb frame's
+    other two axes (a right-handed turn of its columns)."""
+    f = np.asarray(geometry.leg_frames[leg], float)
+    return np.column_stack([f[:, 1], f[:, 2], f[:, 0]])
+
+
+def _material(manipulator):
+    lam, mu = lame(manipulator.material)
+    return float(lam), float(mu), float(manipulator.material.density)
+
+
+def _leg_data(manipulator, geometry, size: float, harmonics) -> list:
+    """Per leg: (LegHarmonics, frame)."""
+    radius = 0.5 * float(manipulator.leg_diameter)
+    lam, mu, rho = _material(manipulator)
+    out = []
+    for i in range(geometry.leg_count):
+        b, a = (np.asarray(p[i], float) for p in (geometry.base_points, geometry.platform_points))
+        length = round(float(np.linalg.norm(a - b)), 12)
+        out.append((leg_harmonics(radius, length, lam, mu, rho, float(size), tuple(harmonics)),
+                    leg_frame(geometry, i)))
+    return out
+
+
+def lowest_leg_harmonic(manipulator, geometry, size: float, coupling: str, n: int) -> float:
+    """Lowest frequency (Hz) of harmonic n >= 2 over the legs: one leg alone, its faces held
+    (rigid coupling) or free (distributing), the axis regular; both families share it."""
+    lowest = math.inf
+    legs = _leg_data(manipulator, geometry, size, (n,))
+    if coupling == "rigid":  # faces held: a longer leg's space holds a shorter one's (min-max)
+        legs = [max(legs, key=lambda pair: pair[0].length)]
+    for leg, _ in legs:
+        k, m = leg.stiffness[n], leg.mass
+        fixed = [3 * leg.axis_nodes[:, None] + np.arange(3)]
+        if coupling == "rigid":
+            fixed += [3 * f[:, None] + np.arange(3) for f in leg.face_nodes]
+        free = np.setdiff1d(np.arange(k.shape[0]), np.concatenate(fixed).ravel())
+        w = lowest_modes(k[free][:, free], m[free][:, free], 1, extra=1).eigenvalues
+        lowest = min(lowest, math.sqrt(max(float(w[0]), 0.0)) / (2 * math.pi))
+    return lowest
+
+
+def solve_pose_harmonic(manipulator, geometry, options) -> HarmonicResult:
+    """Natural frequencies and modes of the pose's solid model (rigid platform) with the legs
+    by harmonics (module docstring). Harmonics 0 and 1 always; n = 2, 3, ... are added while
+    the lowest mode of the next harmonic, over the legs, is not LOWEST_EXCLUDED_MARGIN times
+    above the highest frequency solved for."""
+    if options.platform != "rigid":
+        raise HarmonicError(f"platform = {options.platform!r}: harmonic legs need the rigid "
+                            "platform (legs = 'tetrahedra' meshes an elastic plate)")
+    if options.coupling not in COUPLINGS:
+        raise HarmonicError(f"coupling = {options.coupling!r}: expected one of "
+                            f"{', '.join(COUPLINGS)}")
+    t0 = time.perf_counter()
+    size = float(options.mesh.size)
+    harmonics = (0, 1)
+    while True:
+        result = _solve(manipulator, geometry, options, harmonics, t0)
+        nxt = harmonics[-1] + 1
+        lowest = lowest_leg_harmonic(manipulator, geometry, size, options.coupling, nxt)
+        if lowest > LOWEST_EXCLUDED_MARGIN * result.frequencies_hz[-1]:
+            result.lowest_excluded_hz = lowest
+            break
+        if nxt > 24:
+            raise HarmonicError(f"leg diameter = {manipulator.leg_diameter:g} m: section modes "
+                                f"of harmonic {nxt} at {lowest:.4g} Hz still below the modes "
+                                "solved for (use legs = 'tetrahedra')")
+        harmonics = harmonics + (nxt,)
+    result.timings["total"] = time.perf_counter() - t0
+    return result
+
+
+def _quality(mesh: MeshTri) -> float:
+    p = mesh.p[:, mesh.t]  # (2, 3, nt)
+    e = [p[:, (k + 1) % 3] - p[:, k] for k in range(3)]
+    area = 0.5 * np.abs(e[0][0] * e[1][1] - e[0][1] * e[1][0])
+    return float((4 * math.sqrt(3) * area / sum((v ** 2).sum(axis=0) for v in e)).min())
+
+
+def _solve(manipulator, geometry, options, harmonics, t0) -> HarmonicResult:
+    import hashlib
+
+    from meshing.bodies import platform_plate
+
+    size, coupling = float(options.mesh.size), options.coupling
+    legs = _leg_data(manipulator, geometry, size, harmonics)
+    t_mesh = time.perf_counter()
+    fams = families(harmonics)
+    offsets, n_raw = [], 0
+    for leg, _ in legs:
+        offsets.append(n_raw)
+        n_raw += len(fams) * 3 * leg.n_scalar
+    bld = _Builder(n_raw)
+    o = np.asarray(geometry.platform_centre, float)
+    if coupling == "rigid":
+        phi = bld.add_extra("phi", len(legs))
+        psi = bld.add_extra("psi", 3 * len(legs)).reshape(len(legs), 3)
+    plat = bld.add_extra("platform", 6)
+    k_blocks, m_blocks = [], []
+    for i, ((leg, frame), offset) in enumerate(zip(legs, offsets)):
+        n3 = 3 * leg.n_scalar
+        e6 = la.block_diag(frame.T, frame.T)  # global (t, theta) -> leg frame
+        base = {fam: offset + k * n3 for k, fam in enumerate(fams)}
+        for n, _ in fams:
+            k_blocks.append(leg.stiffness[n])
+            m_blocks.append(leg.mass * (2.0 if n == 0 else 1.0))
+        # regularity on the axis; on a rigid face the face's own rule (which agrees) decides
+        on_face = np.concatenate(leg.face_nodes)
+        axis = leg.axis_nodes
+        regular = axis if coupling == "distributing" else np.setdiff1d(axis, on_face)
+        for n, fam in fams:
+            start = base[(n, fam)] + 3 * regular
+            if n == 0:  # U_r = U_t = 0
+                bld.dependent[start] = bld.dependent[start + 1] = True
+            elif n == 1:  # U_z = 0, U_t = -U_r
+                bld.dependent[start + 2] = bld.dependent[start + 1] = True
+                bld.entries(start + 1, start, -np.ones(len(start)), extra=False)
+            else:
+                for c in range(3):
+                    bld.dependent[start + c] = True
+        for face_index, joint in enumerate(geometry.leg_joints(i)):
+            ref = np.asarray(joint.centre, float)
+            nodes = leg.face_nodes[face_index]
+            if joint.body == "base":
+                t_cols = t_vals = None
+            else:  # Eq. (10): the platform's motion at the joint centre
+                t_cols, t_vals = plat, np.hstack([np.eye(3), -skew(ref - o)])
+            on_platform = joint.body == "platform"
+            if coupling == "rigid":
+                if joint.type == "S":  # Eq. (10): rotation free
+                    r_cols, r_map = psi[i], np.eye(3)
+                else:  # Eqs. (16)-(17): the body's rotation plus phi_i about the axis
+                    r_cols, r_map = phi[i:i + 1], np.asarray(joint.axis, float)[:, None]
+                    if on_platform:
+                        r_cols = np.concatenate([r_cols, plat[3:]])
+                        r_map = np.hstack([r_map, np.eye(3)])
+                rho = leg.node_rz[nodes, 0]
+                for n, fam in fams:
+                    dofs = base[(n, fam)] + 3 * nodes[:, None] + np.arange(3)  # (nf, 3)
+                    bld.dependent[dofs.ravel()] = True
+                    if n >= 2:  # held
+                        continue
+                    h = rigid_face_coefficients(n, fam, rho) @ e6  # (nf, 3, 6), global a
+                    rot = h[:, :, 3:] @ r_map
+                    bld.entries(np.repeat(dofs[:, :, None], rot.shape[2], 2),
+                                np.broadcast_to(r_cols, rot.shape), rot, extra=True)
+                    if t_cols is not None:
+                        tr = h[:, :, :3] @ t_vals
+                        bld.entries(np.repeat(dofs[:, :, None], tr.shape[2], 2),
+                                    np.broadcast_to(t_cols, tr.shape), tr, extra=True)
+                continue
+            # distributing: the face's projected rigid motion (global) over its free dofs
+            cols, mats, movable = [], [], []
+            on_axis = np.isin(nodes, axis)
+            for n, fam in families((0, 1)):
+                p = face_projection_coefficients(leg, face_index, n, fam)  # (6, nf, 3)
+                if n == 1:  # U_t = -U_r on the axis: its weight moves onto U_r
+                    p[:, on_axis, 0] -= p[:, on_axis, 1]
+                dofs = (base[(n, fam)] + 3 * nodes[:, None] + np.arange(3)).ravel()
+                keep = ~bld.dependent[dofs]
+                cols.append(dofs[keep])
+                mats.append(p.reshape(6, -1)[:, keep])
+                movable.append(~np.repeat(on_axis, 3)[keep])  # referred to: stay independent
+            face_dofs = np.concatenate(cols)
+            candidates = np.flatnonzero(np.concatenate(movable))
+            proj = la.block_diag(frame, frame) @ np.hstack(mats)  # (6, n) global a
+            if joint.type == "S":
+                _eliminate(bld, face_dofs, proj[:3], t_cols, t_vals, True, candidates)
+                continue
+            normal_rot = la.null_space(np.asarray(joint.axis, float)[None, :]).T  # (2, 3)
+            c = np.vstack([proj[:3], normal_rot @ proj[3:]])
+            if not on_platform:
+                _eliminate(bld, face_dofs, c, None, None, False, candidates)
+            else:
+                rhs = np.vstack([t_vals, np.hstack([np.zeros((2, 3)), normal_rot])])
+                _eliminate(bld, face_dofs, c, plat, rhs, True, candidates)
+    t_map, _, columns = bld.finish()
+    k_raw = sp.block_diag(k_blocks, format="csr")
+    m_raw = sp.block_diag(m_blocks, format="csr")
+    t_rows = t_map.T.tocsr()
+    kq = (t_rows @ (k_raw @ t_map)).tocsr()
+    mq = (t_rows @ (m_raw @ t_map)).tocsr()
+    plate = platform_plate(manipulator, geometry)
+    mp = sp.coo_matrix(meshed_plate_mass(plate, np.asarray(geometry.rotation),
+                                         manipulator.material.density,
+                                         options.platform_mesh * plate.radius))
+    cols = columns["platform"]
+    mq = mq + sp.csr_matrix((mp.data, (cols[mp.row], cols[mp.col])), shape=mq.shape)
+    kq = 0.5 * (kq + kq.T)
+    mq = 0.5 * (mq + mq.T)
+    t_asm = time.perf_counter()
+    try:
+        found = lowest_modes(kq, mq, options.modes)
+    except EigenError as exc:
+        raise HarmonicError(f"mesh_size = {size:g} m: eigensolver failed ({exc})") from None
+    t_end = time.perf_counter()
+    v = found.vectors
+    idx = np.argmax(np.abs(v), axis=0)  # deterministic sign: largest entry positive
+    sign = np.sign(v[idx, np.arange(v.shape[1])])
+    v = v * np.where(sign == 0, 1.0, sign)
+    digest = hashlib.sha256()
+    for leg, _ in legs:
+        digest.update(np.ascontiguousarray(leg.basis.mesh.p).tobytes())
+        digest.update(np.ascontiguousarray(leg.basis.mesh.t).tobytes())
+    return HarmonicResult(
+        frequencies_hz=found.frequencies_hz, dofs=int(kq.shape[0]), raw_dofs=n_raw,
+        mesh_size=size,
+        timings={"mesh": t_mesh - t0, "assemble": t_asm - t_mesh, "solve": t_end - t_asm},
+        clusters=[list(map(int, c)) for c in found.clusters], mesh_digest=digest.hexdigest(),
+        n_elements=int(sum(leg.basis.mesh.t.shape[1] for leg, _ in legs)), options=options,
+        min_quality=min(_quality(leg.basis.mesh) for leg, _ in legs),
+        harmonics=tuple(harmonics), lowest_excluded_hz=math.nan, geometry=geometry,
+        modes_q=v, modes_raw=t_map @ v, columns=columns,
+        legs=[(leg, frame, off) for (leg, frame), off in zip(legs, offsets)], plate=plate)
