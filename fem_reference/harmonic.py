@@ -153,6 +153,12 @@ def meridian_mesh(radius: float, length: float, size: float) -> MeshTri:
     return mesh
 
 
+def clear_caches() -> None:
+    """Forget the per-process meridian meshes and leg matrices (benchmarks time them)."""
+    meridian_mesh.cache_clear()
+    leg_harmonics.cache_clear()
+
+
 # ---------------------------------------------------------------- one leg, one harmonic
 
 @dataclass(frozen=True)

@@ -120,16 +120,20 @@ def bench_map(scene, runs: int, modes: int) -> dict:
     }
 
 
-def bench_fem(scene, case_name: str, runs: int, sizes: list[float]) -> dict:
+def bench_fem(scene, case_name: str, runs: int, sizes: list[float],
+              legs: str | None = None) -> dict:
     from fem_reference import solve_pose
+    from fem_reference.harmonic import clear_caches
 
     case = scene.case(case_name)
     geometry = pose_geometry(scene.manipulator, case.pose)
     out = {}
     for size in sizes:
-        # no mesh cache, so that meshing is timed too; as many modes as the pipeline asks
+        # no mesh cache (nor the harmonic legs' per-process memo), so that meshing is timed
+        # too; as many modes as the pipeline asks
         def once(size=size):
-            return solve_pose(scene.manipulator, geometry, fem_options(scene, size),
+            clear_caches()
+            return solve_pose(scene.manipulator, geometry, fem_options(scene, size, legs=legs),
                               fem_runtime(scene, use_cache=False))
 
         samples, timings, dofs = [], [], 0
@@ -224,6 +228,13 @@ def main(argv: list[str] | None = None) -> int:
             result["fem_pose_seconds_median"] = fem[f"{scene.fem.mesh_size * 1e3:g}mm"][
                 "median_seconds"]
             result["fem_runs"] = args.fem_runs
+            result["fem_legs"] = scene.fem.legs
+            other = "tetrahedra" if scene.fem.legs == "harmonic" else None
+            if other:  # the other discretisation of the same solid, timed in the same run
+                result["fem_tetrahedra"] = bench_fem(scene, args.case, args.fem_runs, sizes,
+                                                     legs=other)
+                result["fem_pose_seconds_vs_tetrahedra"] = result["fem_pose_seconds_median"] / \
+                    result["fem_tetrahedra"][f"{scene.fem.mesh_size * 1e3:g}mm"]["median_seconds"]
             if args.sweep_runs > 0:
                 result["sweep"] = bench_sweep(scene, args.sweep_runs)
                 result["sweep_speedup"] = result["sweep"]["speedup"]

@@ -65,12 +65,13 @@ def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
 
 
 def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | None = None,
-                coupling: str | None = None, modes: int | None = None):
+                coupling: str | None = None, modes: int | None = None,
+                legs: str | None = None):
     """The scene's FEM options (built once, at load) at one mesh size, with optional
-    platform/coupling/mode-count overrides; EXTRA_MODES are added for the pairing."""
+    platform/coupling/legs/mode-count overrides; EXTRA_MODES are added for the pairing."""
     options = scene.fem if mesh_size is None else scene.fem.with_size(mesh_size)
-    changes = {k: v for k, v in {"platform": platform, "coupling": coupling}.items()
-               if v is not None}
+    changes = {k: v for k, v in {"platform": platform, "coupling": coupling,
+                                 "legs": legs}.items() if v is not None}
     changes["modes"] = (modes if modes is not None else scene.analytical.modes) + EXTRA_MODES
     return replace(options, **changes)
 
@@ -82,7 +83,8 @@ def fem_runtime(scene: Scene, cache: ResultCache | None = None, use_cache: bool 
 
 
 def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size: float,
-             platform: str | None = None, coupling: str | None = None) -> Solve:
+             platform: str | None = None, coupling: str | None = None,
+             legs: str | None = None) -> Solve:
     """The FEM reference of one pose at one mesh size, through the result cache.
 
     The cache key is every input that changes the answer, taken whole: the manipulator, the
@@ -91,7 +93,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
     """
     from fem_reference import solve_pose
 
-    options = fem_options(scene, mesh_size, platform=platform, coupling=coupling)
+    options = fem_options(scene, mesh_size, platform=platform, coupling=coupling, legs=legs)
     payload = fem_cache_payload(scene.manipulator, geometry, options)
 
     def compute():

@@ -207,8 +207,9 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
     return entry, fem.vtu
 
 
-FEM_VARIANTS = {"elastic platform": {"platform": "elastic"},
-                "distributing coupling": {"coupling": "distributing"}}
+FEM_VARIANTS = {"elastic platform": {"platform": "elastic", "legs": "tetrahedra"},
+                "distributing coupling": {"coupling": "distributing"},
+                "tetrahedral legs": {"legs": "tetrahedra"}}
 
 
 def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh_size: float,
