@@ -20,7 +20,7 @@ from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from pydantic import ConfigDict, FiniteFloat, TypeAdapter, ValidationError, with_config
 
-SCHEMA_VERSION = 4
+SCHEMA_VERSION = 5
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
 
 Hz = list[FiniteFloat]
@@ -63,6 +63,7 @@ class FemSettings(TypedDict):
     rim_zone_mm: FiniteFloat
     platform: str
     coupling: str
+    legs: str  # "harmonic" (Fourier harmonics on a meridian mesh) or "tetrahedra"
 
 
 @with_config(_STRICT)

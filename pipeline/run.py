@@ -111,7 +111,7 @@ def scene_summary(scene: Scene, path: str) -> dict:
             mesh_size_mm=scene.fem.mesh_size * 1e3,
             refinement_mm=[s * 1e3 for s in scene.fem_study.refinement],
             rim_factor=scene.fem.mesh.rim_factor, rim_zone_mm=scene.fem.mesh.rim_zone * 1e3,
-            platform=scene.fem.platform, coupling=scene.fem.coupling),
+            platform=scene.fem.platform, coupling=scene.fem.coupling, legs=scene.fem.legs),
         calibrated=[] if scene.calibrated_height is None else [schema.Calibrated(
             name="platform height z", value=f"{scene.calibrated_height * 1e3:.1f} mm",
             reason=" ".join(scene.calibration_reason.split()))] + (

@@ -55,7 +55,8 @@ def fidelity_table(results: dict, c: Cells) -> dict:
     rows += [[c.text(literal="FEM: rim element size (× h)"), c.num("/scene/fem/rim_factor", 2)],
              [c.text(literal="FEM: rim zone (mm)"), c.num("/scene/fem/rim_zone_mm", 1)]]
     rows += [[c.text(literal=f"FEM: {label}"), c.text(f"/scene/fem/{key}")]
-             for key, label in (("platform", "platform"), ("coupling", "joint coupling"))]
+             for key, label in (("legs", "legs discretised by"), ("platform", "platform"),
+                                ("coupling", "joint coupling"))]
     return {"head": [head("setting", "value")], "rows": rows, "cls": "params"}
 
 

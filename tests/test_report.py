@@ -240,10 +240,10 @@ def _assert_untouched(out: Path, before: dict[str, bytes]) -> None:
 @pytest.mark.parametrize("content, message", [
     (None, "results file not found"),
     ("{ not json", "not valid JSON"),
-    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 4"),
-    ('{"schema": 2, "cases": []}', "results schema 2, this version reads schema 4: rerun `make`"),
+    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 5"),
+    ('{"schema": 2, "cases": []}', "results schema 2, this version reads schema 5: rerun `make`"),
     ('{"cases": []}', "results schema None"),
-    ('{"schema": 4, "cases": []}', "profile: field required"),
+    ('{"schema": 5, "cases": []}', "profile: field required"),
 ])
 def test_bad_results_file(tmp_path, content, message):
     path = tmp_path / "results.json"
