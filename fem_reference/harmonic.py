@@ -50,6 +50,7 @@ import time
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
+import scipy.sparse.linalg as sla
 from skfem import Basis, ElementTriP2, FacetBasis, LinearForm, MeshTri
 
 from common.rigid_body import skew
@@ -58,6 +59,7 @@ from .assembly import lame
 from .constraints import COUPLINGS, _Builder, _eliminate
 from .eigen import EigenError, lowest_modes
 from .rigid_platform import meshed_plate_mass
+from meshing.geometry import GmshFailure
 
 AXIS_TOL = 1e-12  # relative to R: a node on the axis
 FACE_TOL = 1e-12  # relative to L: a node on an end face
@@ -257,6 +259,10 @@ def leg_harmonics(radius: float, length: float, lam: float, mu: float, density: 
         w2 = LinearForm(lambda v, p: v * p.x[0] ** 2).assemble(fb)
         faces.append(on)
         weights.append((w1[on], w2[on]))
+    if len(axis) < 3 or any(len(f) < 3 for f in faces):
+        raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: "
+                            f"{len(axis)} nodes on the axis, {[len(f) for f in faces]} on the "
+                            "faces (expected the boundary lines meshed)")
     for arr in [*stiffness.values(), mass]:
         arr.data.setflags(write=False)
     return LegHarmonics(radius, length, basis, locs, stiffness, mass, axis, tuple(faces),
@@ -330,7 +336,7 @@ class HarmonicResult:
     options: object  # model.FemOptions
     min_quality: float  # smallest triangle quality 4 sqrt(3) area / sum of squared edges
     harmonics: tuple  # harmonic orders included
-    lowest_excluded_hz: float  # lowest mode of the first harmonic left out, over the legs
+    excluded_above_hz: float  # no mode of the first harmonic left out lies below this
     geometry: object = field(repr=False)
     modes_q: np.ndarray = field(repr=False)
     modes_raw: np.ndarray = field(repr=False)
@@ -473,7 +479,7 @@ class HarmonicResult:
             "coupling": self.options.coupling,
             "legs": "harmonic",
             "harmonics": list(self.harmonics),
-            "lowest_excluded_harmonic_hz": self.lowest_excluded_hz,
+            "excluded_harmonics_above_hz": self.excluded_above_hz,
         }
 
 
@@ -502,12 +508,13 @@ def _leg_data(manipulator, geometry, size: float, harmonics) -> list:
     return out
 
 
-def lowest_leg_harmonic(manipulator, geometry, size: float, coupling: str, n: int) -> float:
-    """Lowest frequency (Hz) of harmonic n >= 2 over the legs: one leg alone, its faces held
-    (rigid coupling) or free (distributing), the axis regular; both families share it."""
-    lowest = math.inf
+def _section_blocks(manipulator, geometry, size: float, coupling: str, n: int):
+    """(K, M) of harmonic n >= 2 of each leg alone, faces held (rigid coupling) or free
+    (distributing), the axis regular; both families share them. Rigid: the longest leg only
+    (faces held, a longer leg's admissible fields hold a shorter one's: its modes are lower,
+    min-max)."""
     legs = _leg_data(manipulator, geometry, size, (n,))
-    if coupling == "rigid":  # faces held: a longer leg's space holds a shorter one's (min-max)
+    if coupling == "rigid":
         legs = [max(legs, key=lambda pair: pair[0].length)]
     for leg, _ in legs:
         k, m = leg.stiffness[n], leg.mass
@@ -515,16 +522,54 @@ def lowest_leg_harmonic(manipulator, geometry, size: float, coupling: str, n: in
         if coupling == "rigid":
             fixed += [3 * f[:, None] + np.arange(3) for f in leg.face_nodes]
         free = np.setdiff1d(np.arange(k.shape[0]), np.concatenate(fixed).ravel())
-        w = lowest_modes(k[free][:, free], m[free][:, free], 1, extra=1).eigenvalues
+        yield k[free][:, free], m[free][:, free]
+
+
+def lowest_leg_harmonic(manipulator, geometry, size: float, coupling: str, n: int) -> float:
+    """Lowest frequency (Hz) of harmonic n >= 2 over the legs (`_section_blocks`)."""
+    lowest = math.inf
+    for k, m in _section_blocks(manipulator, geometry, size, coupling, n):
+        w = lowest_modes(k, m, 1, extra=1).eigenvalues
         lowest = min(lowest, math.sqrt(max(float(w[0]), 0.0)) / (2 * math.pi))
     return lowest
 
 
-def solve_pose_harmonic(manipulator, geometry, options) -> HarmonicResult:
+def modes_below(k: sp.spmatrix, m: sp.spmatrix, frequency_hz: float) -> int | None:
+    """How many eigenvalues of (K, M) lie below (2 pi f)^2, by Sylvester's law of inertia: the
+    negative pivots of K - mu M factorised with symmetric (diagonal) pivots, LDL^T. None when
+    SuperLU had to pivot off the diagonal (then the count is not the inertia)."""
+    mu = (2 * math.pi * frequency_hz) ** 2
+    lu = sla.splu(sp.csc_matrix(k - mu * m), permc_spec="MMD_AT_PLUS_A",
+                  diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        return None
+    return int(np.count_nonzero(lu.U.diagonal() < 0))
+
+
+def section_modes_above(manipulator, geometry, size: float, coupling: str, n: int,
+                        frequency_hz: float) -> bool:
+    """Does harmonic n >= 2 of every leg have no mode below `frequency_hz`? Counted by
+    inertia (a few ms a leg; ARPACK crawls in the dense band of section modes of a long leg),
+    or by its lowest mode where the inertia count is not available."""
+    for k, m in _section_blocks(manipulator, geometry, size, coupling, n):
+        count = modes_below(k, m, frequency_hz)
+        if count is None:
+            w = lowest_modes(k, m, 1, extra=1).eigenvalues[0]
+            count = int(w < (2 * math.pi * frequency_hz) ** 2)
+        if count:
+            return False
+    return True
+
+
+def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = None
+                        ) -> HarmonicResult:
     """Natural frequencies and modes of the pose's solid model (rigid platform) with the legs
     by harmonics (module docstring). Harmonics 0 and 1 always; n = 2, 3, ... are added while
     the lowest mode of the next harmonic, over the legs, is not LOWEST_EXCLUDED_MARGIN times
-    above the highest frequency solved for."""
+    above the highest frequency solved for (the lowest mode of a cylinder's harmonic rises with
+    n: more circumferential strain; measured 23, 36, 47, 58 kHz for n = 2-5 of the paper's
+    legs). Runs in this process (2D: a fraction of a second; its per-leg caches serve the next
+    pose); `max_dofs` refuses larger raw models before they are assembled."""
     if options.platform != "rigid":
         raise HarmonicError(f"platform = {options.platform!r}: harmonic legs need the rigid "
                             "platform (legs = 'tetrahedra' meshes an elastic plate)")
@@ -535,15 +580,15 @@ def solve_pose_harmonic(manipulator, geometry, options) -> HarmonicResult:
     size = float(options.mesh.size)
     harmonics = (0, 1)
     while True:
-        result = _solve(manipulator, geometry, options, harmonics, t0)
+        result = _solve(manipulator, geometry, options, harmonics, t0, max_dofs)
         nxt = harmonics[-1] + 1
-        lowest = lowest_leg_harmonic(manipulator, geometry, size, options.coupling, nxt)
-        if lowest > LOWEST_EXCLUDED_MARGIN * result.frequencies_hz[-1]:
-            result.lowest_excluded_hz = lowest
+        bound = LOWEST_EXCLUDED_MARGIN * float(result.frequencies_hz[-1])
+        if section_modes_above(manipulator, geometry, size, options.coupling, nxt, bound):
+            result.excluded_above_hz = bound
             break
         if nxt > 24:
             raise HarmonicError(f"leg diameter = {manipulator.leg_diameter:g} m: section modes "
-                                f"of harmonic {nxt} at {lowest:.4g} Hz still below the modes "
+                                f"of harmonic {nxt} still below {bound:.4g} Hz, the modes "
                                 "solved for (use legs = 'tetrahedra')")
         harmonics = harmonics + (nxt,)
     result.timings["total"] = time.perf_counter() - t0
@@ -557,7 +602,7 @@ def _quality(mesh: MeshTri) -> float:
     return float((4 * math.sqrt(3) * area / sum((v ** 2).sum(axis=0) for v in e)).min())
 
 
-def _solve(manipulator, geometry, options, harmonics, t0) -> HarmonicResult:
+def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicResult:
     import hashlib
 
     from meshing.bodies import platform_plate
@@ -570,6 +615,9 @@ def _solve(manipulator, geometry, options, harmonics, t0) -> HarmonicResult:
     for leg, _ in legs:
         offsets.append(n_raw)
         n_raw += len(fams) * 3 * leg.n_scalar
+    if max_dofs is not None and n_raw > max_dofs:
+        raise HarmonicError(f"mesh_size = {size:g} m: {n_raw} harmonic dofs, above max_dofs = "
+                            f"{max_dofs}")
     bld = _Builder(n_raw)
     o = np.asarray(geometry.platform_centre, float)
     if coupling == "rigid":
@@ -661,9 +709,13 @@ def _solve(manipulator, geometry, options, harmonics, t0) -> HarmonicResult:
     kq = (t_rows @ (k_raw @ t_map)).tocsr()
     mq = (t_rows @ (m_raw @ t_map)).tocsr()
     plate = platform_plate(manipulator, geometry)
-    mp = sp.coo_matrix(meshed_plate_mass(plate, np.asarray(geometry.rotation),
-                                         manipulator.material.density,
-                                         options.platform_mesh * plate.radius))
+    try:
+        mp = sp.coo_matrix(meshed_plate_mass(plate, np.asarray(geometry.rotation),
+                                             manipulator.material.density,
+                                             options.platform_mesh * plate.radius))
+    except GmshFailure as exc:
+        raise HarmonicError(f"platform_mesh = {options.platform_mesh:g}: gmsh failed on the "
+                            f"platform plate ({exc})") from None
     cols = columns["platform"]
     mq = mq + sp.csr_matrix((mp.data, (cols[mp.row], cols[mp.col])), shape=mq.shape)
     kq = 0.5 * (kq + kq.T)
@@ -689,6 +741,6 @@ def _solve(manipulator, geometry, options, harmonics, t0) -> HarmonicResult:
         clusters=[list(map(int, c)) for c in found.clusters], mesh_digest=digest.hexdigest(),
         n_elements=int(sum(leg.basis.mesh.t.shape[1] for leg, _ in legs)), options=options,
         min_quality=min(_quality(leg.basis.mesh) for leg, _ in legs),
-        harmonics=tuple(harmonics), lowest_excluded_hz=math.nan, geometry=geometry,
+        harmonics=tuple(harmonics), excluded_above_hz=math.nan, geometry=geometry,
         modes_q=v, modes_raw=t_map @ v, columns=columns,
         legs=[(leg, frame, off) for (leg, frame), off in zip(legs, offsets)], plate=plate)

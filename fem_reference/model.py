@@ -277,7 +277,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
             raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
                            f"{diameter:g} m (needs at least one element across a leg)")
         try:  # sub-second: in this process, so its per-leg caches serve the next pose
-            return solve_pose_harmonic(manipulator, geometry, options)
+            return solve_pose_harmonic(manipulator, geometry, options, runtime.max_dofs)
         except HarmonicError as exc:
             raise FemError(str(exc)) from None
     check_mesh_size(assembly, settings, runtime)

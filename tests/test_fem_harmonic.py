@@ -90,7 +90,20 @@ def test_section_harmonics_lie_far_above_the_modes_solved_for(scene, diameter):
     for coupling in ("rigid", "distributing"):
         lowest = lowest_leg_harmonic(m, geometry, 0.32 * diameter, coupling, 2)
         assert lowest > 1.2 * result.frequencies_hz[-1]
-    assert result.harmonics == (0, 1) and result.lowest_excluded_hz > result.frequencies_hz[-1]
+    assert result.harmonics == (0, 1) and result.excluded_above_hz > result.frequencies_hz[-1]
+
+
+def test_the_inertia_count_of_section_modes_is_the_eigenvalue_count(scene):
+    """Sylvester: the negative pivots of K - mu M count the eigenvalues below mu."""
+    from fem_reference.harmonic import _section_blocks, modes_below
+
+    geometry = pose_geometry(scene.manipulator, scene.case("case2").pose)
+    k, m = next(_section_blocks(scene.manipulator, geometry, 0.032, "rigid", 2))
+    w = lowest_modes(k, m, 4, extra=1).eigenvalues
+    f = np.sqrt(w) / (2 * math.pi)
+    assert modes_below(k, m, 0.5 * f[0]) == 0
+    assert modes_below(k, m, 0.5 * (f[0] + f[1])) == 1
+    assert modes_below(k, m, 0.5 * (f[2] + f[3])) == 3
 
 
 def test_harmonic_legs_refuse_an_elastic_platform(scene):
@@ -137,3 +150,11 @@ def test_the_stated_error_of_harmonic_legs_bounds_their_error(scene, pose_name):
     # and not absurdly loose: measured stated / actual 2.2-4.6 per mode (the corners are graded
     # to 0.05 h, so at these sizes the smooth part converges faster than the bounded 1.42)
     assert stated.max() <= 5 * actual.max(), (stated, actual)
+
+
+def test_the_dof_guard_refuses_a_harmonic_model_too_large(scene):
+    from fem_reference import FemRuntime
+
+    geometry = pose_geometry(scene.manipulator, scene.case("case2").pose)
+    with pytest.raises(FemError, match=r"harmonic dofs, above max_dofs = 1000$"):
+        solve_pose(scene.manipulator, geometry, _options(scene), FemRuntime(max_dofs=1000))
