@@ -118,3 +118,25 @@ def leg_axis_displacements(model: SubstructureModel, leg_frames: np.ndarray,
         local = np.stack([ax, v, w], axis=1)  # (nt, 3, n)
         out[i] = np.einsum("ab,kbn->kan", frame, local)
     return out
+
+
+def leg_axis_twists(model: SubstructureModel, leg_frames: np.ndarray, shapes: np.ndarray,
+                    fractions) -> np.ndarray:
+    """Rotation of each leg's sections about its own axis (twist, rad) at fractions t of
+    B_i -> A_i, for each mode: the torsion rotation interpolated linearly inside each element
+    (as a frame element assumes it). Returns (3, len(fractions), n). A leg's torsion modes move
+    no point of its axis: the pairing by shape needs this to see them."""
+    s = model.elements
+    t = np.asarray(fractions, float)
+    if np.any((t < 0) | (t > 1)):
+        raise ValueError(f"fractions {t.tolist()}: must lie in [0, 1]")
+    nodal = leg_displacements(model, shapes)  # (3, s+1, 6, n)
+    out = np.empty((len(model.leg_maps), len(t), shapes.shape[1]))
+    for i in range(len(model.leg_maps)):
+        along = np.linalg.norm(model.leg_nodes[i] - model.leg_nodes[i, 0], axis=1)
+        stations = along / along[-1]
+        element = np.clip(np.searchsorted(stations, t, side="right") - 1, 0, s - 1)
+        xi = (t - stations[element]) * along[-1] / (along[element + 1] - along[element])
+        twist = np.einsum("b,kbn->kn", leg_frames[i][:, 0], nodal[i, :, 3:, :])
+        out[i] = (1 - xi)[:, None] * twist[element] + xi[:, None] * twist[element + 1]
+    return out

@@ -411,6 +411,36 @@ class HarmonicResult:
                 out[i, sel] = (frame @ a[:3])[None]
         return out
 
+    def leg_axis_twists(self, fractions) -> np.ndarray:
+        """Rotation of each leg's sections about its axis (rad) at fractions t, per mode:
+        (3 legs, len(fractions), n_modes), as `FemResult.leg_axis_twists`: inside, the mean
+        rotation of four points at half the radius; at the joint centres the face's projected
+        rigid rotation."""
+        from .model import section_arms, twist_from_section
+
+        t = np.atleast_1d(np.asarray(fractions, float))
+        out = np.zeros((len(self.legs), len(t), self.modes_raw.shape[1]))
+        for i, (leg, frame, _) in enumerate(self.legs):
+            arms = section_arms(np.array([0.0, 0.0, 1.0]), 0.5 * leg.radius)  # leg frame
+            theta = np.arctan2(arms[:, 1], arms[:, 0])
+            rr = np.repeat(0.5 * leg.radius, len(t) * len(arms))
+            u = self.local_displacements(i, rr, np.tile(theta, len(t)),
+                                         np.repeat(t * leg.length, len(arms)))
+            u = np.einsum("ba,pbm->pam", frame, u)  # back to the leg frame
+            out[i] = twist_from_section(np.array([0.0, 0.0, 1.0]), arms,
+                                        u.reshape(len(t), len(arms), 3, -1))
+            blocks = self._blocks(i)
+            for face, end in ((0, 0.0), (1, 1.0)):
+                sel = np.abs(t - end) <= 1e-9
+                if not sel.any():
+                    continue
+                nodes = leg.face_nodes[face]
+                p = face_projection_coefficients(leg, face, 0, "c").reshape(6, -1)
+                b0 = blocks[(0, "c")]
+                a = p @ b0.reshape(-1, 3, b0.shape[1])[nodes].reshape(-1, b0.shape[1])
+                out[i, sel] = a[5][None]  # phi_z: n = 0 alone carries it
+        return out
+
     def display_mesh(self, rings: int = 3, sectors: int = 24):
         """Points, meshio cell blocks and body ids of a structured display of the legs (wedges
         around the axis, hexahedra outside), and the modes' displacements at the points."""

@@ -169,6 +169,32 @@ class FemResult:
                     out[i, sel] = self.constraints.reference_motion(face, self.modes_raw)[:3]
         return out
 
+    def leg_axis_twists(self, fractions) -> np.ndarray:
+        """Rotation of each leg's sections about its axis (rad) at fractions t, per mode:
+        (3 legs, len(fractions), n_modes). Inside the leg, the mean of (e x u) . a / r over
+        `section_points` at half the radius (exact for a rigid twist of the section); at the
+        joint centres the face's projected rigid rotation."""
+        t = np.atleast_1d(np.asarray(fractions, float))
+        legs = self.assembly.cylinders
+        out = np.zeros((len(legs), len(t), self.modes_raw.shape[1]))
+        for i, leg in enumerate(legs):
+            b, a = np.asarray(leg.start), np.asarray(leg.end)
+            axis = (a - b) / np.linalg.norm(a - b)
+            inner = (t > 1e-9) & (t < 1 - 1e-9)
+            if inner.any():
+                centres = b + t[inner, None] * (a - b)
+                arms = section_arms(axis, 0.5 * leg.radius)  # (k, 3)
+                pts = (centres[:, None, :] + arms[None]).reshape(-1, 3)
+                u = probes.evaluate(self.disc, leg.name, pts, self.modes_raw)
+                u = u.reshape(len(centres), len(arms), 3, -1)
+                out[i, inner] = twist_from_section(axis, arms, u)
+            for end, face in ((0.0, leg.start_face), (1.0, leg.end_face)):
+                sel = np.abs(t - end) <= 1e-9
+                if sel.any():
+                    out[i, sel] = axis @ self.constraints.reference_motion(face,
+                                                                          self.modes_raw)[3:]
+        return out
+
     @property
     def platform_motion(self) -> np.ndarray:
         """(6, n_modes): translation of o and rotation of the platform. Rigid platform: its six
@@ -211,6 +237,25 @@ class FemResult:
             "rim_zone_m": self.options.mesh.rim_zone,
             "rim_grading": self.options.mesh.rim_grading,
         }
+
+
+def section_arms(axis: np.ndarray, radius: float, count: int = 4) -> np.ndarray:
+    """(count, 3): points at `radius` from a section's centre, evenly around `axis`."""
+    axis = np.asarray(axis, float)
+    e1 = np.cross(axis, np.eye(3)[np.argmin(np.abs(axis))])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(axis, e1)
+    angles = 2 * np.pi * np.arange(count) / count
+    return radius * (np.cos(angles)[:, None] * e1 + np.sin(angles)[:, None] * e2)
+
+
+def twist_from_section(axis: np.ndarray, arms: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Section rotation about `axis` from displacements u (..., k, 3, m) at `arms` (k, 3):
+    mean over the points of axis . (arm x u) / |arm|^2 (translations and bending cancel in
+    the mean over points evenly around the axis)."""
+    cross = np.cross(arms[:, :, None], u, axis=-2)  # (..., k, 3, m)
+    return np.einsum("c,...kcm->...m", np.asarray(axis, float), cross) / (
+        len(arms) * float(np.sum(arms[0] ** 2)))
 
 
 def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from analytical.kinematics import PoseGeometry
-from analytical.modal import leg_axis_displacements, platform_motion
+from analytical.modal import leg_axis_displacements, leg_axis_twists, platform_motion
 from analytical.model import analyse
 from analytical.params import ModelOptions
 
@@ -23,13 +23,24 @@ from .scene import Case, Scene
 
 # Shared points for MAC: eleven stations along every leg axis, joint centres included.
 STATIONS = np.linspace(0.0, 1.0, 11)
+# what a station holds for the pairing: the axis translation, and the sections' twist times the
+# leg radius (the wall's displacement by it): a leg's torsion modes move no point of its axis
+STATION_COMPONENTS = ("x", "y", "z", "radius x twist")
+
+
+def station_vector(translations: np.ndarray, twists: np.ndarray, radius: float) -> np.ndarray:
+    """(legs * stations * 4, modes) from translations (legs, stations, 3, modes) and twists
+    (legs, stations, modes): the shapes the pairing compares (STATION_COMPONENTS)."""
+    both = np.concatenate([translations, radius * twists[:, :, None, :]], axis=2)
+    return both.reshape(-1, both.shape[-1])
 EXTRA_MODES = 4  # asked beyond the reported ones, so a pair split across the cut is found
 
 
 @dataclass(frozen=True)
 class Solve:
     """One model's modes at one pose: its results record (every computed mode) and its shapes
-    sampled at the STATIONS of every leg axis, (legs * stations * 3, modes), for the pairing."""
+    sampled at the STATIONS of every leg axis, (legs * stations * 4, modes), for the pairing
+    (`station_vector`)."""
 
     record: dict  # results.AnalyticalRecord or results.FemRecord
     station_shapes: np.ndarray
@@ -44,7 +55,8 @@ class Solve:
     def leg_axis_shapes(self, count: int) -> list:
         """[leg][station][xyz][mode] of the first `count` modes."""
         shapes = self.station_shapes[:, :count]
-        return shapes.reshape(-1, len(STATIONS), 3, shapes.shape[-1]).tolist()
+        return shapes.reshape(-1, len(STATIONS), len(STATION_COMPONENTS),
+                              shapes.shape[-1])[:, :, :3].tolist()
 
 
 def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
@@ -53,15 +65,17 @@ def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
     start = time.perf_counter()
     res = analyse(scene.manipulator, case.pose, opts)
     seconds = time.perf_counter() - start
-    shapes = leg_axis_displacements(res.model, res.geometry.leg_frames, res.modal.shapes,
-                                    STATIONS)
+    shapes = station_vector(
+        leg_axis_displacements(res.model, res.geometry.leg_frames, res.modal.shapes, STATIONS),
+        leg_axis_twists(res.model, res.geometry.leg_frames, res.modal.shapes, STATIONS),
+        0.5 * scene.manipulator.leg_diameter)
     record = results.AnalyticalRecord(
         elements=options.elements, beam=options.beam, shear=options.shear,
         joint_ends=options.joint_ends, platform_inertia=options.platform_inertia,
         frequencies_hz=[float(f) for f in res.frequencies_hz],
         timings={"total": seconds}, dofs=int(res.model.stiffness.shape[0]),
         platform_motion=platform_motion(res.model, res.modal.shapes).tolist())
-    return Solve(record, shapes.reshape(-1, shapes.shape[-1]))
+    return Solve(record, shapes)
 
 
 def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | None = None,
@@ -98,7 +112,9 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
 
     def compute():
         result = solve_pose(scene.manipulator, geometry, options, fem_runtime(scene, cache))
-        shapes = result.leg_axis_displacements(STATIONS)
+        shapes = station_vector(result.leg_axis_displacements(STATIONS),
+                                result.leg_axis_twists(STATIONS),
+                                0.5 * scene.manipulator.leg_diameter)
         vtu = cache.directory / "tmp" / f"mode-{os.getpid()}-{time.time_ns()}.vtu"
         vtu.parent.mkdir(parents=True, exist_ok=True)
         result.write_vtu(vtu)
@@ -112,7 +128,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
             "timings": {k: float(v) for k, v in result.timings.items()},
             "mesh_cache_hit": bool(result.cache_hit),  # then "mesh" timed a cache read
             "platform_motion": result.platform_motion.tolist(),
-            "station_shapes": shapes.reshape(-1, shapes.shape[-1]).tolist(),
+            "station_shapes": shapes.tolist(),
             "min_scaled_jacobian": (float(result.min_quality)
                                     if math.isfinite(result.min_quality) else None),
         }
@@ -138,7 +154,8 @@ FEM_CACHED = ("frequencies_hz", "dofs", "raw_dofs", "mesh_size_m", "platform", "
 def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
     """Everything that determines a FEM result, whole (see `fem_case`)."""
     return {"manipulator": as_dict(manipulator), "geometry": as_dict(geometry),
-            "options": as_dict(options), "stations": STATIONS.tolist()}
+            "options": as_dict(options), "stations": STATIONS.tolist(),
+            "station_components": list(STATION_COMPONENTS)}
 
 
 def error_table(analytical: Solve, fem: Solve, count: int, fem_error_percent=None,

@@ -19,7 +19,8 @@ SIZE = 0.04  # coarse: ~7000 dofs, ~0.5 s a pose
 
 
 def options(size: float, **kwargs) -> FemOptions:
-    return FemOptions(MeshSettings(size), **kwargs)
+    """The tetrahedral legs (this file specifies them; the harmonic ones: test_fem_harmonic)."""
+    return FemOptions(MeshSettings(size), **({"legs": "tetrahedra"} | kwargs))
 
 
 def runtime(cache, **kwargs) -> FemRuntime:

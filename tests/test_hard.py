@@ -194,7 +194,8 @@ def fem_level_solves(scene, tmp_path_factory):
         for size, turn in MESHES:
             machine = hc.turned(scene.manipulator, math.radians(turn))
             geometry = pose_geometry(machine, scene.case("case1").pose)
-            result = solve_pose(machine, geometry, FemOptions(MeshSettings(size), modes=6),
+            result = solve_pose(machine, geometry, FemOptions(MeshSettings(size), modes=6,
+                                                              legs="tetrahedra"),
                                 runtime)
             out.append((size, turn, result, *seen[-1]))
     return out

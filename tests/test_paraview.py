@@ -24,7 +24,9 @@ SIZE = 0.04  # coarse: ~8000 dofs, about a second
 @pytest.fixture(scope="module")
 def result(scene, tmp_path_factory):
     geometry = pose_geometry(scene.manipulator, scene.case("case2").pose)  # tilted: no symmetry
-    return solve_pose(scene.manipulator, geometry, FemOptions(MeshSettings(SIZE)),
+    # the tetrahedral legs' file (the harmonic legs' display: tests/test_fem_harmonic.py)
+    return solve_pose(scene.manipulator, geometry, FemOptions(MeshSettings(SIZE),
+                                                              legs="tetrahedra"),
                       FemRuntime(cache_dir=tmp_path_factory.mktemp("meshes")))
 
 
@@ -120,7 +122,7 @@ def test_the_pvd_steps_through_the_modes(written, result):
 
 def test_an_elastic_platform_is_shown_as_meshed(scene, result, tmp_path):
     elastic = solve_pose(scene.manipulator, result.geometry,
-                         FemOptions(MeshSettings(SIZE), platform="elastic"),
+                         FemOptions(MeshSettings(SIZE), platform="elastic", legs="tetrahedra"),
                          FemRuntime(cache_dir=tmp_path / "meshes"))
     elastic.write_vtu(tmp_path / "elastic.vtu")
     mesh = meshio.read(tmp_path / "elastic.vtu")

@@ -46,9 +46,17 @@ def test_ci_profile_run_writes_the_contract(tmp_path):
     assert (out / "tables" / "case1.csv").read_text().startswith("mode,paper_fea_hz")
     assert (out / "modes" / "case2_fem.vtu").stat().st_size > 0
     assert results["cases"][0]["pose"]["height_origin"] == "calibrated"
-    assert on_disk["schema"] == 4 and on_disk["environment"]["project_version"]
+    assert on_disk["schema"] == 5 and on_disk["environment"]["project_version"]
     assert on_disk["studies"]["height_calibration"]["case"] == "case1"  # calibrated, with rows
     assert [s["case"] for s in on_disk["studies"]["angle_conventions"]] == ["case2"]  # tilted
+    # the chosen setting's stated worst error covers every workspace-validation pose, not only
+    # the cases and the pose where the best candidate is worst
+    fidelity, study = on_disk["fidelity"], on_disk["studies"]["workspace_validation"]
+    chosen = fidelity["analytical"]["setting"]
+    assert study["default_model"] == chosen
+    everywhere = max(abs(e) for p in study["poses"] if p.get("models")
+                     for e in p["models"][chosen] if e is not None)
+    assert everywhere <= fidelity["analytical"]["worst_error_percent"] + 1e-9
 
 
 def test_exported_platform_motion_moves_the_platform_joints_as_the_legs_end(tmp_path):
