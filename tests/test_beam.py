@@ -116,6 +116,22 @@ def test_fixed_free_axial_bar_and_torsional_shaft():
         assert np.all(rel > 0) and np.all(rel < 1.05 * bound + 1e-9)
 
 
+def test_timoshenko_rods_converge_as_h_to_the_fourth_from_below():
+    """The averaged (consistent + lumped) rod mass of the Timoshenko element: axial and
+    torsional frequencies below the exact ones by (k h)^4 / 480 to leading order."""
+    L = 0.8
+    c_axial, c_twist = math.sqrt(E / RHO), math.sqrt(G / RHO)
+    wavenumbers = np.array([1, 3]) * math.pi / (2 * L)
+    for s in (5, 10):
+        k, m = assemble_beam(E, G, RHO, SECTION, L, s, "timoshenko")
+        for offset, c in ((0, c_axial), (3, c_twist)):
+            dofs = [6 * n + offset for n in range(s + 1)]
+            f = lowest_frequencies(k[np.ix_(dofs, dofs)], m[np.ix_(dofs, dofs)], [0], 2)
+            rel = f / (c * wavenumbers / (2 * math.pi)) - 1
+            bound = (wavenumbers * L / s) ** 4 / 480
+            assert np.all(rel < 0) and np.all(-rel < 1.1 * bound), (s, rel, bound)
+
+
 def test_unknown_theory_and_bad_length_are_rejected():
     with pytest.raises(ValueError, match="'bernoulli'"):
         frame_element(E, G, RHO, SECTION, 0.1, "bernoulli")
