@@ -591,6 +591,22 @@ def section_modes_above(manipulator, geometry, size: float, coupling: str, n: in
     return True
 
 
+# P2 nodes of a leg's graded meridian: NODES_PER_AREA R L / h^2 + NODES_PER_CORNER (R / h)^2
+# + NODES_MIN, fitted on 36 meshes (R 15-75 mm, L 0.3-1 m, h 0.2-1.6 R), then raised by 1.5 so
+# that no mesh has more (actual / estimate 0.35-0.9)
+NODES_PER_AREA, NODES_PER_CORNER, NODES_MIN = 7.8, 70.0, 255.0
+
+
+def estimate_raw_dofs(manipulator, geometry, size: float, harmonics=(0, 1)) -> int:
+    """Raw harmonic dofs of the pose, estimated before meshing (the DOF guard's number)."""
+    radius = 0.5 * float(manipulator.leg_diameter)
+    lengths = np.linalg.norm(np.asarray(geometry.platform_points, float)
+                             - np.asarray(geometry.base_points, float), axis=1)
+    nodes = (NODES_PER_AREA * radius * lengths / size**2 + NODES_PER_CORNER * (radius / size) ** 2
+             + NODES_MIN)
+    return int(3 * len(families(harmonics)) * float(np.sum(nodes)))
+
+
 def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = None
                         ) -> HarmonicResult:
     """Natural frequencies and modes of the pose's solid model (rigid platform) with the legs
@@ -608,6 +624,11 @@ def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = N
                             f"{', '.join(COUPLINGS)}")
     t0 = time.perf_counter()
     size = float(options.mesh.size)
+    if max_dofs is not None:
+        estimate = estimate_raw_dofs(manipulator, geometry, size)
+        if estimate > max_dofs:
+            raise HarmonicError(f"mesh_size = {size:g} m: about {estimate} harmonic dofs "
+                                f"expected, above max_dofs = {max_dofs}")
     harmonics = (0, 1)
     while True:
         result = _solve(manipulator, geometry, options, harmonics, t0, max_dofs)

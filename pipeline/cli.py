@@ -141,15 +141,15 @@ class _Version(argparse.Action):
         parser.exit(0)
 
 
-def _fem_choices() -> tuple[tuple[str, ...] | None, tuple[str, ...] | None]:
-    """The FEM's platform and coupling options; (None, None) without the [fem] extra (then
-    the fem command says which extra to install)."""
+def _fem_choices() -> tuple[tuple[str, ...] | None, ...]:
+    """The FEM's platform, coupling and leg-discretisation options; Nones without the [fem]
+    extra (then the fem command says which extra to install)."""
     try:
         from fem_reference.constraints import COUPLINGS
-        from fem_reference.model import PLATFORMS
+        from fem_reference.model import LEG_MODELS, PLATFORMS
     except ImportError:
-        return None, None
-    return PLATFORMS, COUPLINGS
+        return None, None, None
+    return PLATFORMS, COUPLINGS, LEG_MODELS
 
 
 def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
@@ -173,7 +173,7 @@ def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
     a.add_argument("--modes", type=_positive_int, metavar="N",
                    help="number of modes (default: the scene's)")
 
-    platforms, couplings = _fem_choices()
+    platforms, couplings, leg_models = _fem_choices()
     f = command("fem", "3D solid FEM reference of one case")
     _scene_args(f)
     f.add_argument("--size", type=_positive_mm, metavar="MM",
@@ -182,6 +182,9 @@ def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
                    help="rigid platform or elastic plate (default: the scene's)")
     f.add_argument("--coupling", choices=couplings,
                    help="joint-face coupling (default: the scene's)")
+    f.add_argument("--legs", choices=leg_models,
+                   help="legs by Fourier harmonics on a meridian mesh, or 3D tetrahedra "
+                   "(default: the scene's; an elastic plate takes tetrahedra)")
     f.add_argument("--modes", type=_positive_int, metavar="N",
                    help="number of modes (default: the scene's)")
     f.add_argument("--vtu", metavar="PATH",
@@ -297,15 +300,15 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     size = args.size * 1e-3 if args.size is not None else scene.fem.mesh_size
     count = args.modes or scene.analytical.modes
     options = fem_options(scene, size, platform=args.platform, coupling=args.coupling,
-                          modes=count)
+                          modes=count, legs=args.legs)
     geometry = pose_geometry(scene.manipulator, case.pose)
     cache = ResultCache(_cache_dir(args))
     runtime = fem_runtime(scene, cache)
     sizes = sequence_around(size, scene.fem_study.refinement) if args.estimate_error else ()
     assembly = pose_assembly(scene.manipulator, geometry,
                              elastic_platform=options.platform == "elastic")
-    for h in reversed(sizes):  # every size of the study checked up front, the finest first
-        check_mesh_size(assembly, options.with_size(h).mesh, runtime)
+    for h in reversed(sizes if options.legs == "tetrahedra" else ()):  # the 3D meshes'
+        check_mesh_size(assembly, options.with_size(h).mesh, runtime)  # guards, finest first
     start = time.perf_counter()
     result = solve_pose(scene.manipulator, geometry, options, runtime)
     seconds = time.perf_counter() - start
@@ -317,6 +320,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         "model": "fem",
         "platform": options.platform,
         "coupling": options.coupling,
+        "legs": options.legs,
         "frequencies_hz": [float(x) for x in result.frequencies_hz[:count]],
         "dofs": int(result.dofs),
         "mesh_size_m": float(result.mesh_size),
@@ -327,7 +331,8 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     if sizes:
         from .run import fem_refinement
         study = fem_refinement(replace(scene, fem=replace(scene.fem, platform=options.platform,
-                                                          coupling=options.coupling)),
+                                                          coupling=options.coupling,
+                                                          legs=options.legs)),
                                geometry, cache, sizes)
         k = min(range(len(sizes)), key=lambda i: abs(sizes[i] - size))
         payload["refinement_mm"] = [h * 1e3 for h in sizes]

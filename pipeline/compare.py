@@ -84,6 +84,8 @@ def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | No
     """The scene's FEM options (built once, at load) at one mesh size, with optional
     platform/coupling/legs/mode-count overrides; EXTRA_MODES are added for the pairing."""
     options = scene.fem if mesh_size is None else scene.fem.with_size(mesh_size)
+    if platform == "elastic" and legs is None:
+        legs = "tetrahedra"  # an elastic plate is meshed in 3D: so are the legs joined to it
     changes = {k: v for k, v in {"platform": platform, "coupling": coupling,
                                  "legs": legs}.items() if v is not None}
     changes["modes"] = (modes if modes is not None else scene.analytical.modes) + EXTRA_MODES

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import errno
 import copy
+from dataclasses import replace
 import json
 import os
 import shutil
@@ -252,11 +253,13 @@ def test_a_full_disk_names_the_path_in_out(warm, tmp_path, monkeypatch, where):
 # ---------------------------------------------------------------- caches verified on read
 @pytest.fixture(scope="module")
 def clean_solve(tmp_path_factory, scene):
-    """One FEM solve at the CI mesh size, through a fresh cache: the reference."""
+    """One FEM solve at the CI mesh size, through a fresh cache: the reference. Tetrahedral
+    legs, whose meshes go to the mesh cache (the harmonic legs' meridians are not cached)."""
     folder = tmp_path_factory.mktemp("clean-cache")
+    tets = replace(scene, fem=replace(scene.fem, legs="tetrahedra"))
     geometry = pose_geometry(scene.manipulator, scene.case("case1").pose)
-    value = fem_case(scene, geometry, ResultCache(folder), scene.fem_study.ci_mesh_size)
-    return SimpleNamespace(folder=folder, geometry=geometry, value=value,
+    value = fem_case(tets, geometry, ResultCache(folder), scene.fem_study.ci_mesh_size)
+    return SimpleNamespace(folder=folder, geometry=geometry, value=value, scene=tets,
                            vtu=Path(value.vtu).read_bytes())
 
 
@@ -290,7 +293,7 @@ def test_a_corrupt_cache_file_is_detected_dropped_and_recomputed(clean_solve, sc
             path.unlink()
     _damage(target, how)
     capsys.readouterr()
-    value = fem_case(scene, clean_solve.geometry, ResultCache(folder),
+    value = fem_case(clean_solve.scene, clean_solve.geometry, ResultCache(folder),
                      scene.fem_study.ci_mesh_size)
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 1 and "failed its check" in err[0] and target.stem in err[0], err
@@ -299,7 +302,7 @@ def test_a_corrupt_cache_file_is_detected_dropped_and_recomputed(clean_solve, sc
         assert value.record[key] == clean_solve.value.record[key]
     assert (value.station_shapes == clean_solve.value.station_shapes).all()
     assert Path(value.vtu).read_bytes() == clean_solve.vtu
-    again = fem_case(scene, clean_solve.geometry, ResultCache(folder),
+    again = fem_case(clean_solve.scene, clean_solve.geometry, ResultCache(folder),
                      scene.fem_study.ci_mesh_size)
     assert again.record["cache_hit"] and capsys.readouterr().err == ""  # the new entry verifies
 
@@ -423,7 +426,7 @@ def test_the_memory_estimate_names_size_estimate_and_limit():
 
 def test_size_9_mm_is_refused_before_meshing_on_this_machine(manipulator, scene, monkeypatch):
     geometry = pose_geometry(manipulator, scene.case("case1").pose)
-    options = fem_options(scene, 0.009)
+    options = fem_options(scene, 0.009, legs="tetrahedra")  # the 3D mesh's memory guard
 
     def no_meshing(*args, **kwargs):
         raise AssertionError("meshed before the memory check")
@@ -443,7 +446,8 @@ def test_a_solve_stays_under_the_memory_it_states(tmp_path, manipulator):
             "print(max(resource.getrusage(w).ru_maxrss for w in (resource.RUSAGE_SELF, "
             "resource.RUSAGE_CHILDREN)) * 1024)")
     proc = subprocess.run([sys.executable, "-c", code, "fem", "--scene", str(PAPER_SCENE),
-                           "--size", "20", "--json"], cwd=tmp_path, env=ENV,
+                           "--size", "20", "--legs", "tetrahedra", "--json"], cwd=tmp_path,
+                          env=ENV,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     payload, peak = proc.stdout.splitlines()
@@ -472,7 +476,8 @@ def test_a_signal_stops_a_long_solve_within_2_seconds(tmp_path, how):
     # 16 mm: the factorisation alone takes ~7 s in C, where no Python handler can run
     # as from a terminal: a test runner started in the background (`cmd &` in a script) has
     # SIGINT ignored, which its children inherit and Python then keeps ignoring
-    proc = command("pipeline", "fem", "--scene", PAPER_SCENE, "--size", "16", cwd=tmp_path,
+    proc = command("pipeline", "fem", "--scene", PAPER_SCENE, "--size", "16", "--legs",
+                   "tetrahedra", cwd=tmp_path,
                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                    preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
