@@ -217,6 +217,38 @@ def _eliminate(builder: _Builder, face_dofs: np.ndarray, c: np.ndarray,
                         np.broadcast_to(rhs_cols, g.shape), g, extra=rhs_extra)
 
 
+def rigid_rotation(joint, leg: int, phi: np.ndarray, psi: np.ndarray, plat: np.ndarray | None
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """(columns, map): the rotation of a rigidly coupled face's reference point as
+    map @ q[columns]. S joint, Eq. (10): free, psi_i; R joint, Eqs. (16)-(17): the body's
+    rotation (the platform's, on the platform) plus phi_i about the joint axis."""
+    if joint.type == "S":
+        return psi[leg], np.eye(3)
+    cols, rot = phi[leg:leg + 1], np.asarray(joint.axis, float)[:, None]
+    if joint.body == "platform":
+        cols, rot = np.concatenate([cols, plat[3:]]), np.hstack([rot, np.eye(3)])
+    return cols, rot
+
+
+def distributing_joint(bld: _Builder, face_dofs: np.ndarray, projection: np.ndarray, joint,
+                       t_cols, t_vals, t_extra: bool, plat: np.ndarray | None,
+                       candidates: np.ndarray | None = None) -> None:
+    """The joint on a distributing face, whose rigid-motion projection a = projection @ u_face
+    (6 x n, global) is constrained: S, its translation is the body's at the joint centre
+    (t_vals @ q[t_cols], none on the base); R, also its rotation normal to the joint axis is
+    the body's. Eliminated for as many face dofs as equations (`_eliminate`)."""
+    if joint.type == "S":
+        _eliminate(bld, face_dofs, projection[:3], t_cols, t_vals, t_extra, candidates)
+        return
+    normal_rot = la.null_space(np.asarray(joint.axis, float)[None, :]).T  # (2, 3)
+    c = np.vstack([projection[:3], normal_rot @ projection[3:]])
+    if joint.body != "platform":
+        _eliminate(bld, face_dofs, c, None, None, False, candidates)
+    else:
+        rhs = np.vstack([t_vals, np.hstack([np.zeros((2, 3)), normal_rot])])
+        _eliminate(bld, face_dofs, c, plat, rhs, True, candidates)
+
+
 def patch_weights(disc: Discretisation, body: str, centre: np.ndarray, radius: float):
     """Nodes and weights of the volume average of a body's displacement within `radius` of
     `centre`: u_avg = sum_k w_k u_k, w_k = int_patch N_k dV / V_patch."""
@@ -280,30 +312,13 @@ def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = 
                 for c in range(3):
                     t_vals[c, c * len(pn):(c + 1) * len(pn)] = pw
                 t_extra = False
-            on_platform = joint.body == "platform"
             if coupling == "rigid":
-                if joint.type == "S":  # Eq. (10): rotation free
-                    r_cols, r_map = psi[i], np.eye(3)
-                else:  # Eqs. (16)-(17): the body's rotation plus phi_i about the axis
-                    r_cols, r_map = phi[i:i + 1], np.asarray(joint.axis, float)[:, None]
-                    if on_platform:
-                        r_cols = np.concatenate([r_cols, plat[3:]])
-                        r_map = np.hstack([r_map, np.eye(3)])
+                r_cols, r_map = rigid_rotation(joint, i, phi, psi, plat)
                 _rigid_face(bld, disc.face_nodes[face], xyz, ref, t_cols, t_vals, t_extra,
                             r_cols, r_map)
                 continue
             proj = projections[face]
             fd = (3 * proj.nodes[:, None] + np.arange(3)).ravel()
-            if joint.type == "S":
-                _eliminate(bld, fd, proj.matrix[:3], t_cols, t_vals, t_extra)
-                continue
-            # R: the face's mean rotation normal to the axis follows its body
-            normal_rot = la.null_space(np.asarray(joint.axis, float)[None, :]).T  # (2, 3)
-            c = np.vstack([proj.matrix[:3], normal_rot @ proj.matrix[3:]])
-            if not on_platform:
-                _eliminate(bld, fd, c, None, None, False)
-            else:
-                rhs = np.vstack([t_vals, np.hstack([np.zeros((2, 3)), normal_rot])])
-                _eliminate(bld, fd, c, plat, rhs, True)
+            distributing_joint(bld, fd, proj.matrix, joint, t_cols, t_vals, t_extra, plat)
     t, retained, columns = bld.finish()
     return ConstraintMap(t, n_raw, retained, columns, projections, references)

@@ -43,8 +43,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 import functools
 import math
-import signal
-import threading
 import time
 
 import numpy as np
@@ -56,10 +54,10 @@ from skfem import Basis, ElementTriP2, FacetBasis, LinearForm, MeshTri
 from common.rigid_body import skew
 
 from .assembly import lame
-from .constraints import COUPLINGS, _Builder, _eliminate
+from .constraints import COUPLINGS, _Builder, distributing_joint, rigid_rotation
 from .eigen import EigenError, lowest_modes
 from .rigid_platform import meshed_plate_mass
-from meshing.geometry import GmshFailure
+from meshing.geometry import GmshFailure, gmsh_session
 
 AXIS_TOL = 1e-12  # relative to R: a node on the axis
 FACE_TOL = 1e-12  # relative to L: a node on an end face
@@ -76,38 +74,22 @@ class HarmonicError(ValueError):
 # at h = 0.5 R 0.002 %. In 2D deep grading costs little: a point, not an edge, is refined.
 CORNER_FACTOR = 0.05
 CORNER_ZONE = 1.0  # leg radii
-# the two families of n >= 1; n = 0 has one (its U_t is the torsion field)
 LOWEST_EXCLUDED_MARGIN = 1.2  # harmonic n + 1 is left out if its lowest mode is this far above
 
 
 # ---------------------------------------------------------------- meridian mesh (gmsh, 2D)
-
-_GMSH_LOCK = threading.Lock()
-
 
 @functools.lru_cache(maxsize=64)
 def meridian_mesh(radius: float, length: float, size: float) -> MeshTri:
     """Linear triangles of the rectangle [0, R] x [0, L] (x = r, y = z), graded toward the rim
     corners (R, 0) and (R, L); the P2 basis adds the mid-edge nodes (straight edges: the
     geometry is exact). Read-only, remembered per process (same leg, same mesh)."""
-    import gmsh
-    from meshing.geometry import PINNED_OPTIONS
-
     h = float(size)
     h_min = h * CORNER_FACTOR
     zone = CORNER_ZONE * radius
-    with _GMSH_LOCK:
-        if gmsh.isInitialized():
-            raise HarmonicError("gmsh is already initialised in this process (not reentrant)")
-        on_main = threading.current_thread() is threading.main_thread()
-        previous = signal.getsignal(signal.SIGTERM) if on_main else None
-        gmsh.initialize(readConfigFiles=False, interruptible=False)
-        try:
-            for name, value in PINNED_OPTIONS.items():
-                gmsh.option.setNumber(name, value)
-            gmsh.option.setNumber("Mesh.ElementOrder", 1)
-            gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-            gmsh.option.setNumber("Mesh.MeshSizeMin", h_min)
+    try:
+        with gmsh_session({"Mesh.ElementOrder": 1, "Mesh.MeshSizeMax": h,
+                           "Mesh.MeshSizeMin": h_min}) as gmsh:
             model = gmsh.model
             model.add("meridian")
             geo = model.geo
@@ -127,14 +109,9 @@ def meridian_mesh(radius: float, length: float, size: float) -> MeshTri:
             types, _, enodes = model.mesh.getElements(2)
             tri = np.concatenate([np.asarray(n_, np.int64).reshape(-1, 3)
                                   for ty, n_ in zip(types, enodes) if ty == 2])
-        except Exception as exc:  # gmsh raises plain Exception with its last error
-            raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: gmsh "
-                                f"failed ({str(exc).splitlines()[0] if str(exc) else exc})") \
-                from None
-        finally:
-            gmsh.finalize()
-            if on_main and previous is not None:
-                signal.signal(signal.SIGTERM, previous)
+    except GmshFailure as exc:
+        raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: gmsh "
+                            f"failed ({exc})") from None
     tags = np.asarray(tags, np.int64)
     index = np.full(int(tags.max()) + 1, -1, np.int64)
     index[tags] = np.arange(len(tags))
@@ -356,6 +333,19 @@ class HarmonicResult:
         return {fam: self.modes_raw[offset + k * n3: offset + (k + 1) * n3]
                 for k, fam in enumerate(families(self.harmonics))}
 
+    def face_motion(self, leg_index: int, face: int) -> np.ndarray:
+        """(6, n_modes): the face's projected rigid motion (t, phi) in the leg frame (its
+        joint's reference point, as `FemResult` reads it); harmonics 0 and 1 carry it."""
+        leg = self.legs[leg_index][0]
+        nodes = leg.face_nodes[face]
+        out = 0.0
+        for (n, fam), block in self._blocks(leg_index).items():
+            if n <= 1:
+                values = block.reshape(-1, 3, block.shape[1])[nodes]
+                projection = face_projection_coefficients(leg, face, n, fam).reshape(6, -1)
+                out = out + projection @ values.reshape(-1, block.shape[1])
+        return out
+
     def local_displacements(self, leg_index: int, r, theta, z) -> np.ndarray:
         """(n_points, 3, n_modes): the 3D displacement at points (r, theta, z) of a leg, in
         base coordinates, summed over the harmonics (module docstring)."""
@@ -398,17 +388,10 @@ class HarmonicResult:
         for i, (leg, frame, _) in enumerate(self.legs):
             out[i] = self.local_displacements(i, np.zeros_like(t), np.zeros_like(t),
                                               t * leg.length)
-            blocks = self._blocks(i)
             for face, end in ((0, 0.0), (1, 1.0)):
                 sel = np.abs(t - end) <= 1e-9
-                if not sel.any():
-                    continue
-                nodes = leg.face_nodes[face]
-                a = sum(face_projection_coefficients(leg, face, n, fam).reshape(6, -1)
-                        @ blocks[(n, fam)].reshape(-1, 3, blocks[(n, fam)].shape[1])[nodes]
-                        .reshape(-1, blocks[(n, fam)].shape[1])
-                        for n, fam in families((0, 1)))
-                out[i, sel] = (frame @ a[:3])[None]
+                if sel.any():
+                    out[i, sel] = (frame @ self.face_motion(i, face)[:3])[None]
         return out
 
     def leg_axis_twists(self, fractions) -> np.ndarray:
@@ -429,16 +412,10 @@ class HarmonicResult:
             u = np.einsum("ba,pbm->pam", frame, u)  # back to the leg frame
             out[i] = twist_from_section(np.array([0.0, 0.0, 1.0]), arms,
                                         u.reshape(len(t), len(arms), 3, -1))
-            blocks = self._blocks(i)
             for face, end in ((0, 0.0), (1, 1.0)):
                 sel = np.abs(t - end) <= 1e-9
-                if not sel.any():
-                    continue
-                nodes = leg.face_nodes[face]
-                p = face_projection_coefficients(leg, face, 0, "c").reshape(6, -1)
-                b0 = blocks[(0, "c")]
-                a = p @ b0.reshape(-1, 3, b0.shape[1])[nodes].reshape(-1, b0.shape[1])
-                out[i, sel] = a[5][None]  # phi_z: n = 0 alone carries it
+                if sel.any():
+                    out[i, sel] = self.face_motion(i, face)[5][None]  # phi_z, the twist
         return out
 
     def display_mesh(self, rings: int = 3, sectors: int = 24):
@@ -494,23 +471,9 @@ class HarmonicResult:
             write_mode_collection(path)
 
     def to_dict(self) -> dict:
-        return {
-            "frequencies_hz": [float(f) for f in self.frequencies_hz],
-            "dofs": self.dofs,
-            "raw_dofs": self.raw_dofs,
-            "mesh_size_m": self.mesh_size,
-            "elements": self.n_elements,
-            "min_scaled_jacobian": self.min_quality,
-            "timings": dict(self.timings),
-            "clusters": self.clusters,
-            "cache_hit": self.cache_hit,
-            "mesh_digest": self.mesh_digest,
-            "platform": self.options.platform,
-            "coupling": self.options.coupling,
-            "legs": "harmonic",
-            "harmonics": list(self.harmonics),
-            "excluded_harmonics_above_hz": self.excluded_above_hz,
-        }
+        from .model import solve_record
+        return solve_record(self, harmonics=list(self.harmonics),
+                            excluded_harmonics_above_hz=self.excluded_above_hz)
 
 
 def leg_frame(geometry, leg: int) -> np.ndarray:
@@ -704,15 +667,8 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
                 t_cols = t_vals = None
             else:  # Eq. (10): the platform's motion at the joint centre
                 t_cols, t_vals = plat, np.hstack([np.eye(3), -skew(ref - o)])
-            on_platform = joint.body == "platform"
             if coupling == "rigid":
-                if joint.type == "S":  # Eq. (10): rotation free
-                    r_cols, r_map = psi[i], np.eye(3)
-                else:  # Eqs. (16)-(17): the body's rotation plus phi_i about the axis
-                    r_cols, r_map = phi[i:i + 1], np.asarray(joint.axis, float)[:, None]
-                    if on_platform:
-                        r_cols = np.concatenate([r_cols, plat[3:]])
-                        r_map = np.hstack([r_map, np.eye(3)])
+                r_cols, r_map = rigid_rotation(joint, i, phi, psi, plat)
                 rho = leg.node_rz[nodes, 0]
                 for n, fam in fams:
                     dofs = base[(n, fam)] + 3 * nodes[:, None] + np.arange(3)  # (nf, 3)
@@ -743,16 +699,8 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
             face_dofs = np.concatenate(cols)
             candidates = np.flatnonzero(np.concatenate(movable))
             proj = la.block_diag(frame, frame) @ np.hstack(mats)  # (6, n) global a
-            if joint.type == "S":
-                _eliminate(bld, face_dofs, proj[:3], t_cols, t_vals, True, candidates)
-                continue
-            normal_rot = la.null_space(np.asarray(joint.axis, float)[None, :]).T  # (2, 3)
-            c = np.vstack([proj[:3], normal_rot @ proj[3:]])
-            if not on_platform:
-                _eliminate(bld, face_dofs, c, None, None, False, candidates)
-            else:
-                rhs = np.vstack([t_vals, np.hstack([np.zeros((2, 3)), normal_rot])])
-                _eliminate(bld, face_dofs, c, plat, rhs, True, candidates)
+            distributing_joint(bld, face_dofs, proj, joint, t_cols, t_vals, True, plat,
+                               candidates)
     t_map, _, columns = bld.finish()
     k_raw = sp.block_diag(k_blocks, format="csr")
     m_raw = sp.block_diag(m_blocks, format="csr")

@@ -220,23 +220,29 @@ class FemResult:
             write_mode_collection(path)
 
     def to_dict(self) -> dict:
-        return {
-            "frequencies_hz": [float(f) for f in self.frequencies_hz],
-            "dofs": self.dofs,
-            "raw_dofs": self.raw_dofs,
-            "mesh_size_m": self.mesh_size,
-            "elements": self.n_elements,
-            "min_scaled_jacobian": self.min_quality,
-            "timings": dict(self.timings),
-            "clusters": self.clusters,
-            "cache_hit": self.cache_hit,
-            "mesh_digest": self.mesh_digest,
-            "platform": self.options.platform,
-            "coupling": self.options.coupling,
-            "rim_factor": self.options.mesh.rim_factor,
-            "rim_zone_m": self.options.mesh.rim_zone,
-            "rim_grading": self.options.mesh.rim_grading,
-        }
+        return solve_record(self, rim_factor=self.options.mesh.rim_factor,
+                            rim_zone_m=self.options.mesh.rim_zone,
+                            rim_grading=self.options.mesh.rim_grading)
+
+
+def solve_record(result, **extra) -> dict:
+    """The plain record of a solve (FemResult or harmonic.HarmonicResult) and its extras."""
+    return {
+        "frequencies_hz": [float(f) for f in result.frequencies_hz],
+        "dofs": result.dofs,
+        "raw_dofs": result.raw_dofs,
+        "mesh_size_m": result.mesh_size,
+        "elements": result.n_elements,
+        "min_scaled_jacobian": result.min_quality,
+        "timings": dict(result.timings),
+        "clusters": result.clusters,
+        "cache_hit": result.cache_hit,
+        "mesh_digest": result.mesh_digest,
+        "platform": result.options.platform,
+        "coupling": result.options.coupling,
+        "legs": result.options.legs,
+        **extra,
+    }
 
 
 def section_arms(axis: np.ndarray, radius: float, count: int = 4) -> np.ndarray:

@@ -19,6 +19,7 @@ lock, and gmsh is always finalised, also on error.
 from __future__ import annotations
 
 from dataclasses import dataclass
+import contextlib
 import signal
 import threading
 
@@ -193,7 +194,11 @@ def _quality(mesh: SolidMesh) -> float:
     return float(mesh.info["min_scaled_jacobian"])
 
 
-def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> SolidMesh:
+@contextlib.contextmanager
+def gmsh_session(options: dict):
+    """gmsh initialised with PINNED_OPTIONS and `options` for the block, finalised after; its
+    errors (plain Exception with its last message) become one-line GmshFailure. One session
+    at a time per process (gmsh is not reentrant)."""
     import gmsh
 
     with _GMSH_LOCK:
@@ -205,18 +210,23 @@ def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> Soli
         previous = signal.getsignal(signal.SIGTERM) if on_main_thread else None
         gmsh.initialize(readConfigFiles=False, interruptible=False)
         try:
-            for name, value in {**PINNED_OPTIONS, **extra}.items():
+            for name, value in {**PINNED_OPTIONS, **options}.items():
                 gmsh.option.setNumber(name, value)
-            return _build(gmsh, assembly, settings)
+            yield gmsh
         except GmshFailure:
             raise
-        except Exception as exc:  # gmsh raises plain Exception with its last error
+        except Exception as exc:
             raise GmshFailure(str(exc).splitlines()[0] if str(exc) else type(exc).__name__) \
                 from None
         finally:
             gmsh.finalize()
             if on_main_thread and previous is not None:
                 signal.signal(signal.SIGTERM, previous)
+
+
+def _build_with(assembly: Assembly, settings: MeshSettings, extra: dict) -> SolidMesh:
+    with gmsh_session(extra) as gmsh:
+        return _build(gmsh, assembly, settings)
 
 
 def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:

@@ -33,9 +33,9 @@ def variants_markdown(results: Results) -> str:
 
 
 def workspace_markdown(results: Results) -> str:
-    """The workspace validation's |error vs FEM limit| percentiles per mode for the run's chosen model
-    (its p95 is the figure quoted), the most accurate model (least largest p95) and the paper's
-    model, and the worst pose; the report has every candidate."""
+    """The workspace validation's |error vs FEM limit| percentiles per mode for the run's chosen
+    model (its p95 is the figure quoted), the most accurate model (least largest p95) and the
+    paper's model, and the worst pose; the report has every candidate."""
     wv = results["studies"]["workspace_validation"]
     if not wv or not wv["per_mode"]:
         return ""

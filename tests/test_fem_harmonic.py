@@ -132,8 +132,8 @@ def test_the_display_vtu_is_a_valid_solid_with_the_platform(scene, tmp_path):
 @pytest.mark.parametrize("pose_name", ["case2", "compact"])
 def test_the_stated_error_of_harmonic_legs_bounds_their_error(scene, pose_name):
     """The refinement study's stated error (order bounded by the rims' 1.42) is at least the
-    error measured against a mesh five times finer (0.003-0.01 % at 0.32 d), on every mode, at a CI case and at the
-    most compact pose of the workspace (legs ~2.4 diameters long)."""
+    error measured against a mesh five times finer (0.003-0.01 % at 0.32 d), on every mode, at
+    a CI case and at the most compact pose of the workspace (legs ~2.4 diameters long)."""
     from fem_reference import refinement_study
     from pipeline.studies import height_range
 
