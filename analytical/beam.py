@@ -1,4 +1,4 @@
-"""3D two-node frame elements: stiffness and consistent mass in the element frame (paper Eq. 4).
+"""3D two-node frame elements: stiffness and mass in the element frame (paper Eq. 4).
 
 Local x runs along the element from node 1 to node 2. Each node carries six coordinates in the
 order (u_x, u_y, u_z, theta_x, theta_y, theta_z), so an element has 12. Bending in the x-y plane
@@ -133,7 +133,8 @@ _BAR_MASS_HIGHER = np.array([[5.0, 1.0], [1.0, 5.0]]) / 12.0  # (consistent + lu
 def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
                   section: Section, length, theory: str = "euler-bernoulli"
                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Element stiffness and consistent mass, each 12x12, in the element frame.
+    """Element stiffness and mass (consistent; Timoshenko's rod part averaged, module doc),
+    each 12x12, in the element frame.
 
     `theory` is "euler-bernoulli" or "timoshenko". `length` may be an array of lengths: the
     matrices then carry its shape in front, (..., 12, 12), one element per length.

@@ -397,11 +397,14 @@ class HarmonicResult:
     def leg_axis_twists(self, fractions) -> np.ndarray:
         """Rotation of each leg's sections about its axis (rad) at fractions t, per mode:
         (3 legs, len(fractions), n_modes), as `FemResult.leg_axis_twists`: inside, the mean
-        rotation of four points at half the radius; at the joint centres the face's projected
+        rotation of six points at half the radius; at the joint centres the face's projected
         rigid rotation."""
         from .model import section_arms, twist_from_section
 
         t = np.atleast_1d(np.asarray(fractions, float))
+        if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
+            raise HarmonicError(f"fractions = {np.asarray(fractions).tolist()!r}: need values "
+                                "in [0, 1]")
         out = np.zeros((len(self.legs), len(t), self.modes_raw.shape[1]))
         for i, (leg, frame, _) in enumerate(self.legs):
             arms = section_arms(np.array([0.0, 0.0, 1.0]), 0.5 * leg.radius)  # leg frame

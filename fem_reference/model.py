@@ -70,7 +70,8 @@ class FemOptions:
                         doc="how the solid legs are discretised: harmonic (the exact Fourier "
                         "split of each cylinder's 3D elasticity on a 2D meridian mesh of P2 "
                         "triangles, harmonic.py; rigid platform only) or tetrahedra (a 3D "
-                        "mesh of 10-node tetrahedra, graded toward the rims)")
+                        "mesh of 10-node tetrahedra, graded toward the rims; what an elastic "
+                        "platform takes when legs is not given)")
     coupling: str = setting("rigid", kind=str, choices=COUPLINGS,
                             doc="how a joint face follows its joint centre: rigid (RBE2-like) or "
                             "distributing (RBE3-like, the face may warp)")
@@ -172,9 +173,12 @@ class FemResult:
     def leg_axis_twists(self, fractions) -> np.ndarray:
         """Rotation of each leg's sections about its axis (rad) at fractions t, per mode:
         (3 legs, len(fractions), n_modes). Inside the leg, the mean of (e x u) . a / r over
-        `section_points` at half the radius (exact for a rigid twist of the section); at the
-        joint centres the face's projected rigid rotation."""
+        `section_arms` (six points) at half the radius (exact for a rigid twist of the
+        section); at the joint centres the face's projected rigid rotation."""
         t = np.atleast_1d(np.asarray(fractions, float))
+        if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
+            raise FemError(f"fractions = {np.asarray(fractions).tolist()!r}: need values in "
+                           "[0, 1]")
         legs = self.assembly.cylinders
         out = np.zeros((len(legs), len(t), self.modes_raw.shape[1]))
         for i, leg in enumerate(legs):
@@ -245,8 +249,10 @@ def solve_record(result, **extra) -> dict:
     }
 
 
-def section_arms(axis: np.ndarray, radius: float, count: int = 4) -> np.ndarray:
-    """(count, 3): points at `radius` from a section's centre, evenly around `axis`."""
+def section_arms(axis: np.ndarray, radius: float, count: int = 6) -> np.ndarray:
+    """(count, 3): points at `radius` from a section's centre, evenly around `axis`. The mean
+    tangential displacement over `count` such points sees harmonics 0 (the twist) and
+    multiples of `count` only: six keeps section distortions up to n = 5 out of the twist."""
     axis = np.asarray(axis, float)
     e1 = np.cross(axis, np.eye(3)[np.argmin(np.abs(axis))])
     e1 /= np.linalg.norm(e1)

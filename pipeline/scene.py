@@ -341,7 +341,10 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     fem_t = top.table("fem", {})
     fem_size_given = "mesh_size_mm" in fem_t.data
     defaults = geometry_defaults(manipulator)
-    fem = fem_t.settings(FemOptions, defaults, modes=fidelity.modes)
+    given = {"modes": fidelity.modes}
+    if fem_t.data.get("platform") == "elastic" and "legs" not in fem_t.data:
+        given["legs"] = "tetrahedra"  # an elastic plate is meshed in 3D: so are its legs
+    fem = fem_t.settings(FemOptions, defaults, **given)
     study = fem_t.settings(FemStudy, defaults)
     refinement = [r / MM for r in study.refinement]
     if refinement != sorted(refinement, reverse=True) or len(set(refinement)) != len(refinement):

@@ -62,6 +62,15 @@ def test_bad_values_are_named(path, value, needle):
     assert "\n" not in str(exc.value)
 
 
+def test_an_elastic_plate_takes_tetrahedral_legs_unless_told_otherwise():
+    assert parse_scene(mutated(("fem", "platform"), "elastic")).fem.legs == "tetrahedra"
+    assert parse_scene(RAW).fem.legs == "harmonic"
+    raw = mutated(("fem", "platform"), "elastic")
+    raw["fem"]["legs"] = "harmonic"
+    with pytest.raises(SceneError, match="legs = 'harmonic' with platform = 'elastic'"):
+        parse_scene(raw)
+
+
 def test_calibrated_height_needs_a_calibration():
     raw = copy.deepcopy(RAW)
     del raw["calibration"]
