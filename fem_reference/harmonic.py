@@ -42,6 +42,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 import functools
+import hashlib
 import math
 import time
 
@@ -56,7 +57,10 @@ from common.rigid_body import skew
 from .assembly import lame
 from .constraints import COUPLINGS, _Builder, distributing_joint, rigid_rotation
 from .eigen import EigenError, lowest_modes
-from .rigid_platform import meshed_plate_mass
+from .model import (normalise_signs, reduced_matrices, section_arms, solve_record,
+                    station_fractions, twist_from_section)
+from .export import _write_vtu, solid_to_meshio, write_mode_collection
+from meshing.bodies import platform_plate
 from meshing.geometry import GmshFailure, gmsh_session
 
 AXIS_TOL = 1e-12  # relative to R: a node on the axis
@@ -134,22 +138,20 @@ def meridian_mesh(radius: float, length: float, size: float) -> MeshTri:
 
 def clear_caches() -> None:
     """Forget the per-process meridian meshes and leg matrices (benchmarks time them)."""
-    meridian_mesh.cache_clear()
-    leg_harmonics.cache_clear()
+    for cached in (meridian_mesh, meridian, harmonic_stiffness, unit_mass):
+        cached.cache_clear()
 
 
 # ---------------------------------------------------------------- one leg, one harmonic
 
 @dataclass(frozen=True)
-class LegHarmonics:
-    """Matrices and node sets of one leg's meridian mesh (per unit weight, see module doc)."""
+class Meridian:
+    """The P2 discretisation of one leg's meridian: what every harmonic of it shares."""
 
     radius: float
     length: float
     basis: Basis  # scalar P2 on the meridian mesh
     node_rz: np.ndarray  # (n_scalar, 2) P2 node positions (r, z)
-    stiffness: dict  # n -> K_n (3 n_s, 3 n_s) CSR, dofs 3 s + c, c = (r, t, z), weight included
-    mass: sp.csr_matrix  # M for n >= 1 (weight pi); n = 0 is twice it
     axis_nodes: np.ndarray  # scalar nodes at r = 0
     face_nodes: tuple  # (nodes at z = 0, nodes at z = L)
     face_weights: tuple  # per face: (W1, W2) = (int phi r dr, int phi r^2 dr) over the face
@@ -159,11 +161,42 @@ class LegHarmonics:
         return len(self.node_rz)
 
 
+@dataclass(frozen=True)
+class LegHarmonics(Meridian):
+    """A leg's meridian with its matrices (module doc): K_n per harmonic n, dofs 3 s + c,
+    c = (r, t, z), the theta weight included; M for n >= 1 (weight pi), n = 0 twice it."""
+
+    stiffness: dict = field(default_factory=dict)
+    mass: sp.csr_matrix | None = None
+
+
+@functools.lru_cache(maxsize=64)
+def meridian(radius: float, length: float, size: float) -> Meridian:
+    """The leg's meridian (read-only, remembered per process: same leg, same mesh)."""
+    mesh = meridian_mesh(radius, length, size)
+    basis = Basis(mesh, ElementTriP2(), intorder=6)
+    locs = basis.doflocs.T  # (n_s, 2)
+    axis = np.flatnonzero(locs[:, 0] <= AXIS_TOL * radius)
+    faces, weights = [], []
+    for z0 in (0.0, length):
+        facets = mesh.facets_satisfying(lambda x, z0=z0: np.abs(x[1] - z0) <= FACE_TOL * length)
+        fb = FacetBasis(mesh, ElementTriP2(), facets=facets, intorder=6)
+        on = np.flatnonzero(np.abs(locs[:, 1] - z0) <= FACE_TOL * length)
+        faces.append(on)
+        weights.append(tuple(LinearForm(lambda v, p, k=k: v * p.x[0] ** k).assemble(fb)[on]
+                             for k in (1, 2)))
+    if len(axis) < 3 or any(len(f) < 3 for f in faces):
+        raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: "
+                            f"{len(axis)} nodes on the axis, {[len(f) for f in faces]} on the "
+                            "faces (expected the boundary lines meshed)")
+    return Meridian(radius, length, basis, locs, axis, tuple(faces), tuple(weights))
+
+
 def _element_arrays(basis: Basis):
     values = np.stack([np.asarray(phi[0]) for phi in basis.basis])  # (6, ne, nq)
     grads = np.stack([phi[0].grad for phi in basis.basis])  # (6, 2, ne, nq)
     r = np.asarray(basis.global_coordinates())[0]  # (ne, nq)
-    return values, grads, r, basis.dx
+    return values, grads, r, r * basis.dx  # the last: r dr dz
 
 
 def _strain_operator(values, grads, r, n: int) -> np.ndarray:
@@ -190,60 +223,55 @@ def _strain_operator(values, grads, r, n: int) -> np.ndarray:
 
 
 def _sparse(element_dofs: np.ndarray, blocks: np.ndarray, n: int) -> sp.csr_matrix:
-    """Sum element matrices (ne, 18, 18) on dofs 3 s + c into CSR."""
-    ed = element_dofs.T  # (ne, 6)
-    dofs = (3 * ed[:, :, None] + np.arange(3)).reshape(len(ed), -1)
-    rows = np.repeat(dofs[:, :, None], dofs.shape[1], axis=2)
-    cols = np.repeat(dofs[:, None, :], dofs.shape[1], axis=1)
-    out = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=(3 * n, 3 * n))
+    """Sum element matrices (ne, d, d) on the element dofs (d, ne) into an n x n CSR."""
+    ed = element_dofs.T
+    rows = np.repeat(ed[:, :, None], ed.shape[1], axis=2)
+    cols = np.repeat(ed[:, None, :], ed.shape[1], axis=1)
+    out = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n))
     out.sum_duplicates()
+    out.data.setflags(write=False)
     return out
 
 
-@functools.lru_cache(maxsize=64)
-def leg_harmonics(radius: float, length: float, lam: float, mu: float, density: float,
-                  size: float, harmonics: tuple) -> LegHarmonics:
-    """K_n (n in `harmonics`) and M of one leg on its graded meridian mesh (read-only,
-    remembered per process)."""
-    mesh = meridian_mesh(radius, length, size)
-    basis = Basis(mesh, ElementTriP2(), intorder=6)
-    n_s = basis.N
-    values, grads, r, dx = _element_arrays(basis)
+@functools.lru_cache(maxsize=256)
+def harmonic_stiffness(radius: float, length: float, size: float, lam: float, mu: float,
+                       n: int) -> sp.csr_matrix:
+    """K_n = w_n int B^T D B r dr dz of one leg (read-only, remembered per process)."""
+    m = meridian(radius, length, size)
+    values, grads, r, w = _element_arrays(m.basis)
     d = np.zeros((6, 6))
     d[:3, :3] = lam
     d[[0, 1, 2], [0, 1, 2]] += 2 * mu
     d[[3, 4, 5], [3, 4, 5]] = mu
-    w = r * dx  # r dr dz
-    stiffness = {}
-    for n in harmonics:
-        b = _strain_operator(values, grads, r, n)
-        ke = np.einsum("eqsa,st,eqtb,eq->eab", b, d, b, w, optimize=True)
-        weight = 2 * math.pi if n == 0 else math.pi
-        stiffness[n] = (weight * _sparse(basis.element_dofs, ke, n_s)).tocsr()
-    me_scalar = np.einsum("aeq,beq,eq->eab", values, values, w, optimize=True)
-    me = np.zeros((len(me_scalar), 6, 3, 6, 3))
-    for c in range(3):
-        me[:, :, c, :, c] = me_scalar
-    mass = (math.pi * density * _sparse(basis.element_dofs, me.reshape(-1, 18, 18), n_s)).tocsr()
-    locs = basis.doflocs.T  # (n_s, 2)
-    axis = np.flatnonzero(locs[:, 0] <= AXIS_TOL * radius)
-    faces, weights = [], []
-    for z0 in (0.0, length):
-        on = np.flatnonzero(np.abs(locs[:, 1] - z0) <= FACE_TOL * length)
-        facets = mesh.facets_satisfying(lambda x, z0=z0: np.abs(x[1] - z0) <= FACE_TOL * length)
-        fb = FacetBasis(mesh, ElementTriP2(), facets=facets, intorder=6)
-        w1 = LinearForm(lambda v, p: v * p.x[0]).assemble(fb)
-        w2 = LinearForm(lambda v, p: v * p.x[0] ** 2).assemble(fb)
-        faces.append(on)
-        weights.append((w1[on], w2[on]))
-    if len(axis) < 3 or any(len(f) < 3 for f in faces):
-        raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: "
-                            f"{len(axis)} nodes on the axis, {[len(f) for f in faces]} on the "
-                            "faces (expected the boundary lines meshed)")
-    for arr in [*stiffness.values(), mass]:
-        arr.data.setflags(write=False)
-    return LegHarmonics(radius, length, basis, locs, stiffness, mass, axis, tuple(faces),
-                        tuple(weights))
+    b = _strain_operator(values, grads, r, n)
+    weight = 2 * math.pi if n == 0 else math.pi
+    ke = weight * np.einsum("eqsa,st,eqtb,eq->eab", b, d, b, w, optimize=True)
+    nodes = m.basis.element_dofs  # (6, ne) scalar nodes -> (18, ne) dofs 3 s + c, node-major
+    dofs = (3 * nodes[:, None, :] + np.arange(3)[None, :, None]).reshape(-1, nodes.shape[1])
+    return _sparse(dofs, ke, 3 * m.n_scalar)
+
+
+@functools.lru_cache(maxsize=64)
+def unit_mass(radius: float, length: float, size: float) -> sp.csr_matrix:
+    """pi int N^T N r dr dz on dofs 3 s + c, density 1 (read-only, remembered per process):
+    the scalar P2 mass times the 3 x 3 identity."""
+    m = meridian(radius, length, size)
+    values, _, _, w = _element_arrays(m.basis)
+    scalar = _sparse(m.basis.element_dofs,
+                     np.einsum("aeq,beq,eq->eab", values, values, w, optimize=True), m.n_scalar)
+    out = math.pi * sp.kron(scalar, sp.identity(3), format="csr")
+    out.data.setflags(write=False)
+    return out
+
+
+def leg_harmonics(radius: float, length: float, lam: float, mu: float, density: float,
+                  size: float, harmonics: tuple) -> LegHarmonics:
+    """One leg's meridian with K_n (n in `harmonics`) and M, from the per-process caches."""
+    m = meridian(radius, length, size)
+    return LegHarmonics(**{f: getattr(m, f) for f in Meridian.__dataclass_fields__},
+                        stiffness={n: harmonic_stiffness(radius, length, size, lam, mu, n)
+                                   for n in harmonics},
+                        mass=density * unit_mass(radius, length, size))
 
 
 # ---------------------------------------------------------------- the face's rigid motions
@@ -348,8 +376,8 @@ class HarmonicResult:
 
     def local_displacements(self, leg_index: int, r, theta, z) -> np.ndarray:
         """(n_points, 3, n_modes): the 3D displacement at points (r, theta, z) of a leg, in
-        base coordinates, summed over the harmonics (module docstring)."""
-        leg, frame, _ = self.legs[leg_index]
+        the leg's frame (e1, e2, axis), summed over the harmonics (module docstring)."""
+        leg = self.legs[leg_index][0]
         r, theta, z = (np.asarray(a, float).ravel() for a in (r, theta, z))
         eps = 1e-9  # points on the boundary, nudged inside for the element search
         probe = leg.basis.probes(np.vstack([np.clip(r, eps * leg.radius, (1 - eps) * leg.radius),
@@ -358,36 +386,25 @@ class HarmonicResult:
         ut, uz = ur.copy(), ur.copy()
         for (n, fam), block in self._blocks(leg_index).items():
             vr, vt, vz = (probe @ block[c::3] for c in range(3))
-            if n == 0:
-                ur += vr
-                ut += vt
-                uz += vz
-            elif fam == "c":
-                cos, sin = np.cos(n * theta)[:, None], np.sin(n * theta)[:, None]
-                ur += vr * cos
-                ut += vt * sin
-                uz += vz * cos
-            else:
-                cos, sin = np.cos(n * theta)[:, None], np.sin(n * theta)[:, None]
-                ur += vr * sin
-                ut -= vt * cos
-                uz += vz * sin
+            cos, sin = np.cos(n * theta)[:, None], np.sin(n * theta)[:, None]
+            if n == 0:  # u_t = U_t, the torsion field (cos 0 = 1 on every component)
+                ur, ut, uz = ur + vr, ut + vt, uz + vz
+            elif fam == "c":  # (cos, sin, cos)
+                ur, ut, uz = ur + vr * cos, ut + vt * sin, uz + vz * cos
+            else:  # (sin, -cos, sin): family c turned by 90 / n degrees
+                ur, ut, uz = ur + vr * sin, ut - vt * cos, uz + vz * sin
         c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
-        local = np.stack([ur * c - ut * s, ur * s + ut * c, uz], axis=1)
-        return np.einsum("ab,pbm->pam", frame, local)
+        return np.stack([ur * c - ut * s, ur * s + ut * c, uz], axis=1)
 
     def leg_axis_displacements(self, fractions) -> np.ndarray:
         """Translation of the leg axis points B_i + t (A_i - B_i) per mode, base coordinates:
         (3 legs, len(fractions), 3, n_modes). At t = 0 and 1 the face's projected rigid
         motion (its joint's reference point, as `FemResult`), inside the axis itself."""
-        t = np.atleast_1d(np.asarray(fractions, float))
-        if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
-            raise HarmonicError(f"fractions = {np.asarray(fractions).tolist()!r}: need values "
-                                "in [0, 1]")
+        t = station_fractions(fractions)
         out = np.zeros((len(self.legs), len(t), 3, self.modes_raw.shape[1]))
         for i, (leg, frame, _) in enumerate(self.legs):
-            out[i] = self.local_displacements(i, np.zeros_like(t), np.zeros_like(t),
-                                              t * leg.length)
+            out[i] = np.einsum("ab,tbm->tam", frame, self.local_displacements(
+                i, np.zeros_like(t), np.zeros_like(t), t * leg.length))
             for face, end in ((0, 0.0), (1, 1.0)):
                 sel = np.abs(t - end) <= 1e-9
                 if sel.any():
@@ -399,22 +416,16 @@ class HarmonicResult:
         (3 legs, len(fractions), n_modes), as `FemResult.leg_axis_twists`: inside, the mean
         rotation of six points at half the radius; at the joint centres the face's projected
         rigid rotation."""
-        from .model import section_arms, twist_from_section
-
-        t = np.atleast_1d(np.asarray(fractions, float))
-        if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
-            raise HarmonicError(f"fractions = {np.asarray(fractions).tolist()!r}: need values "
-                                "in [0, 1]")
+        t = station_fractions(fractions)
+        axis = np.array([0.0, 0.0, 1.0])  # in the leg frame
         out = np.zeros((len(self.legs), len(t), self.modes_raw.shape[1]))
-        for i, (leg, frame, _) in enumerate(self.legs):
-            arms = section_arms(np.array([0.0, 0.0, 1.0]), 0.5 * leg.radius)  # leg frame
+        for i, (leg, _, _) in enumerate(self.legs):
+            arms = section_arms(axis, 0.5 * leg.radius)
             theta = np.arctan2(arms[:, 1], arms[:, 0])
-            rr = np.repeat(0.5 * leg.radius, len(t) * len(arms))
-            u = self.local_displacements(i, rr, np.tile(theta, len(t)),
+            u = self.local_displacements(i, np.repeat(0.5 * leg.radius, len(t) * len(arms)),
+                                         np.tile(theta, len(t)),
                                          np.repeat(t * leg.length, len(arms)))
-            u = np.einsum("ba,pbm->pam", frame, u)  # back to the leg frame
-            out[i] = twist_from_section(np.array([0.0, 0.0, 1.0]), arms,
-                                        u.reshape(len(t), len(arms), 3, -1))
+            out[i] = twist_from_section(axis, arms, u.reshape(len(t), len(arms), 3, -1))
             for face, end in ((0, 0.0), (1, 1.0)):
                 sel = np.abs(t - end) <= 1e-9
                 if sel.any():
@@ -441,7 +452,7 @@ class HarmonicResult:
             base = np.asarray(self.geometry.base_points[i], float)
             local = np.stack([rz * np.cos(tz), rz * np.sin(tz), zz], axis=1)
             points.append(base + local @ frame.T)
-            u.append(self.local_displacements(i, rz, tz, zz))
+            u.append(np.einsum("ab,pbm->pam", frame, self.local_displacements(i, rz, tz, zz)))
             k = np.arange(sectors)
             nxt = (k + 1) % sectors
             for layer in range(layers):
@@ -465,7 +476,6 @@ class HarmonicResult:
     def write_vtu(self, path, pvd: bool = False) -> None:
         """Mode shapes for ParaView: the legs' 3D displacement on a structured display mesh
         (from the harmonics) and the rigid platform, as `FemResult.write_vtu`."""
-        from .export import _write_vtu, solid_to_meshio, write_mode_collection
         points, cells, body, u = self.display_mesh()
         _write_vtu(Path(path), solid_to_meshio(points, cells, body, len(self.legs), u,
                                                self.frequencies_hz, self.plate,
@@ -474,7 +484,6 @@ class HarmonicResult:
             write_mode_collection(path)
 
     def to_dict(self) -> dict:
-        from .model import solve_record
         return solve_record(self, harmonics=list(self.harmonics),
                             excluded_harmonics_above_hz=self.excluded_above_hz)
 
@@ -491,17 +500,21 @@ def _material(manipulator):
     return float(lam), float(mu), float(manipulator.material.density)
 
 
-def _leg_data(manipulator, geometry, size: float, harmonics) -> list:
-    """Per leg: (LegHarmonics, frame)."""
+def _leg_lengths(geometry) -> np.ndarray:
+    """|A_i - B_i|, rounded so that one leg length is one cache key."""
+    return np.round(np.linalg.norm(np.asarray(geometry.platform_points, float)
+                                   - np.asarray(geometry.base_points, float), axis=1), 12)
+
+
+def _leg_data(manipulator, geometry, size: float, harmonics,
+              longest_only: bool = False) -> list:
+    """Per leg (or the longest alone): (LegHarmonics, frame)."""
     radius = 0.5 * float(manipulator.leg_diameter)
     lam, mu, rho = _material(manipulator)
-    out = []
-    for i in range(geometry.leg_count):
-        b, a = (np.asarray(p[i], float) for p in (geometry.base_points, geometry.platform_points))
-        length = round(float(np.linalg.norm(a - b)), 12)
-        out.append((leg_harmonics(radius, length, lam, mu, rho, float(size), tuple(harmonics)),
-                    leg_frame(geometry, i)))
-    return out
+    lengths = _leg_lengths(geometry)
+    legs = [int(np.argmax(lengths))] if longest_only else range(geometry.leg_count)
+    return [(leg_harmonics(radius, float(lengths[i]), lam, mu, rho, float(size),
+                           tuple(harmonics)), leg_frame(geometry, i)) for i in legs]
 
 
 def _section_blocks(manipulator, geometry, size: float, coupling: str, n: int):
@@ -509,9 +522,8 @@ def _section_blocks(manipulator, geometry, size: float, coupling: str, n: int):
     (distributing), the axis regular; both families share them. Rigid: the longest leg only
     (faces held, a longer leg's admissible fields hold a shorter one's: its modes are lower,
     min-max)."""
-    legs = _leg_data(manipulator, geometry, size, (n,))
-    if coupling == "rigid":
-        legs = [max(legs, key=lambda pair: pair[0].length)]
+    legs = _leg_data(manipulator, geometry, size, (n,),
+                     longest_only=coupling == "rigid")
     for leg, _ in legs:
         k, m = leg.stiffness[n], leg.mass
         fixed = [3 * leg.axis_nodes[:, None] + np.arange(3)]
@@ -559,18 +571,17 @@ def section_modes_above(manipulator, geometry, size: float, coupling: str, n: in
 
 # P2 nodes of a leg's graded meridian: NODES_PER_AREA R L / h^2 + NODES_PER_CORNER (R / h)^2
 # + NODES_MIN, fitted on 36 meshes (R 15-75 mm, L 0.3-1 m, h 0.2-1.6 R), then raised by 1.5 so
-# that no mesh has more (actual / estimate 0.35-0.9)
+# that no mesh has more (actual / estimate 0.37-0.84 on the five scenes' legs, 0.1-0.8 d)
 NODES_PER_AREA, NODES_PER_CORNER, NODES_MIN = 7.8, 70.0, 255.0
 
 
-def estimate_raw_dofs(manipulator, geometry, size: float, harmonics=(0, 1)) -> int:
-    """Raw harmonic dofs of the pose, estimated before meshing (the DOF guard's number)."""
-    radius = 0.5 * float(manipulator.leg_diameter)
-    lengths = np.linalg.norm(np.asarray(geometry.platform_points, float)
-                             - np.asarray(geometry.base_points, float), axis=1)
-    nodes = (NODES_PER_AREA * radius * lengths / size**2 + NODES_PER_CORNER * (radius / size) ** 2
-             + NODES_MIN)
-    return int(3 * len(families(harmonics)) * float(np.sum(nodes)))
+def estimate_raw_dofs(assembly, size: float, harmonics=(0, 1)) -> int:
+    """Raw harmonic dofs of the legs of `assembly` (meshing.bodies.Assembly), estimated before
+    meshing (the DOF guard's number, model.check_mesh_size)."""
+    nodes = sum(NODES_PER_AREA * c.radius * c.length / size**2
+                + NODES_PER_CORNER * (c.radius / size) ** 2 + NODES_MIN
+                for c in assembly.cylinders)
+    return int(3 * len(families(harmonics)) * nodes)
 
 
 def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = None
@@ -581,7 +592,8 @@ def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = N
     above the highest frequency solved for (the lowest mode of a cylinder's harmonic rises with
     n: more circumferential strain; measured 23, 36, 47, 58 kHz for n = 2-5 of the paper's
     legs). Runs in this process (2D: a fraction of a second; its per-leg caches serve the next
-    pose); `max_dofs` refuses larger raw models before they are assembled."""
+    pose); `max_dofs` refuses larger raw models once meshed (model.check_mesh_size refuses by
+    estimate before)."""
     if options.platform != "rigid":
         raise HarmonicError(f"platform = {options.platform!r}: harmonic legs need the rigid "
                             "platform (legs = 'tetrahedra' meshes an elastic plate)")
@@ -590,11 +602,6 @@ def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = N
                             f"{', '.join(COUPLINGS)}")
     t0 = time.perf_counter()
     size = float(options.mesh.size)
-    if max_dofs is not None:
-        estimate = estimate_raw_dofs(manipulator, geometry, size)
-        if estimate > max_dofs:
-            raise HarmonicError(f"mesh_size = {size:g} m: about {estimate} harmonic dofs "
-                                f"expected, above max_dofs = {max_dofs}")
     harmonics = (0, 1)
     while True:
         result = _solve(manipulator, geometry, options, harmonics, t0, max_dofs)
@@ -620,13 +627,12 @@ def _quality(mesh: MeshTri) -> float:
 
 
 def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicResult:
-    import hashlib
-
-    from meshing.bodies import platform_plate
-
     size, coupling = float(options.mesh.size), options.coupling
-    legs = _leg_data(manipulator, geometry, size, harmonics)
+    radius = 0.5 * float(manipulator.leg_diameter)
+    for length in _leg_lengths(geometry):  # the meshes first, so that "mesh" times them alone
+        meridian_mesh(radius, float(length), size)
     t_mesh = time.perf_counter()
+    legs = _leg_data(manipulator, geometry, size, harmonics)
     fams = families(harmonics)
     offsets, n_raw = [], 0
     for leg, _ in legs:
@@ -705,33 +711,17 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
             distributing_joint(bld, face_dofs, proj, joint, t_cols, t_vals, True, plat,
                                candidates)
     t_map, _, columns = bld.finish()
-    k_raw = sp.block_diag(k_blocks, format="csr")
-    m_raw = sp.block_diag(m_blocks, format="csr")
-    t_rows = t_map.T.tocsr()
-    kq = (t_rows @ (k_raw @ t_map)).tocsr()
-    mq = (t_rows @ (m_raw @ t_map)).tocsr()
     plate = platform_plate(manipulator, geometry)
-    try:
-        mp = sp.coo_matrix(meshed_plate_mass(plate, np.asarray(geometry.rotation),
-                                             manipulator.material.density,
-                                             options.platform_mesh * plate.radius))
-    except GmshFailure as exc:
-        raise HarmonicError(f"platform_mesh = {options.platform_mesh:g}: gmsh failed on the "
-                            f"platform plate ({exc})") from None
-    cols = columns["platform"]
-    mq = mq + sp.csr_matrix((mp.data, (cols[mp.row], cols[mp.col])), shape=mq.shape)
-    kq = 0.5 * (kq + kq.T)
-    mq = 0.5 * (mq + mq.T)
+    kq, mq = reduced_matrices(sp.block_diag(k_blocks, format="csr"),
+                              sp.block_diag(m_blocks, format="csr"), t_map,
+                              columns["platform"], plate, manipulator, geometry, options)
     t_asm = time.perf_counter()
     try:
         found = lowest_modes(kq, mq, options.modes)
     except EigenError as exc:
         raise HarmonicError(f"mesh_size = {size:g} m: eigensolver failed ({exc})") from None
     t_end = time.perf_counter()
-    v = found.vectors
-    idx = np.argmax(np.abs(v), axis=0)  # deterministic sign: largest entry positive
-    sign = np.sign(v[idx, np.arange(v.shape[1])])
-    v = v * np.where(sign == 0, 1.0, sign)
+    v = normalise_signs(found.vectors)
     digest = hashlib.sha256()
     for leg, _ in legs:
         digest.update(np.ascontiguousarray(leg.basis.mesh.p).tobytes())

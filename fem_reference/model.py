@@ -50,6 +50,14 @@ NODES_PER_RIM_AREA = 14.0
 MAX_ESTIMATE = 10**15  # dofs: the estimate of absurdly small sizes, far above any guard
 
 
+def legs_for(platform: str | None, legs: str | None) -> str | None:
+    """The leg discretisation asked for: `legs` when given; else tetrahedra for an elastic
+    plate (meshed in 3D, so are the legs joined to it); else None (FemOptions' default)."""
+    if legs is None and platform == "elastic":
+        return "tetrahedra"
+    return legs
+
+
 class FemError(ValueError):
     """Bad input or a failed FEM step; the message is one line naming the offending value."""
 
@@ -152,10 +160,7 @@ class FemResult:
         (3 legs, len(fractions), 3, n_modes), base coordinates. Inside the leg the P2 field is
         interpolated; at t = 0 and t = 1 (the joint centres) the reference points' motion is
         used (B_i fixed; A_i moving with the platform)."""
-        t = np.atleast_1d(np.asarray(fractions, float))
-        if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
-            raise FemError(f"fractions = {np.asarray(fractions).tolist()!r}: need values in "
-                           "[0, 1]")
+        t = station_fractions(fractions)
         legs = self.assembly.cylinders
         out = np.zeros((len(legs), len(t), 3, self.modes_raw.shape[1]))
         for i, leg in enumerate(legs):
@@ -175,10 +180,7 @@ class FemResult:
         (3 legs, len(fractions), n_modes). Inside the leg, the mean of (e x u) . a / r over
         `section_arms` (six points) at half the radius (exact for a rigid twist of the
         section); at the joint centres the face's projected rigid rotation."""
-        t = np.atleast_1d(np.asarray(fractions, float))
-        if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
-            raise FemError(f"fractions = {np.asarray(fractions).tolist()!r}: need values in "
-                           "[0, 1]")
+        t = station_fractions(fractions)
         legs = self.assembly.cylinders
         out = np.zeros((len(legs), len(t), self.modes_raw.shape[1]))
         for i, leg in enumerate(legs):
@@ -296,13 +298,21 @@ def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
     return int(3 * nodes) if 3 * nodes < MAX_ESTIMATE else MAX_ESTIMATE
 
 
-def check_mesh_size(assembly: Assembly, settings: MeshSettings, runtime: FemRuntime) -> None:
+def check_mesh_size(assembly: Assembly, options: FemOptions, runtime: FemRuntime) -> None:
     """Refuse, before meshing, a size coarser than a leg or whose estimated dofs exceed the
-    DOF guard (FemError naming the size)."""
+    DOF guard, or (tetrahedra) whose solve would not fit in memory: FemError naming the size."""
+    settings = options.mesh
     diameter = 2 * assembly.cylinders[0].radius
     if settings.size > diameter:
         raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
                        f"{diameter:g} m (needs at least one element across a leg)")
+    if options.legs == "harmonic":  # 2D meridians: a fraction of the memory of 3D meshes
+        from .harmonic import estimate_raw_dofs as estimate_harmonic
+        estimate = estimate_harmonic(assembly, settings.size)
+        if estimate > runtime.max_dofs:
+            raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} harmonic dofs "
+                           f"expected, above max_dofs = {runtime.max_dofs}")
+        return
     estimate = estimate_raw_dofs(assembly, settings)
     if estimate > runtime.max_dofs:
         raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
@@ -327,17 +337,13 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     except GeometryError as exc:
         raise FemError(str(exc)) from None
     settings = options.mesh
+    check_mesh_size(assembly, options, runtime)
     if options.legs == "harmonic":
         from .harmonic import HarmonicError, solve_pose_harmonic
-        diameter = 2 * assembly.cylinders[0].radius
-        if settings.size > diameter:
-            raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
-                           f"{diameter:g} m (needs at least one element across a leg)")
         try:  # sub-second: in this process, so its per-leg caches serve the next pose
             return solve_pose_harmonic(manipulator, geometry, options, runtime.max_dofs)
         except HarmonicError as exc:
             raise FemError(str(exc)) from None
-    check_mesh_size(assembly, settings, runtime)
     try:
         solid, hit = cached_mesh(assembly, settings, runtime.cache_dir, runtime.use_cache)
     except GmshFailure as exc:
@@ -354,24 +360,9 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     except ValueError as exc:
         raise FemError(str(exc)) from None
     t_ = cmap.T
-    # T^T (K T) with T^T in CSR: both products row-major, half the time of (T^T K) T
-    # (which converts T^T from CSC on the way; measured 0.016 s against 0.035 s at 17k dofs)
-    t_rows = t_.T.tocsr()
-    kq = (t_rows @ (k @ t_)).tocsr()
-    mq = (t_rows @ (m @ t_)).tocsr()
     plate = assembly.plate or platform_plate(manipulator, geometry)
-    if not elastic:
-        cols = cmap.columns["platform"]
-        try:
-            mp = sp.coo_matrix(meshed_plate_mass(
-                plate, np.asarray(geometry.rotation), manipulator.material.density,
-                options.platform_mesh * plate.radius))
-        except GmshFailure as exc:
-            raise FemError(f"platform_mesh = {options.platform_mesh:g}: gmsh failed on the "
-                           f"platform plate ({exc})") from None
-        mq = mq + sp.csr_matrix((mp.data, (cols[mp.row], cols[mp.col])), shape=mq.shape)
-    kq = 0.5 * (kq + kq.T)  # symmetric to round-off
-    mq = 0.5 * (mq + mq.T)
+    kq, mq = reduced_matrices(k, m, t_, None if elastic else cmap.columns["platform"], plate,
+                              manipulator, geometry, options)
     t_asm = time.perf_counter()
 
     try:
@@ -379,7 +370,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         modes = stoppable(lowest_modes, kq, mq, options.modes, backend=runtime.backend)
     except (EigenError, WorkerDied) as exc:
         raise FemError(f"mesh_size = {settings.size:g} m: eigensolver failed ({exc})") from None
-    vq = _normalise_signs(modes.vectors)
+    vq = normalise_signs(modes.vectors)
     v_raw = t_ @ vq
     t_end = time.perf_counter()
     result = FemResult(
@@ -407,7 +398,39 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     return result
 
 
-def _normalise_signs(v: np.ndarray) -> np.ndarray:
+def reduced_matrices(k, m, t, platform_cols, plate, manipulator, geometry,
+                     options: FemOptions) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """K_q = T^T K T and M_q = T^T M T (paper Eqs. 20-22), plus the rigid platform's 6x6 mass
+    at o on its coordinates `platform_cols` (Eqs. 7-9, integrated over its own meshed plate,
+    rigid_platform.py; None: an elastic plate, already in K and M), symmetric to round-off.
+    T^T (K T) with T^T in CSR: both products row-major, half the time of (T^T K) T (which
+    converts T^T from CSC on the way; measured 0.016 s against 0.035 s at 17k dofs)."""
+    t_rows = t.T.tocsr()
+    kq = (t_rows @ (k @ t)).tocsr()
+    mq = (t_rows @ (m @ t)).tocsr()
+    if platform_cols is not None:
+        try:
+            mp = sp.coo_matrix(meshed_plate_mass(
+                plate, np.asarray(geometry.rotation), manipulator.material.density,
+                options.platform_mesh * plate.radius))
+        except GmshFailure as exc:
+            raise FemError(f"platform_mesh = {options.platform_mesh:g}: gmsh failed on the "
+                           f"platform plate ({exc})") from None
+        mq = mq + sp.csr_matrix((mp.data, (platform_cols[mp.row], platform_cols[mp.col])),
+                                shape=mq.shape)
+    return 0.5 * (kq + kq.T), 0.5 * (mq + mq.T)
+
+
+def station_fractions(fractions) -> np.ndarray:
+    """The fractions t of a leg (B_i -> A_i) where shapes are sampled, checked to lie in
+    [0, 1] (FemError naming them)."""
+    t = np.atleast_1d(np.asarray(fractions, float))
+    if t.ndim != 1 or np.any(~np.isfinite(t)) or np.any(t < 0) or np.any(t > 1):
+        raise FemError(f"fractions = {np.asarray(fractions).tolist()!r}: need values in [0, 1]")
+    return t
+
+
+def normalise_signs(v: np.ndarray) -> np.ndarray:
     """Deterministic sign: the largest-magnitude entry of every mode is positive."""
     idx = np.argmax(np.abs(v), axis=0)
     s = np.sign(v[idx, np.arange(v.shape[1])])

@@ -307,8 +307,8 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     sizes = sequence_around(size, scene.fem_study.refinement) if args.estimate_error else ()
     assembly = pose_assembly(scene.manipulator, geometry,
                              elastic_platform=options.platform == "elastic")
-    for h in reversed(sizes if options.legs == "tetrahedra" else ()):  # the 3D meshes'
-        check_mesh_size(assembly, options.with_size(h).mesh, runtime)  # guards, finest first
+    for h in reversed(sizes):  # every size of the study checked up front, the finest first
+        check_mesh_size(assembly, options.with_size(h), runtime)
     start = time.perf_counter()
     result = solve_pose(scene.manipulator, geometry, options, runtime)
     seconds = time.perf_counter() - start

@@ -16,6 +16,8 @@ from analytical.params import ModelOptions
 
 from common.settings import as_dict
 
+from fem_reference.model import legs_for
+
 from . import results
 from .cache import ResultCache
 from .pairing import pair_modes
@@ -26,6 +28,7 @@ STATIONS = np.linspace(0.0, 1.0, 11)
 # what a station holds for the pairing: the axis translation, and the sections' twist times the
 # leg radius (the wall's displacement by it): a leg's torsion modes move no point of its axis
 STATION_COMPONENTS = ("x", "y", "z", "radius x twist")
+EXTRA_MODES = 4  # asked beyond the reported ones, so a pair split across the cut is found
 
 
 def station_vector(translations: np.ndarray, twists: np.ndarray, radius: float) -> np.ndarray:
@@ -33,7 +36,6 @@ def station_vector(translations: np.ndarray, twists: np.ndarray, radius: float) 
     (legs, stations, modes): the shapes the pairing compares (STATION_COMPONENTS)."""
     both = np.concatenate([translations, radius * twists[:, :, None, :]], axis=2)
     return both.reshape(-1, both.shape[-1])
-EXTRA_MODES = 4  # asked beyond the reported ones, so a pair split across the cut is found
 
 
 @dataclass(frozen=True)
@@ -84,8 +86,7 @@ def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | No
     """The scene's FEM options (built once, at load) at one mesh size, with optional
     platform/coupling/legs/mode-count overrides; EXTRA_MODES are added for the pairing."""
     options = scene.fem if mesh_size is None else scene.fem.with_size(mesh_size)
-    if platform == "elastic" and legs is None:
-        legs = "tetrahedra"  # an elastic plate is meshed in 3D: so are the legs joined to it
+    legs = legs_for(platform, legs)
     changes = {k: v for k, v in {"platform": platform, "coupling": coupling,
                                  "legs": legs}.items() if v is not None}
     changes["modes"] = (modes if modes is not None else scene.analytical.modes) + EXTRA_MODES
@@ -158,6 +159,13 @@ def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
     return {"manipulator": as_dict(manipulator), "geometry": as_dict(geometry),
             "options": as_dict(options), "stations": STATIONS.tolist(),
             "station_components": list(STATION_COMPONENTS)}
+
+
+def model_reading(rows: list[dict], error: str = "error_percent") -> dict:
+    """A model's frequencies, errors (the `error` column of `error_table`) and MACs, in the
+    order of `rows`: the fields of results.JointOrderModel and results.CouplingModel."""
+    return {"frequencies_hz": [r["f_analytical_hz"] for r in rows],
+            "error_percent": [r[error] for r in rows], "mac": [r["mac"] for r in rows]}
 
 
 def error_table(analytical: Solve, fem: Solve, count: int, fem_error_percent=None,

@@ -20,7 +20,7 @@ from analytical.params import JOINT_COUPLINGS
 
 from . import results
 from .cache import ResultCache
-from .compare import analytical_case, error_table, fem_case
+from .compare import analytical_case, error_table, fem_case, model_reading
 from .scene import Scene
 from .studies import speed_settings
 
@@ -79,9 +79,7 @@ def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: s
                 rows = sorted(error_table(a, finest, count, reference_hz=limit),
                               key=lambda r: r["fem_mode"])
                 entry["models"][label] = results.CouplingModel(
-                    frequencies_hz=[r["f_analytical_hz"] for r in rows],
-                    error_percent=[r["error_vs_reference_percent"] for r in rows],
-                    mac=[r["mac"] for r in rows])
+                    **model_reading(rows, "error_vs_reference_percent"))
             readings.append(entry)
         out.append(results.CouplingCase(case=name, readings=readings))
     return out

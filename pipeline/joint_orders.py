@@ -14,7 +14,7 @@ from analytical.kinematics import pose_geometry
 
 from . import results
 from .cache import ResultCache
-from .compare import analytical_case, error_table, fem_case
+from .compare import analytical_case, error_table, fem_case, model_reading
 from .scene import Scene
 
 ORDERS = (("R", "S"), ("S", "R"))
@@ -49,10 +49,7 @@ def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict
             for label, settings in MODELS.items():
                 a = analytical_case(ordered, case, replace(scene.analytical, **settings))
                 rows = error_table(a, fem, count)
-                entry["models"][label] = results.JointOrderModel(
-                    frequencies_hz=[r["f_analytical_hz"] for r in rows],
-                    error_percent=[r["error_percent"] for r in rows],
-                    mac=[r["mac"] for r in rows])
+                entry["models"][label] = results.JointOrderModel(**model_reading(rows))
             readings.append(entry)
         out.append(results.JointOrderCase(case=name, readings=readings))
     return out

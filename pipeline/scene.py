@@ -15,7 +15,7 @@ from typing import Any
 
 from analytical.params import Manipulator, Material, ModelOptions, Pose, check_manipulator
 from common.settings import MISSING, Setting, declared, nested, setting
-from fem_reference.model import FemError, FemOptions, FemRuntime
+from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
 from meshing.geometry import MeshSettings
 
 from .fidelity import FidelitySettings
@@ -342,8 +342,9 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     fem_size_given = "mesh_size_mm" in fem_t.data
     defaults = geometry_defaults(manipulator)
     given = {"modes": fidelity.modes}
-    if fem_t.data.get("platform") == "elastic" and "legs" not in fem_t.data:
-        given["legs"] = "tetrahedra"  # an elastic plate is meshed in 3D: so are its legs
+    legs = legs_for(fem_t.data.get("platform"), fem_t.data.get("legs"))
+    if legs is not None and "legs" not in fem_t.data:
+        given["legs"] = legs
     fem = fem_t.settings(FemOptions, defaults, **given)
     study = fem_t.settings(FemStudy, defaults)
     refinement = [r / MM for r in study.refinement]
