@@ -198,6 +198,7 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
                         s_angles, r_angles, m.base_joint, m.platform_joint)
     if check_limits:
         check_joint_limits(manipulator, geom)
+        check_clearances(manipulator, geom)
     return geom
 
 
@@ -223,3 +224,79 @@ def check_joint_limits(manipulator: Manipulator, geom: PoseGeometry) -> None:
                 f"R-joint {i + 1} angle {math.degrees(b):.3f} deg exceeds "
                 f"beta_max = {math.degrees(m.r_joint_max):.3f} deg"
             )
+
+
+# --- bodies that must not interpenetrate ------------------------------------------------------
+# Beyond Eq. (25) a pose is reachable only if its bodies stay apart: no two legs touch (each leg
+# a cylinder of diameter d, taken as the capsule around its axis segment: a conservative
+# stand-in that also covers the joint ends), every leg reaches its platform joint from the base
+# side of the plate (it does not lie in or pass through the platform), and the platform plate
+# stays above the plane of the base joints (the base's top face). The end of each leg inside the
+# plate at its joint (the joint sits on the plate's mid-surface) is the joint patch both models
+# share, not an interpenetration.
+
+def clearances(manipulator: Manipulator, base_points: np.ndarray, platform_points: np.ndarray,
+               rotation: np.ndarray, platform_centre: np.ndarray) -> dict[str, np.ndarray]:
+    """Signed clearances (m; negative: the bodies interpenetrate) of N poses, arrays with the
+    pose first: `legs` the smallest gap between two leg surfaces, `approach` the component of
+    the unit leg direction B_i -> A_i along the platform normal (positive: from below; scaled
+    to metres by the leg diameter), `base` the height of the plate's lowest point above the
+    base plane."""
+    m = manipulator
+    b = np.asarray(base_points, float).reshape(-1, 3, 3)
+    a = np.asarray(platform_points, float).reshape(-1, 3, 3)
+    rot = np.asarray(rotation, float).reshape(-1, 3, 3)
+    centre = np.asarray(platform_centre, float).reshape(-1, 3)
+    gaps = [_segment_distance(b[:, i], a[:, i], b[:, j], a[:, j]) - m.leg_diameter
+            for i, j in ((0, 1), (0, 2), (1, 2))]
+    normal = rot[:, :, 2]
+    legs = a - b
+    lengths = np.linalg.norm(legs, axis=2)
+    up = np.einsum("nij,nj->ni", legs, normal) / np.where(lengths > 0, lengths, 1.0)
+    half = 0.5 * m.platform_thickness * np.abs(normal[:, 2])
+    if m.platform_shape == "triangle":  # the plate's corners are the joints A_i
+        lowest = a[:, :, 2].min(axis=1) - half
+    else:  # a disk of radius r2 about o
+        sideways = np.sqrt(np.clip(1.0 - normal[:, 2] ** 2, 0.0, None))
+        lowest = centre[:, 2] - m.platform_radius * sideways - half
+    return {"legs": np.min(gaps, axis=0), "approach": m.leg_diameter * up.min(axis=1),
+            "base": lowest}
+
+
+def _segment_distance(p1, q1, p2, q2) -> np.ndarray:
+    """Shortest distance between the segments p1-q1 and p2-q2 ((N, 3) each; Ericson,
+    Real-Time Collision Detection, 5.1.9)."""
+    d1, d2, r = q1 - p1, q2 - p2, p1 - p2
+    a = np.einsum("ni,ni->n", d1, d1)
+    e = np.einsum("ni,ni->n", d2, d2)
+    f = np.einsum("ni,ni->n", d2, r)
+    c = np.einsum("ni,ni->n", d1, r)
+    bb = np.einsum("ni,ni->n", d1, d2)
+    denom = a * e - bb * bb
+    safe = lambda x: np.where(x > 0, x, 1.0)  # noqa: E731 (segments have positive length)
+    s = np.where(denom > 1e-14 * a * e, np.clip((bb * f - c * e) / safe(denom), 0.0, 1.0), 0.0)
+    t = (bb * s + f) / safe(e)
+    s = np.where(t < 0, np.clip(-c / safe(a), 0.0, 1.0),
+                 np.where(t > 1, np.clip((bb - c) / safe(a), 0.0, 1.0), s))
+    t = np.clip(t, 0.0, 1.0)
+    return np.linalg.norm(p1 + d1 * s[:, None] - p2 - d2 * t[:, None], axis=1)
+
+
+CLEARANCE_RULES = {  # clearance -> what a negative value means, for the one-line error
+    "legs": "two legs would touch (surfaces {gap:.3f} mm apart)",
+    "approach": "a leg would reach its platform joint from above the plate",
+    "base": "the platform plate would dip {depth:.3f} mm below the base plane",
+}
+
+
+def check_clearances(manipulator: Manipulator, geom: PoseGeometry) -> None:
+    """Raise PoseError if the pose makes bodies interpenetrate (`clearances`)."""
+    found = clearances(manipulator, geom.base_points, geom.platform_points, geom.rotation,
+                       geom.platform_centre)
+    for name, rule in CLEARANCE_RULES.items():
+        value = float(found[name][0])
+        if value < -CLEARANCE_TOLERANCE:
+            raise PoseError(rule.format(gap=value * 1e3, depth=-value * 1e3))
+
+
+CLEARANCE_TOLERANCE = 1e-12  # m

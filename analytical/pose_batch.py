@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .kinematics import PoseGeometry, pose_geometry
+from .kinematics import CLEARANCE_TOLERANCE, PoseGeometry, clearances, pose_geometry
 from .params import Manipulator, Pose
 
 CLOSURE_TOLERANCE = 1e-9  # |cos| of a leg against its R-joint axis, as pose_geometry
@@ -37,7 +37,7 @@ class PoseBatch:
     leg_frames: np.ndarray  # (N, 3, 3, 3) limb-to-base rotations R_i, columns x_i, y_i, z_i
     s_joint_angles: np.ndarray  # (N, 3) rad
     r_joint_angles: np.ndarray  # (N, 3) rad
-    feasible: np.ndarray  # (N,) bool: closure holds and every limit of Eq. (25) is met
+    feasible: np.ndarray  # (N,) bool: closure, every limit of Eq. (25), no interpenetration
     base_joint: str = "R"
     platform_joint: str = "S"
 
@@ -139,6 +139,8 @@ def pose_batch(manipulator: Manipulator, heights, azimuths, tilts) -> PoseBatch:
                          axis=1)
                 & np.all(np.abs(s_angles) <= m.s_joint_max + tol, axis=1)
                 & np.all(np.abs(r_angles) <= m.r_joint_max + tol, axis=1))
+    apart = clearances(m, base_points, platform_points, rot, centre)
+    feasible &= np.all([c >= -CLEARANCE_TOLERANCE for c in apart.values()], axis=0)
     return PoseBatch(*given, rot, centre, np.array(base_points), platform_points,
                      np.array(axes), lengths, frames, s_angles, r_angles, feasible,
                      m.base_joint, m.platform_joint)

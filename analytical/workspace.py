@@ -1,9 +1,9 @@
-"""Regular workspace and natural-frequency maps over it (paper Section 3.3, Eq. 25, Fig. 6).
+"""Natural-frequency maps over the regular workspace (paper Section 3.3, Fig. 6).
 
-The reachable orientations at one height are the tilts theta (any azimuth phi) for which every
-constraint of Eq. (25) holds. The regular workspace is the polar-coordinate construction the
-paper cites: in each height layer, the largest circle theta <= theta_r(z) inside the reachable
-set, so the whole workspace is a truncated cone in (z, theta cos phi, theta sin phi).
+Which poses are reachable is `analytical.reach` (Eq. 25 and no interpenetration). The regular
+workspace is the polar-coordinate construction the paper cites: in each height layer, the
+largest circle theta <= theta_r(z) inside the reachable set (`reach.regular_radii`), so the
+whole workspace is a truncated cone in (z, theta cos phi, theta sin phi).
 
 A map samples every layer on rings (tilt fractions of theta_r) and azimuths. Its modes are
 followed by shape (analytical.tracking): from the level pose of each layer out along azimuth
@@ -25,67 +25,15 @@ import numpy as np
 from .batch_model import (assemble_batch, assembly_plan, batch_frequencies, batch_modes,
                           probe_shapes, standard_form)
 from .end_zones import segments, zone_for
-from .kinematics import PoseError, pose_geometry
-from .params import Manipulator, ModelOptions, Pose
+from .params import Manipulator, ModelOptions
 from .pose_batch import pose_batch
+from .reach import regular_radii
 from .tracking import (REPEATED, family_values, follow, match_modes, match_steps,
                        steps_needing_shapes)
 
-MAX_TILT = math.radians(89.0)
 GUARD_MODES = 1  # modes followed above the reported ones, so a family leaving is seen
 LOST_MAC = 0.5  # a match below this MAC loses the family (it left the tracked window)
 CHUNK = 64  # poses assembled and solved together (their matrices stay in cache)
-
-
-def reachable(manipulator: Manipulator, pose: Pose) -> bool:
-    try:
-        pose_geometry(manipulator, pose)
-    except PoseError:
-        return False
-    return True
-
-
-def max_tilts(manipulator: Manipulator, heights, azimuths,
-              tolerance: float = 1e-6) -> np.ndarray:
-    """Largest tilt (rad) reachable from the level platform at every (height, azimuth):
-    (len(heights), len(azimuths)), or (len(azimuths),) for one height.
-
-    Bisection on theta in [0, 89 deg], all heights and azimuths at once; 0 where even the
-    level pose is unreachable.
-    """
-    z = np.atleast_1d(np.asarray(heights, float))[:, None]
-    phis = np.atleast_1d(np.asarray(azimuths, float))[None, :]
-    z, phis = np.broadcast_arrays(z, phis)
-    lo = np.zeros(z.shape)
-    level = pose_batch(manipulator, z[:, 0], 0.0, 0.0).feasible
-    hi = np.full(z.shape, MAX_TILT)
-    done = ~level[:, None] | pose_batch(manipulator, z, phis, hi).feasible.reshape(z.shape)
-    lo[done & level[:, None]] = MAX_TILT
-    width = MAX_TILT
-    while width > tolerance and not done.all():
-        mid = 0.5 * (lo + hi)
-        ok = pose_batch(manipulator, z, phis, mid).feasible.reshape(z.shape)
-        lo = np.where(~done & ok, mid, lo)
-        hi = np.where(~done & ~ok, mid, hi)
-        width = float(np.max((hi - lo)[~done]))
-    return lo if np.ndim(heights) else lo[0]
-
-
-def max_tilt(manipulator: Manipulator, height: float, azimuth: float,
-             tolerance: float = 1e-6) -> float:
-    """Largest tilt (rad) reachable at (height, azimuth) starting from the level platform."""
-    return float(max_tilts(manipulator, height, [azimuth], tolerance)[0])
-
-
-def regular_radii(manipulator: Manipulator, heights, azimuths: int = 72) -> np.ndarray:
-    """theta_r(z) of every height: the largest tilt reachable at every azimuth (rad)."""
-    phis = np.linspace(0.0, 2 * math.pi, azimuths, endpoint=False)
-    return np.min(max_tilts(manipulator, np.atleast_1d(heights), phis), axis=1)
-
-
-def regular_radius(manipulator: Manipulator, height: float, azimuths: int = 72) -> float:
-    """theta_r(z): the largest tilt reachable at every azimuth of this height layer (rad)."""
-    return float(regular_radii(manipulator, [height], azimuths)[0])
 
 
 @dataclass(frozen=True)

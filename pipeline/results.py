@@ -20,7 +20,7 @@ from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from pydantic import ConfigDict, FiniteFloat, TypeAdapter, ValidationError, with_config
 
-SCHEMA_VERSION = 5
+SCHEMA_VERSION = 6
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
 
 Hz = list[FiniteFloat]
@@ -394,7 +394,21 @@ class HardCase(TypedDict):
 
 
 @with_config(_STRICT)
+class ReachableWorkspace(TypedDict):
+    """The machine's reachable workspace, computed before any expensive work (pipeline.envelope),
+    and every way a study adapted its poses to it."""
+    level_band_mm: list[FiniteFloat]  # [low, high]: heights whose level pose is reachable
+    bounded_by: list[str]  # the limit binding just below and just above the band
+    layer_band_mm: list[FiniteFloat]  # [low, high]: where the studies' height layers lie
+    regular_tilt_deg: list[FiniteFloat]  # theta_r at the map's layer heights
+    validation_poses: int  # workspace-validation poses kept
+    validation_poses_dropped: int  # designed but unreachable, left out
+    adaptations: list[str]  # what a study changed because the machine could not reach a pose
+
+
+@with_config(_STRICT)
 class Studies(TypedDict):
+    reachable_workspace: ReachableWorkspace
     height_calibration: HeightCalibration | None
     angle_conventions: list[AngleConventions]
     workspace: Workspace | None

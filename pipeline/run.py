@@ -24,13 +24,13 @@ import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from analytical.kinematics import PoseError, pose_geometry
+from analytical.kinematics import pose_geometry
 from common.settings import as_dict
 from fem_reference.export import write_mode_collection
 from reports.tables import write_tables
 
 from . import results as schema
-from . import hard_cases, studies
+from . import envelope, hard_cases, studies
 from .cache import ROOT, ResultCache
 from .couplings import coupling_study
 from .joint_orders import joint_order_study
@@ -316,11 +316,8 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
              scheduler: str | None = None) -> dict:
     scene = load_scene(scene_path)
     case_names = list(scene.cases) if profile == "full" else list(scene.ci_cases)
-    for name in case_names:  # every pose checked before any expensive work starts
-        try:
-            pose_geometry(scene.manipulator, scene.case(name).pose)
-        except PoseError as exc:
-            raise PoseError(f"case {name}: {exc}") from None
+    # every case and the workspace the studies take their poses from, before any expensive work
+    reachable_workspace = envelope.check(scene, profile)
     cache = ResultCache(cache_dir)
     workers = workers or min(os.cpu_count() or 1, 8)
     console = Console(stderr=True)
@@ -328,7 +325,8 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
         results = schema.Results(
             schema=schema.SCHEMA_VERSION, profile=profile,
             scene=scene_summary(scene, scene_path), environment=environment(), cases=[],
-            studies=schema.Studies(height_calibration=None, angle_conventions=[],
+            studies=schema.Studies(reachable_workspace=reachable_workspace,
+                                   height_calibration=None, angle_conventions=[],
                                    workspace=None, joint_orders=[],
                                    joint_couplings=[], workspace_validation=None,
                                    hard_cases=[]),

@@ -20,6 +20,7 @@ from analytical.calibration import calibrate_height
 from analytical.kinematics import rotation_y
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions, Pose
+from analytical.reach import layer_heights
 
 from . import results
 from .scene import Case, Scene
@@ -168,21 +169,16 @@ def height_calibration(scene: Scene, case: Case) -> dict:
         settings=f"Euler-Bernoulli, s = 3, {scene.manipulator.platform_shape} plate inertia")
 
 
-def height_range(m) -> tuple[float, float]:
-    """Heights (m) of the lowest and highest workspace layer: from just above the lowest to just
-    below the highest level pose the actuators reach (5 % of L_max inside each end)."""
-    lean = m.base_radius - m.platform_radius
-    z_low = math.sqrt(max(m.actuator_min**2 - lean**2, 0.0)) + 0.05 * m.actuator_max
-    z_high = math.sqrt(m.actuator_max**2 - lean**2) - 0.05 * m.actuator_max
-    return z_low, z_high
-
-
 def workspace_heights(scene: Scene, layers: int) -> np.ndarray:
-    """Heights (m) of the map's layers, evenly over `height_range`."""
-    return np.linspace(*height_range(scene.manipulator), layers)
+    """Heights (m) of the map's layers, evenly over the reachable layer band
+    (`analytical.reach.layer_band`)."""
+    return layer_heights(scene.manipulator, layers)
 
 
-def workspace_map(scene: Scene, layers: int = 8, rings: int = 6, azimuths: int = 36,
+MAP_LAYERS = 8  # height layers of the workspace map
+
+
+def workspace_map(scene: Scene, layers: int = MAP_LAYERS, rings: int = 6, azimuths: int = 36,
                   modes: int = 3) -> dict:
     """The first `modes` frequencies over the regular workspace (the paper's Fig. 6), sorted
     and per family: each mode followed by its shape from pose to pose (MAC), so where two

@@ -18,7 +18,7 @@ One pose is one task of a sweep (`pipeline.sweep`), cached by content.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 import math
 
 import numpy as np
@@ -26,13 +26,12 @@ from scipy.stats import qmc
 
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
-from analytical.workspace import max_tilt, regular_radii
+from analytical.reach import layer_band, max_tilt, regular_radii
 from common.settings import as_dict
 from fem_reference.convergence import P_THEORY
 
 from .cache import ResultCache
 from .compare import analytical_case, error_table, fem_case
-from .studies import height_range
 
 PAPER_MODEL = "paper (EB, s=3, Eq. 8 inertia)"  # a label of studies.model_variants
 SOBOL_SEED = 20231
@@ -70,14 +69,22 @@ def _active_limit(m: Manipulator, pose: Pose) -> str | None:
 
 def design(m: Manipulator, size: DesignSize = FULL) -> list[dict]:
     """The poses of the study: {height, azimuth, tilt (SI), kind}."""
-    low, high = height_range(m)
+    return design_with_dropped(m, size)[0]
+
+
+def design_with_dropped(m: Manipulator, size: DesignSize = FULL) -> tuple[list[dict], int]:
+    """The poses of the study, and how many designed poses were left out as unreachable."""
+    low, high = layer_band(m)
     poses = []
+    dropped = 0
 
     def add(z, phi, theta, kind):
+        nonlocal dropped
         pose = Pose(float(z), float(phi % (2 * math.pi)), float(theta))
         try:
             pose_geometry(m, pose)
         except PoseError:
+            dropped += 1
             return
         poses.append({"height": pose.height, "azimuth": pose.azimuth, "tilt": pose.tilt,
                       "kind": kind})
@@ -109,7 +116,7 @@ def design(m: Manipulator, size: DesignSize = FULL) -> list[dict]:
         z = low + u[0] * (high - low)
         r = 0.995 * float(np.interp(z, grid, grid_r))
         add(z, 2 * math.pi * u[2], r * math.sqrt(u[1]), "interior (Sobol)")
-    return poses
+    return poses, dropped
 
 
 def coarse_size(scene, size: float) -> float:

@@ -29,14 +29,14 @@ from analytical.kinematics import pose_geometry
 from analytical.params import Pose
 from fem_reference import FemRuntime, refinement_study, solve_pose
 from fem_reference.convergence import P_THEORY
-from pipeline.studies import height_range
+from analytical.reach import layer_band
 
 STUDY = (0.50, 0.40, 0.32)  # x leg diameter, coarse -> fine
 FINE = STUDY[-1] / 2
 
 
 def _poses(scene):
-    low = Pose(height=height_range(scene.manipulator)[0], azimuth=0.0, tilt=0.0)
+    low = Pose(height=layer_band(scene.manipulator)[0], azimuth=0.0, tilt=0.0)
     return {"case1": scene.case("case1").pose, "case2": scene.case("case2").pose,
             "compact": low}
 

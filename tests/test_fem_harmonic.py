@@ -149,12 +149,12 @@ def test_the_stated_error_of_harmonic_legs_bounds_their_error(scene, pose_name):
     error measured against a mesh five times finer (0.003-0.01 % at 0.32 d), on every mode, at
     a CI case and at the most compact pose of the workspace (legs ~2.4 diameters long)."""
     from fem_reference import refinement_study
-    from pipeline.studies import height_range
+    from analytical.reach import layer_band
 
     m = scene.manipulator
     d = m.leg_diameter
     pose = (scene.case("case2").pose if pose_name == "case2" else
-            Pose(height=height_range(m)[0], azimuth=0.0, tilt=0.0))
+            Pose(height=layer_band(m)[0], azimuth=0.0, tilt=0.0))
     geometry = pose_geometry(m, pose)
     study = refinement_study(m, geometry, [f * d for f in (0.5, 0.4, 0.32)], _options(scene))
     stated = study.relative_errors[-1]

@@ -269,11 +269,11 @@ def test_a_mesh_below_the_quality_threshold_is_repaired_or_refused(scene, monkey
     from common.worker import stoppable
 
     from analytical.params import Pose
-    from pipeline.studies import height_range
+    from analytical.reach import layer_band
 
     # the lowest level pose of the workspace at 45 mm: Netgen leaves a worst curved element of
     # 0.23, the high-order optimiser 0.76 (measured)
-    low = Pose(height=height_range(scene.manipulator)[0], azimuth=0.0, tilt=0.0)
+    low = Pose(height=layer_band(scene.manipulator)[0], azimuth=0.0, tilt=0.0)
     asm = pose_assembly(scene.manipulator, pose_geometry(scene.manipulator, low))
     settings = MeshSettings(0.045, rim_factor=0.3, rim_zone=0.02, rim_grading=1.0)
     first = geometry._build_with(asm, settings, {}).info["min_scaled_jacobian"]

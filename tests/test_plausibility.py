@@ -56,9 +56,6 @@ def scene_with(**changes):
      "leg_diameter_mm = 100 mm: legs 1 and 2 overlap at their joints B1, B2"),
     ({"manipulator__platform_radius_mm": 55.0, "manipulator__platform_thickness_mm": 20.0},
      "legs 1 and 2 overlap at their joints A1, A2"),
-    ({"manipulator__leg_diameter_mm": 40.0, "manipulator__platform_thickness_mm": 100.0},
-     "platform_thickness_mm = 100 mm: the last half thickness of every leg lies inside the "
-     "plate, more than the leg diameter leg_diameter_mm = 40 mm"),
 ])
 def test_implausible_scenes_are_refused_in_one_line(changes, message):
     with pytest.raises(SceneError) as info:

@@ -8,7 +8,8 @@ import numpy as np
 
 from analytical.model import natural_frequencies
 from analytical.params import Pose
-from analytical.workspace import frequency_map, max_tilt, reachable, regular_radius
+from analytical.reach import max_tilt, reachable, regular_radius
+from analytical.workspace import frequency_map
 
 
 def test_frequencies_have_the_threefold_symmetry_of_the_mechanism(scene):

@@ -17,7 +17,8 @@ from analytical.params import Pose
 from analytical.pose_batch import pose_batch
 from analytical.substructure import assemble
 from analytical.tracking import match_modes, steps_needing_shapes
-from analytical.workspace import MAX_TILT, frequency_map, max_tilt, reachable
+from analytical.reach import MAX_TILT, max_tilt, reachable
+from analytical.workspace import frequency_map
 from pipeline.scene import load_scene
 from tests.conftest import ROOT
 
