@@ -247,8 +247,9 @@ def clearances(manipulator: Manipulator, base_points: np.ndarray, platform_point
     a = np.asarray(platform_points, float).reshape(-1, 3, 3)
     rot = np.asarray(rotation, float).reshape(-1, 3, 3)
     centre = np.asarray(platform_centre, float).reshape(-1, 3)
-    gaps = [_segment_distance(b[:, i], a[:, i], b[:, j], a[:, j]) - m.leg_diameter
-            for i, j in ((0, 1), (0, 2), (1, 2))]
+    first, second = [0, 0, 1], [1, 2, 2]  # the three pairs of legs, all poses at once
+    gaps = _segment_distance(b[:, first], a[:, first], b[:, second],
+                             a[:, second]) - m.leg_diameter
     normal = rot[:, :, 2]
     legs = a - b
     lengths = np.linalg.norm(legs, axis=2)
@@ -259,19 +260,19 @@ def clearances(manipulator: Manipulator, base_points: np.ndarray, platform_point
     else:  # a disk of radius r2 about o
         sideways = np.sqrt(np.clip(1.0 - normal[:, 2] ** 2, 0.0, None))
         lowest = centre[:, 2] - m.platform_radius * sideways - half
-    return {"legs": np.min(gaps, axis=0), "approach": m.leg_diameter * up.min(axis=1),
+    return {"legs": gaps.min(axis=1), "approach": m.leg_diameter * up.min(axis=1),
             "base": lowest}
 
 
 def _segment_distance(p1, q1, p2, q2) -> np.ndarray:
-    """Shortest distance between the segments p1-q1 and p2-q2 ((N, 3) each; Ericson,
+    """Shortest distance between the segments p1-q1 and p2-q2 ((..., 3) each; Ericson,
     Real-Time Collision Detection, 5.1.9)."""
     d1, d2, r = q1 - p1, q2 - p2, p1 - p2
-    a = np.einsum("ni,ni->n", d1, d1)
-    e = np.einsum("ni,ni->n", d2, d2)
-    f = np.einsum("ni,ni->n", d2, r)
-    c = np.einsum("ni,ni->n", d1, r)
-    bb = np.einsum("ni,ni->n", d1, d2)
+    a = np.einsum("...i,...i->...", d1, d1)
+    e = np.einsum("...i,...i->...", d2, d2)
+    f = np.einsum("...i,...i->...", d2, r)
+    c = np.einsum("...i,...i->...", d1, r)
+    bb = np.einsum("...i,...i->...", d1, d2)
     denom = a * e - bb * bb
     safe = lambda x: np.where(x > 0, x, 1.0)  # noqa: E731 (segments have positive length)
     s = np.where(denom > 1e-14 * a * e, np.clip((bb * f - c * e) / safe(denom), 0.0, 1.0), 0.0)
@@ -279,7 +280,7 @@ def _segment_distance(p1, q1, p2, q2) -> np.ndarray:
     s = np.where(t < 0, np.clip(-c / safe(a), 0.0, 1.0),
                  np.where(t > 1, np.clip((bb - c) / safe(a), 0.0, 1.0), s))
     t = np.clip(t, 0.0, 1.0)
-    return np.linalg.norm(p1 + d1 * s[:, None] - p2 - d2 * t[:, None], axis=1)
+    return np.linalg.norm(p1 + d1 * s[..., None] - p2 - d2 * t[..., None], axis=-1)
 
 
 CLEARANCE_RULES = {  # clearance -> what a negative value means, for the one-line error

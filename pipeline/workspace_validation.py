@@ -26,7 +26,7 @@ from scipy.stats import qmc
 
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
-from analytical.reach import layer_band, max_tilt, regular_radii
+from analytical.reach import layer_band, max_tilts, regular_radii
 from common.settings import as_dict
 from fem_reference.convergence import P_THEORY
 
@@ -99,8 +99,9 @@ def design_with_dropped(m: Manipulator, size: DesignSize = FULL) -> tuple[list[d
         for phi in ring:
             add(z, phi, r * (1 - 1e-9), f"{layer}, boundary ring")
         found = set()
-        for phi in np.linspace(0.0, 2 * math.pi / 3, size.limit_scan, endpoint=False):
-            t = max_tilt(m, z, phi) * (1 - 1e-7)
+        scan = np.linspace(0.0, 2 * math.pi / 3, size.limit_scan, endpoint=False)
+        for phi, widest in zip(scan, max_tilts(m, z, scan)):  # each as max_tilt(m, z, phi)
+            t = float(widest) * (1 - 1e-7)
             if t <= 0:
                 continue
             which = _active_limit(m, Pose(z, phi, t / (1 - 1e-7)))
