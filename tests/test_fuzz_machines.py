@@ -9,10 +9,11 @@ height: the up-front check must refuse it). A draw either passes `pipeline.envel
 (plus the scene's own load) or is refused there by ValueError in one line; after that check,
 nothing may fail on a pose the pipeline chose itself.
 
-Default profile (a deterministic set of draws, about a minute and a half): the load and the
-workspace check of 25 machines with every pose generator of every study; the FEM (harmonic and
-tetrahedral legs) and the pairing of 3; the analytical hard cases of 3; a CI-size validation of
-2. `RPS_FUZZ=slow` draws at random, more of each, and runs full validations.
+Default profile (a fixed set of draws, derandomized so CI is repeatable; about a minute): the
+load and the workspace check of 50 machines with every pose generator of every study; the FEM
+(harmonic and tetrahedral legs, 0.4 leg diameters) and the pairing of 5; the analytical hard
+cases of 5; a CI-size validation of 4. `RPS_FUZZ=slow` draws at random, more of each (300, 30,
+30, 10), and runs full validations with the report.
 """
 from __future__ import annotations
 
