@@ -2,8 +2,8 @@
 
 Materials: Poisson ratio E / (2 G) - 1 in (0, 0.49] (P2 displacement tetrahedra lock towards
 0.5), density 500..25,000 kg/m3, E 1..1,000 GPa. Geometry: no leg shorter than its diameter,
-no plate under 1 mm or thicker than its radius, no legs overlapping at their joints or buried
-in the plate. A misspelt key names the closest known key.
+no plate under 1 mm or thicker than its radius, no legs overlapping at their joints. A plate
+thicker than the legs is modelled, not refused. A misspelt key names the closest known key.
 """
 from __future__ import annotations
 
@@ -62,6 +62,20 @@ def test_implausible_scenes_are_refused_in_one_line(changes, message):
         parse_scene(scene_with(**changes))
     text = str(info.value)
     assert message in text and "\n" not in text, text
+
+
+def test_a_plate_thicker_than_twice_the_leg_diameter_is_modelled():
+    """The joint sits where the scene puts it (the plate's mid-surface): both models take the
+    leg to its joint and the whole plate's mass, so a heavier plate lowers every frequency."""
+    from analytical.model import natural_frequencies
+
+    thin = parse_scene(scene_with(manipulator__leg_diameter_mm=40.0))
+    thick = parse_scene(scene_with(manipulator__leg_diameter_mm=40.0,
+                                   manipulator__platform_thickness_mm=100.0))
+    pose = thick.case("case1").pose
+    f_thick = natural_frequencies(thick.manipulator, pose, thick.analytical)
+    f_thin = natural_frequencies(thin.manipulator, pose, thin.analytical)
+    assert f_thick.all() and (f_thick < f_thin).all()
 
 
 @pytest.mark.parametrize("nu", [0.05, 0.3, 0.49])
