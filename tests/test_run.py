@@ -46,7 +46,7 @@ def test_ci_profile_run_writes_the_contract(tmp_path):
     assert (out / "tables" / "case1.csv").read_text().startswith("mode,paper_fea_hz")
     assert (out / "modes" / "case2_fem.vtu").stat().st_size > 0
     assert results["cases"][0]["pose"]["height_origin"] == "calibrated"
-    assert on_disk["schema"] == 5 and on_disk["environment"]["project_version"]
+    assert on_disk["schema"] == 6 and on_disk["environment"]["project_version"]
     assert on_disk["studies"]["height_calibration"]["case"] == "case1"  # calibrated, with rows
     assert [s["case"] for s in on_disk["studies"]["angle_conventions"]] == ["case2"]  # tilted
     # the chosen setting's stated worst error covers every workspace-validation pose, not only
@@ -75,3 +75,17 @@ def test_exported_platform_motion_moves_the_platform_joints_as_the_legs_end(tmp_
                                             ).transpose(0, 2, 1)
         assert np.allclose(moved, ends, atol=1e-9 * np.abs(ends).max())
         assert np.asarray(case["fem"]["platform_motion"]).shape == motion.shape
+
+
+def test_the_ci_profile_checks_every_case_of_the_scene_before_any_work(tmp_path):
+    """A case outside the CI profile is still the user's: an unreachable one refuses the run
+    up front, in one line naming it, with nothing written."""
+    text = PAPER_SCENE.read_text(encoding="utf-8") + (
+        '\n[cases.unreachable]\ndescription = "too high"\nheight_mm = 5000.0\n')
+    scene = tmp_path / "scene.toml"
+    scene.write_text(text, encoding="utf-8")
+    with pytest.raises(ValueError) as info:
+        run.validate(str(scene), tmp_path / "out", tmp_path / "cache", profile="ci",
+                     build_report=False)
+    assert str(info.value).startswith("case unreachable:") and "\n" not in str(info.value)
+    assert not (tmp_path / "out").exists() and not (tmp_path / "cache").exists()
