@@ -14,7 +14,8 @@ import tomllib
 from typing import Any
 
 from analytical.params import Manipulator, Material, ModelOptions, Pose, check_manipulator
-from common.settings import MISSING, Setting, declared, nested, setting
+from common.settings import MAX_ANGLE, MAX_LENGTH, MISSING, Setting, declared, nested, setting
+from meshing.geometry import MIN_MESH_SIZE
 from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
 from meshing.geometry import MeshSettings
 
@@ -31,10 +32,10 @@ class FemStudy:
     the mesh of the CI regression baselines."""
 
     refinement: tuple[float, ...] = setting(
-        kind=tuple, unit="mm", minimum=0.0, exclusive_minimum=True, min_length=3,
+        kind=tuple, unit="mm", minimum=MIN_MESH_SIZE, maximum=MAX_LENGTH, min_length=3,
         doc="global element sizes of the Richardson refinement study, coarse to fine "
         "(strictly decreasing, at least three)")
-    ci_mesh_size: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+    ci_mesh_size: float = setting(unit="mm", minimum=MIN_MESH_SIZE, maximum=MAX_LENGTH,
                                   doc="mesh size of the CI regression baselines")
 
 
@@ -56,32 +57,40 @@ class ManipulatorNotes:
                                          doc="why this platform shape (when it is an assumption)")
 
 
+# A structural mode of a machine of this kind lies far below 1 MHz (the paper's: 0.1-1 kHz).
+MAX_FREQUENCY = 1e6  # Hz
+
+
 @dataclass(frozen=True)
 class CaseSettings:
     """One pose of a [cases.NAME] table, and the paper's rows for it where there are any."""
 
-    height: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+    height: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True, maximum=MAX_LENGTH,
                             doc='z of the platform centre o, or "calibrated" for '
                             "[calibration.height]")
     description: str = setting(None, kind=str, doc="title of the case (default: its name)")
-    azimuth: float = setting(0.0, unit="deg", doc="phi, direction of the tilt axis (Eq. 1)")
+    azimuth: float = setting(0.0, unit="deg", minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
+                             doc="phi, direction of the tilt axis (Eq. 1; one turn either way "
+                             "reaches every direction)")
     tilt: float = setting(0.0, unit="deg", minimum=-math.pi / 2, maximum=math.pi / 2,
-                          doc="theta, tilt of the platform (Eq. 1)")
+                          doc="theta, tilt of the platform (Eq. 1; beyond 90 degrees the "
+                          "platform would face the base)")
     paper_fea_hz: tuple[float, ...] | None = setting(
-        None, kind=tuple, minimum=0.0, exclusive_minimum=True,
+        None, kind=tuple, minimum=0.0, exclusive_minimum=True, maximum=MAX_FREQUENCY,
         doc="the paper's FEA frequencies for this pose (Table I), Hz")
     paper_theory_hz: tuple[float, ...] | None = setting(
-        None, kind=tuple, minimum=0.0, exclusive_minimum=True,
+        None, kind=tuple, minimum=0.0, exclusive_minimum=True, maximum=MAX_FREQUENCY,
         doc="the paper's theoretical frequencies for this pose (Table I), Hz")
     paper_error_percent: tuple[float, ...] | None = setting(
-        None, kind=tuple, doc="the paper's errors as printed (Table I), %")
+        None, kind=tuple, minimum=-100.0, maximum=100.0,
+        doc="the paper's errors as printed (Table I), %")
 
 
 @dataclass(frozen=True)
 class HeightCalibration:
     """[calibration.height]: a value the paper leaves wrong or open, with its reason."""
 
-    value: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+    value: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True, maximum=MAX_LENGTH,
                            doc="the calibrated platform height")
     reason: str = setting(kind=str, doc="why and how it was calibrated (required, non-empty)")
 

@@ -209,7 +209,7 @@ def test_bad_options_raise_fem_error(kwargs, message):
 @pytest.mark.parametrize("kwargs,message", [
     ({"size": -0.02}, "size = -0.02 m: must be > 0 m"),
     ({"size": float("nan")}, "size = nan m: expected a finite number"),
-    ({"size": 0.02, "rim_factor": 0.0}, "rim_factor = 0.0: must be > 0 and <= 1"),
+    ({"size": 0.02, "rim_factor": 0.0}, "rim_factor = 0.0: must be >= 0.005 and <= 1"),
     ({"size": 0.02, "rim_zone": -1e-3}, "rim_zone = -0.001 m: must be >= 0 m"),
 ])
 def test_bad_mesh_settings_name_the_value(kwargs, message):
