@@ -207,11 +207,14 @@ def check_manipulator(m: Manipulator) -> None:
         "r_joint_max": m.r_joint_max,
     }
     for name, value in positive.items():
+        cls = Material if name in ("youngs_modulus", "shear_modulus", "density") else Manipulator
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} = {value!r}: must be a finite positive number")
+            key = next(s for n, s, _ in declared(cls) if n == name).scene_key(name)
+            raise ValueError(f"{key} = {value!r} (SI): must be a finite positive number")
     if m.actuator_min >= m.actuator_max:
         raise ValueError(
-            f"actuator_min = {m.actuator_min} m is not below actuator_max = {m.actuator_max} m"
+            f"{_named(Manipulator, 'actuator_min', m.actuator_min)} is not below "
+            f"{_named(Manipulator, 'actuator_max', m.actuator_max)}"
         )
     mat = m.material
     low, high = YOUNGS_MODULUS_RANGE

@@ -318,6 +318,9 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
         result = analyse(scene.manipulator, case.pose, opts)
     except ModalError as exc:
         raise _named_first(exc, "modes", typed(args, "modes")) from None
+    except ValueError as exc:  # e.g. end zones longer than the legs: name what was typed
+        what = typed(args, "end_zone", "elements") if "end_zone" in str(exc) else ""
+        raise ValueError(f"{what}: {exc}" if what else str(exc)) from None
     seconds = time.perf_counter() - start
     return {
         "case": case.name,

@@ -163,7 +163,7 @@ class _Table:
 
     def __init__(self, data: Any, where: str):
         if not isinstance(data, dict):
-            raise SceneError(f"{where}: expected a table, got {data!r}")
+            raise SceneError(f"{where} = {_short(data)}: expected a table")
         self.data, self.where, self.used = data, where, set()
 
     def _get(self, key: str, default: Any) -> Any:
@@ -173,56 +173,6 @@ class _Table:
                 raise SceneError(f"{self.where}.{key}: missing")
             return default
         return self.data[key]
-
-    def number(self, key: str, default: Any = None, *, positive: bool = True,
-               minimum: float | None = None, maximum: float | None = None) -> float:
-        default = _REQUIRED if default is None else default
-        value = self._get(key, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected a finite number")
-        if positive and value <= 0:
-            raise SceneError(f"{self.where}.{key} = {value!r}: must be positive")
-        if minimum is not None and value < minimum:
-            raise SceneError(f"{self.where}.{key} = {value!r}: must be >= {minimum}")
-        if maximum is not None and value > maximum:
-            raise SceneError(f"{self.where}.{key} = {value!r}: must be <= {maximum}")
-        return float(value)
-
-    def integer(self, key: str, default: Any = None, *, minimum: int = 1) -> int:
-        value = self._get(key, _REQUIRED if default is None else default)
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected an integer")
-        if value < minimum:
-            raise SceneError(f"{self.where}.{key} = {value!r}: must be >= {minimum}")
-        return value
-
-    def choice(self, key: str, options: tuple[str, ...], default: Any = None) -> str:
-        value = self._get(key, _REQUIRED if default is None else default)
-        if value not in options:
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected one of "
-                             f"{', '.join(options)}")
-        return value
-
-    def text(self, key: str, default: str | None = None) -> str:
-        value = self._get(key, _REQUIRED if default is None else default)
-        if not isinstance(value, str):
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected a string")
-        return value.strip()
-
-    def numbers(self, key: str, default: Any = None, *, length: int | None = None,
-                positive: bool = True) -> tuple[float, ...] | None:
-        value = self._get(key, _REQUIRED if default is None else default)
-        if value is _ABSENT:
-            return None
-        if not isinstance(value, list) or not value or any(
-                isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
-                for v in value):
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected a list of numbers")
-        if length is not None and len(value) != length:
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected {length} numbers")
-        if positive and any(v <= 0 for v in value):
-            raise SceneError(f"{self.where}.{key} = {value!r}: every value must be positive")
-        return tuple(float(v) for v in value)
 
     def table(self, key: str, default: Any = None) -> "_Table":
         value = self._get(key, _REQUIRED if default is None else default)
@@ -299,7 +249,6 @@ def _found_instead(key: str, data: dict) -> str:
 
 
 _REQUIRED = object()
-_ABSENT = object()
 
 
 def _short(value: Any, limit: int = 80) -> str:
