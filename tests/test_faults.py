@@ -361,11 +361,11 @@ def test_a_killed_report_leaves_out_as_it_was_and_nothing_behind(report_out, how
 
 # ---------------------------------------------------------------- one line, exit 2
 @pytest.mark.parametrize("module, args, needle", [
-    ("pipeline", ["fem", "--scene", PAPER_SCENE, "--size", "1e-110"], "max_dofs"),
-    ("pipeline", ["fem", "--scene", PAPER_SCENE, "--size", "1e-100"], "max_dofs"),
+    ("pipeline", ["fem", "--scene", PAPER_SCENE, "--size", "1e-110"], "--size 1e-110 mm: must"),
+    ("pipeline", ["fem", "--scene", PAPER_SCENE, "--size", "0.02"], "max_dofs"),
     ("pipeline", ["readme", "--results", "{}"], "schema None"),
     ("pipeline", ["analytical", "--scene", "density_kg_m3 = 1e-300"],
-     "density_kg_m3 = 1e-300 kg/m3: expected 500 to 25000 kg/m3"),
+     "density_kg_m3 = 1e-300: must be >= 500 and <= 25000 kg/m3"),
     ("pipeline", ["check-baselines", "--results", "truncated"], "not valid JSON"),
     ("reports", ["--results", "{}", "--out", "out"], "schema None"),
     ("reports", ["--results", "truncated", "--out", "out"], "not valid JSON"),
