@@ -208,21 +208,23 @@ def check_joint_limits(manipulator: Manipulator, geom: PoseGeometry) -> None:
     tol = 1e-12
     for i, length in enumerate(geom.leg_lengths):
         if length < m.actuator_min - tol or length > m.actuator_max + tol:
+            above = length > m.actuator_max
             raise PoseError(
-                f"leg {i + 1} length {length * 1e3:.3f} mm is outside the actuator range "
-                f"[{m.actuator_min * 1e3:.1f}, {m.actuator_max * 1e3:.1f}] mm"
+                f"leg {i + 1} would be {length * 1e3:.1f} mm long, outside the actuator "
+                "range: " + (f"above actuator_max_mm = {m.actuator_max * 1e3:g}" if above else
+                   f"below actuator_min_mm = {m.actuator_min * 1e3:g}")
             )
     for i, a in enumerate(geom.s_joint_angles):
         if abs(a) > m.s_joint_max + tol:
             raise PoseError(
-                f"S-joint {i + 1} angle {math.degrees(a):.3f} deg exceeds "
-                f"alpha_max = {math.degrees(m.s_joint_max):.3f} deg"
+                f"S-joint {i + 1} would reach {math.degrees(abs(a)):.1f} deg, above "
+                f"s_joint_max_deg = {math.degrees(m.s_joint_max):.6g}"
             )
     for i, b in enumerate(geom.r_joint_angles):
         if abs(b) > m.r_joint_max + tol:
             raise PoseError(
-                f"R-joint {i + 1} angle {math.degrees(b):.3f} deg exceeds "
-                f"beta_max = {math.degrees(m.r_joint_max):.3f} deg"
+                f"R-joint {i + 1} would reach {math.degrees(abs(b)):.1f} deg, above "
+                f"r_joint_max_deg = {math.degrees(m.r_joint_max):.6g}"
             )
 
 

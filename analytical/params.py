@@ -8,7 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 import math
 
-from common.settings import check_settings, declared, nested_setting, setting
+from common.settings import (MAX_ANGLE, MAX_LENGTH, MAX_SOLVED_MODES, MIN_PART, check_settings,
+                             declared, nested_setting, setting)
 
 from .beam import SHEAR_COEFFICIENTS
 
@@ -23,15 +24,31 @@ MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
 
 JOINT_TYPES = ("R", "S")
 
+# Plausible materials and proportions (checked at load, `check_manipulator`).
+# Poisson ratio nu = E / (2 G) - 1 in (0, 0.49]: the engineering solids a manipulator is built
+# of (metals 0.25-0.35, polymers up to ~0.45). Towards 0.5 the displacement-based P2
+# tetrahedra of the FEM reference lock volumetrically: the Lame ratio lambda / mu =
+# 2 nu / (1 - 2 nu) is 49 at 0.49 and unbounded at 0.5 (measured: above 0.499 the two modes of
+# a symmetric pair split by more than 1e-3, at 0.5 - 2e-16 the solve fails); at nu <= 0
+# (auxetic) Cowper's shear coefficient of the Timoshenko legs, 6 (1 + nu) / (7 + 6 nu), falls
+# to 0 and E, G no longer describe a material the two models treat alike.
+POISSON_RANGE = (0.0, 0.49)  # exclusive minimum, inclusive maximum
+DENSITY_RANGE = (500.0, 25_000.0)  # kg/m3: balsa-free woods and foams .. osmium
+YOUNGS_MODULUS_RANGE = (1e9, 1000e9)  # Pa: stiff polymers .. diamond-like ceramics
+MIN_PLATE_THICKNESS = 1e-3  # m: thinner is a sheet, not the rigid/elastic plate modelled
+
 
 @dataclass(frozen=True)
 class Material:
-    youngs_modulus: float = setting(doc="Young's modulus E", unit="GPa", minimum=0.0,
-                                    exclusive_minimum=True)  # Pa
+    youngs_modulus: float = setting(doc="Young's modulus E (an engineering solid: stiff "
+                                    "polymers to diamond-like ceramics)", unit="GPa",
+                                    minimum=YOUNGS_MODULUS_RANGE[0],
+                                    maximum=YOUNGS_MODULUS_RANGE[1])  # Pa
     shear_modulus: float = setting(doc="shear modulus G (E / (2 G) - 1 is the Poisson ratio)",
-                                   unit="GPa", minimum=0.0, exclusive_minimum=True)  # Pa
-    density: float = setting(doc="mass density rho", unit="kg/m3", minimum=0.0,
-                             exclusive_minimum=True)  # kg/m^3
+                                   unit="GPa", minimum=0.0, exclusive_minimum=True,
+                                   maximum=YOUNGS_MODULUS_RANGE[1] / 2)  # Pa: G < E / 2
+    density: float = setting(doc="mass density rho (an engineering solid)", unit="kg/m3",
+                             minimum=DENSITY_RANGE[0], maximum=DENSITY_RANGE[1])  # kg/m^3
 
     @property
     def poisson_ratio(self) -> float:
@@ -39,6 +56,9 @@ class Material:
         return self.youngs_modulus / (2.0 * self.shear_modulus) - 1.0
 
 
+# A dimension of the machine: at least MIN_PART (1 mm), at most MAX_LENGTH (100 m); the reasons
+# are in common.settings.
+_PART = dict(minimum=MIN_PART, maximum=MAX_LENGTH)
 _POSITIVE = dict(minimum=0.0, exclusive_minimum=True)
 
 
@@ -56,23 +76,24 @@ class Manipulator:
     """
 
     base_radius: float = setting(doc="r1, radius of the circle of base joints B_i", unit="mm",
-                                 **_POSITIVE)
+                                 **_PART)
     platform_radius: float = setting(doc="r2, radius of the circle of platform joints A_i",
-                                     unit="mm", **_POSITIVE)
+                                     unit="mm", **_PART)
     leg_diameter: float = setting(doc="d, diameter of the solid circular legs", unit="mm",
-                                  **_POSITIVE)
+                                  **_PART)
     platform_thickness: float = setting(doc="h, thickness of the platform plate", unit="mm",
-                                        **_POSITIVE)
+                                        **_PART)
     material: Material = nested_setting(Material)
     leg_angles: tuple[float, float, float] = setting(
-        (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3,
-        doc="polar angles of the three legs from the base x-axis (120 degrees apart)")
+        (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3, minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
+        doc="polar angles of the three legs from the base x-axis (120 degrees apart; one turn "
+        "either way at most)")
     platform_shape: str = setting("disk", kind=str, choices=PLATFORM_SHAPES,
                                   doc='plate outline: "disk" of radius r2, or the "triangle" '
                                   "A1A2A3")
-    actuator_min: float = setting(0.2, unit="mm", scene_required=True, **_POSITIVE,
+    actuator_min: float = setting(0.2, unit="mm", scene_required=True, **_PART,
                                   doc="L_min, shortest leg (Eq. 25)")  # m
-    actuator_max: float = setting(1.0, unit="mm", scene_required=True, **_POSITIVE,
+    actuator_max: float = setting(1.0, unit="mm", scene_required=True, **_PART,
                                   doc="L_max, longest leg (Eq. 25)")  # m
     s_joint_max: float = setting(math.radians(45.0), unit="deg", scene_required=True,
                                  maximum=math.pi / 2, **_POSITIVE,
@@ -137,7 +158,7 @@ class ModelOptions:
     r_joint_coordinate: str = setting("axis", kind=str, choices=R_JOINT_COORDINATES,
                                       doc="independent R-joint coordinate: rotation about the "
                                       "joint axis (regular), or the paper's Eq. (18) ratio form")
-    modes: int = setting(6, kind=int, minimum=1, scene=False,
+    modes: int = setting(6, kind=int, minimum=1, maximum=MAX_SOLVED_MODES, scene=False,
                          doc="number of modes solved for (a scene sets [fidelity] modes)")
     shear: str = setting("cowper", kind=str, choices=SHEAR_COEFFICIENTS,
                          doc="Timoshenko shear coefficient of the round legs: Cowper's "
@@ -157,18 +178,6 @@ class ModelOptions:
         check_settings(self)
 
 
-# Plausible materials and proportions (checked at load, `check_manipulator`).
-# Poisson ratio nu = E / (2 G) - 1 in (0, 0.49]: the engineering solids a manipulator is built
-# of (metals 0.25-0.35, polymers up to ~0.45). Towards 0.5 the displacement-based P2
-# tetrahedra of the FEM reference lock volumetrically: the Lame ratio lambda / mu =
-# 2 nu / (1 - 2 nu) is 49 at 0.49 and unbounded at 0.5 (measured: above 0.499 the two modes of
-# a symmetric pair split by more than 1e-3, at 0.5 - 2e-16 the solve fails); at nu <= 0
-# (auxetic) Cowper's shear coefficient of the Timoshenko legs, 6 (1 + nu) / (7 + 6 nu), falls
-# to 0 and E, G no longer describe a material the two models treat alike.
-POISSON_RANGE = (0.0, 0.49)  # exclusive minimum, inclusive maximum
-DENSITY_RANGE = (500.0, 25_000.0)  # kg/m3: balsa-free woods and foams .. osmium
-YOUNGS_MODULUS_RANGE = (1e9, 1000e9)  # Pa: stiff polymers .. diamond-like ceramics
-MIN_PLATE_THICKNESS = 1e-3  # m: thinner is a sheet, not the rigid/elastic plate modelled
 
 
 def _named(cls, name: str, value: float) -> str:
@@ -198,11 +207,14 @@ def check_manipulator(m: Manipulator) -> None:
         "r_joint_max": m.r_joint_max,
     }
     for name, value in positive.items():
+        cls = Material if name in ("youngs_modulus", "shear_modulus", "density") else Manipulator
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise ValueError(f"{name} = {value!r}: must be a finite positive number")
+            key = next(s for n, s, _ in declared(cls) if n == name).scene_key(name)
+            raise ValueError(f"{key} = {value!r} (SI): must be a finite positive number")
     if m.actuator_min >= m.actuator_max:
         raise ValueError(
-            f"actuator_min = {m.actuator_min} m is not below actuator_max = {m.actuator_max} m"
+            f"{_named(Manipulator, 'actuator_min', m.actuator_min)} is not below "
+            f"{_named(Manipulator, 'actuator_max', m.actuator_max)}"
         )
     mat = m.material
     low, high = YOUNGS_MODULUS_RANGE

@@ -9,7 +9,11 @@ so a new knob is one field in one dataclass and one key in a scene file.
 
 Values inside the code are SI; `unit` names the unit at the edge (scene files, reports), and the
 scene key is the field name with that unit's suffix (`mesh_size` in mm -> `mesh_size_mm`).
-Ranges are declared in SI.
+Ranges are declared in SI, and every number has both bounds, tight enough to exclude the
+absurd (a length of 1e300 mm, an angle of 1e300 degrees, a tolerance of 1e-300 %): the limits
+shared by many declarations are below, each with its reason. The command line reads its
+numbers through the same declarations (`Setting.from_text`), so an option and its scene key
+admit the same values.
 """
 from __future__ import annotations
 
@@ -25,6 +29,21 @@ UNITS = {
     "GPa": ("_gpa", 1e9, "Pa"),
     "kg/m3": ("_kg_m3", 1.0, "kg/m3"),
 }
+
+
+# Lengths of a machine of this kind (a parallel manipulator whose legs are beams): nothing above
+# 100 m (the largest parallel kinematic machines, telescope hexapods and flight simulators, are
+# tens of metres; far beyond, the workspace arithmetic overflows) and, for a dimension of the
+# machine, nothing below 1 mm (a leg or plate thinner is a wire or a foil, not a machine part).
+MAX_LENGTH = 100.0  # m
+MIN_PART = 1e-3  # m
+# Angles at the edge: one turn either way (any direction is reachable without wrapping round).
+MAX_ANGLE = 2 * math.pi  # rad
+# Modes compared or solved for: the lowest few dozen describe a manipulator's dynamics; the
+# dense and shift-invert solvers are sized for that many (the FEM adds a few beyond the
+# compared ones to pair by shape, pipeline.compare.EXTRA_MODES).
+MAX_MODES = 60
+MAX_SOLVED_MODES = 100
 
 
 @dataclass(frozen=True)
@@ -94,17 +113,37 @@ class Setting:
             return None if not bad else f"every value must be {self.range_text(edge)}"
         if self.kind is int and (isinstance(value, bool) or not isinstance(value, int)):
             return "expected an integer"
-        if not _is_number(value):
+        if not _is_number(value) and not (_is_infinite(value) and self._out_of_range(value)):
             return "expected a finite number"
         if self._out_of_range(value):
             return f"must be {self.range_text(edge)}"
         return None
+
+    def from_text(self, text: str, option: str) -> Any:
+        """A command-line value typed in the edge unit (`--size 40`), checked by this
+        declaration and returned in SI; ValueError "--size 0.001 mm: must be ..." naming the
+        option and the value as typed first."""
+        shown = f"{option} {short_text(text)}" + (f" {self.unit}" if self.unit else "")
+        try:
+            value = int(text) if self.kind is int else float(text)
+        except ValueError:
+            raise ValueError(f"{shown}: expected {'an integer' if self.kind is int else 'a number'}"
+                             ) from None
+        si = value * self.scale if self.kind is float else value
+        why = self.problem(si, edge=True)
+        if why is not None:
+            raise ValueError(f"{shown}: {why}")
+        return si
 
     def _out_of_range(self, v: float) -> bool:
         if self.minimum is not None and (v < self.minimum or (self.exclusive_minimum
                                                               and v <= self.minimum)):
             return True
         return self.maximum is not None and v > self.maximum
+
+
+def _is_infinite(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isinf(x)
 
 
 def _is_number(x: Any) -> bool:
@@ -152,6 +191,20 @@ def check_settings(obj) -> None:
             shown = _short(value) + (f" {unit}" if unit and spec.kind is float
                                      and isinstance(value, float) else "")
             raise ValueError(f"{name} = {shown}: {why}")
+
+
+def short_text(text: str, limit: int = 24) -> str:
+    """A typed value as shown in a message: '1e308' stays, a 309-digit number is cut."""
+    text = str(text).strip()
+    return text if len(text) <= limit else text[:10] + "..." + text[-6:] + f" ({len(text)} chars)"
+
+
+def spec_of(cls_or_obj, name: str) -> Setting:
+    """The declaration of field `name`."""
+    for n, spec, _ in declared(cls_or_obj):
+        if n == name:
+            return spec
+    raise KeyError(name)
 
 
 def _short(value: Any, limit: int = 80) -> str:

@@ -639,7 +639,7 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
         offsets.append(n_raw)
         n_raw += len(fams) * 3 * leg.n_scalar
     if max_dofs is not None and n_raw > max_dofs:
-        raise HarmonicError(f"mesh_size = {size:g} m: {n_raw} harmonic dofs, above max_dofs = "
+        raise HarmonicError(f"mesh_size_mm = {size * 1e3:g}: {n_raw} harmonic dofs, above max_dofs = "
                             f"{max_dofs}")
     bld = _Builder(n_raw)
     o = np.asarray(geometry.platform_centre, float)
@@ -719,7 +719,7 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
     try:
         found = lowest_modes(kq, mq, options.modes)
     except EigenError as exc:
-        raise HarmonicError(f"mesh_size = {size:g} m: eigensolver failed ({exc})") from None
+        raise HarmonicError(f"mesh_size_mm = {size * 1e3:g}: eigensolver failed ({exc})") from None
     t_end = time.perf_counter()
     v = normalise_signs(found.vectors)
     digest = hashlib.sha256()

@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from common.rigid_body import rigid_fit
-from common.settings import check_settings, nested_setting, setting
+from common.settings import MAX_SOLVED_MODES, check_settings, nested_setting, setting
 from meshing.bodies import Assembly, GeometryError, Plate, platform_plate, pose_assembly
 from meshing.cache import cached_mesh
 from meshing.geometry import GmshFailure, MeshSettings, element_size
@@ -83,7 +83,7 @@ class FemOptions:
     coupling: str = setting("rigid", kind=str, choices=COUPLINGS,
                             doc="how a joint face follows its joint centre: rigid (RBE2-like) or "
                             "distributing (RBE3-like, the face may warp)")
-    modes: int = setting(6, kind=int, minimum=1, scene=False,
+    modes: int = setting(6, kind=int, minimum=1, maximum=MAX_SOLVED_MODES, scene=False,
                          doc="number of modes solved for")
     platform_mesh: float = setting(
         0.2, minimum=0.0, exclusive_minimum=True, maximum=2.0, scene=False,
@@ -120,9 +120,11 @@ class FemRuntime:
 
     cache_dir: str | os.PathLike | None = None  # mesh cache; None: meshing.cache.DEFAULT_DIR
     use_cache: bool = True
-    max_dofs: int = setting(600_000, kind=int, minimum=100,
+    max_dofs: int = setting(600_000, kind=int, minimum=100, maximum=100_000_000,
                             doc="refuse meshes with more raw degrees of freedom than this "
-                            "(estimated before meshing)")
+                            "(estimated before meshing); whatever it says, a solve whose "
+                            "estimated memory exceeds half of what the machine has available "
+                            "is refused too (fem_reference/resources.py)")
     backend: str = setting("splu", kind=str, choices=BACKENDS, scene=False,
                            doc="sparse factorisation of the shift-invert eigen solve")
 
@@ -303,22 +305,21 @@ def check_mesh_size(assembly: Assembly, options: FemOptions, runtime: FemRuntime
     DOF guard, or (tetrahedra) whose solve would not fit in memory: FemError naming the size."""
     settings = options.mesh
     diameter = 2 * assembly.cylinders[0].radius
+    shown = f"mesh_size_mm = {settings.size * 1e3:g}"
     if settings.size > diameter:
-        raise FemError(f"mesh_size = {settings.size:g} m: coarser than the leg diameter "
-                       f"{diameter:g} m (needs at least one element across a leg)")
-    if options.legs == "harmonic":  # 2D meridians: a fraction of the memory of 3D meshes
+        raise FemError(f"{shown}: coarser than the leg diameter {diameter * 1e3:g} mm (needs "
+                       "at least one element across a leg)")
+    harmonic = options.legs == "harmonic"
+    if harmonic:  # 2D meridians: a fraction of the memory of 3D meshes
         from .harmonic import estimate_raw_dofs as estimate_harmonic
         estimate = estimate_harmonic(assembly, settings.size)
-        if estimate > runtime.max_dofs:
-            raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} harmonic dofs "
-                           f"expected, above max_dofs = {runtime.max_dofs}")
-        return
-    estimate = estimate_raw_dofs(assembly, settings)
+    else:
+        estimate = estimate_raw_dofs(assembly, settings)
     if estimate > runtime.max_dofs:
-        raise FemError(f"mesh_size = {settings.size:g} m: about {estimate} dofs expected, above "
-                       f"max_dofs = {runtime.max_dofs}")
-    try:
-        check_memory(estimate, diameter, settings.size)  # before meshing: peak vs available
+        raise FemError(f"{shown}: about {estimate}{' harmonic' if harmonic else ''} dofs "
+                       f"expected, above max_dofs = {runtime.max_dofs}")
+    try:  # before meshing: peak against the memory the machine has, whatever max_dofs says
+        check_memory(estimate, diameter, settings.size, harmonic=harmonic)
     except MemoryLimitError as exc:
         raise FemError(str(exc)) from None
 
@@ -347,12 +348,12 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     try:
         solid, hit = cached_mesh(assembly, settings, runtime.cache_dir, runtime.use_cache)
     except GmshFailure as exc:
-        raise FemError(f"mesh_size = {settings.size:g} m: gmsh failed ({exc})") from None
+        raise FemError(f"mesh_size_mm = {settings.size * 1e3:g}: gmsh failed ({exc})") from None
     t_mesh = time.perf_counter()
 
     disc = discretise(solid)
     if disc.n_dofs > runtime.max_dofs:
-        raise FemError(f"mesh_size = {settings.size:g} m: {disc.n_dofs} dofs, above max_dofs = "
+        raise FemError(f"mesh_size_mm = {settings.size * 1e3:g}: {disc.n_dofs} dofs, above max_dofs = "
                        f"{runtime.max_dofs}")
     k, m = stiffness_and_mass(disc, manipulator.material)
     try:
@@ -369,7 +370,7 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         # in a child process, so Ctrl-C and SIGTERM stop a long factorisation at once
         modes = stoppable(lowest_modes, kq, mq, options.modes, backend=runtime.backend)
     except (EigenError, WorkerDied) as exc:
-        raise FemError(f"mesh_size = {settings.size:g} m: eigensolver failed ({exc})") from None
+        raise FemError(f"mesh_size_mm = {settings.size * 1e3:g}: eigensolver failed ({exc})") from None
     vq = normalise_signs(modes.vectors)
     v_raw = t_ @ vq
     t_end = time.perf_counter()

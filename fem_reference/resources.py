@@ -52,6 +52,20 @@ at h), so the same formula stays above them with the dof estimate of fem_referen
     slender (d 30)    7.5     87,390    111,425     0.91 GB   1.67 GB
     (* estimated before the dof constants were re-fitted; now 10-36 % above the raw count)
 
+The harmonic legs (harmonic.py) factor 2D meridian matrices, whose fill grows like n log n:
+measured the same way (paper, case 1, rigid coupling; "estimated n" is the DOF guard's
+estimate, harmonic.estimate_raw_dofs, 1.5 times the raw count):
+
+    h (mm)   raw dofs   estimated n   peak      peak - base per estimated dof
+      20       21,870        33,247    225 MB     (the base alone)
+      10       73,737       112,336    365 MB     1.5 kB
+       6      197,451       299,806    706 MB     1.7 kB
+       4      431,892       665,957   1426 MB     1.8 kB
+       3      751,923     1,178,569   2452 MB     1.9 kB
+
+The per-dof cost rises by about 0.1 kB per doubling of n; HARMONIC_BYTES_PER_DOF = 3 kB stays
+above that trend to beyond 10^8 dofs (a 0.5 mm mesh of the paper's legs: 4e7 dofs, 120 GB).
+
 The limit is half the memory available now (MemAvailable, or a cgroup's remaining limit if
 lower): the machine is shared, the estimate scatters by tens of per cent, and the rest of the
 run keeps its own memory.
@@ -67,6 +81,7 @@ FILL_PER_SECTION = 23.0  # stored LU entries per dof and per (d / h)^2 ...
 FILL_FLOOR = 80.0  # ... plus these per dof
 BYTES_PER_ENTRY = 12.0
 MEMORY_FRACTION = 0.5  # half of the memory available (see above)
+HARMONIC_BYTES_PER_DOF = 3e3  # per estimated raw dof of the harmonic legs (see above)
 
 
 class MemoryLimitError(ValueError):
@@ -103,15 +118,20 @@ def available_bytes() -> float | None:
     return max(0.0, min(found))
 
 
+def harmonic_peak_bytes(dofs: float) -> float:
+    """Estimated peak memory (bytes) of a harmonic-leg solve with `dofs` estimated raw dofs."""
+    return BASE_BYTES + HARMONIC_BYTES_PER_DOF * dofs
+
+
 def check_memory(dofs: float, leg_diameter: float, size: float,
-                 available: float | None = None) -> float:
+                 available: float | None = None, harmonic: bool = False) -> float:
     """The estimated peak (bytes); MemoryLimitError if it exceeds MEMORY_FRACTION of the
-    memory available (measured now unless given)."""
-    need = peak_bytes(dofs, leg_diameter, size)
+    memory available (measured now unless given). `harmonic`: the 2D meridian solve."""
+    need = harmonic_peak_bytes(dofs) if harmonic else peak_bytes(dofs, leg_diameter, size)
     free = available_bytes() if available is None else available
     if free is not None and need > MEMORY_FRACTION * free:
         raise MemoryLimitError(
-            f"mesh_size = {size * 1e3:g} mm: the solve needs about {need / 1e9:.3g} GB "
+            f"mesh_size_mm = {size * 1e3:g}: the solve needs about {need / 1e9:.3g} GB "
             f"({int(dofs):,} dofs, from the measured LU fill: fem_reference/resources.py), "
             f"above the limit of {MEMORY_FRACTION * free / 1e9:.3g} GB (half of the "
             f"{free / 1e9:.3g} GB available); use a coarser mesh")

@@ -25,10 +25,13 @@ import threading
 
 import numpy as np
 
-from common.settings import as_dict, check_settings, setting
+from common.settings import MAX_LENGTH, MIN_PART, as_dict, check_settings, setting
 
 from .bodies import Assembly, Cylinder, Plate
 from .mesh import SolidMesh
+
+MIN_MESH_SIZE = MIN_PART / 100  # m: a hundredth of the smallest machine part (common.settings)
+MIN_RIM_FACTOR = 0.005  # the deepest rim grading measured (fem_reference.harmonic's references)
 
 
 class GmshFailure(RuntimeError):
@@ -44,15 +47,19 @@ class MeshSettings:
     result cache key all take the whole object.
     """
 
-    size: float = setting(doc="global element size h of the solid mesh", unit="mm",
-                          minimum=0.0, exclusive_minimum=True, scene_name="mesh_size")
+    size: float = setting(doc="global element size h of the solid mesh (at least 0.01 mm, a "
+                          "hundredth of the smallest machine part; the memory estimate refuses "
+                          "far coarser meshes of real machines)", unit="mm",
+                          minimum=MIN_MESH_SIZE, maximum=MAX_LENGTH, scene_name="mesh_size")
     rim_factor: float = setting(
         0.4, doc="smallest element size, at the rims of the joint faces (stress-singular edges "
-        "of rigidly coupled faces), as a fraction of the global size; 1 = no refinement",
-        minimum=0.0, exclusive_minimum=True, maximum=1.0)
+        "of rigidly coupled faces), as a fraction of the global size; 1 = no refinement; at "
+        "least 0.005, the deepest grading measured (the harmonic legs' reference meshes): the "
+        "singular rim limits convergence whatever the grading, so deeper only adds elements",
+        minimum=MIN_RIM_FACTOR, maximum=1.0)
     rim_zone: float = setting(
         0.015, doc="distance from the joint-face rims at which the element size is back to the "
-        "global size (0 = no refinement)", unit="mm", minimum=0.0)
+        "global size (0 = no refinement)", unit="mm", minimum=0.0, maximum=MAX_LENGTH)
     rim_grading: float = setting(
         1.0, doc="exponent a of the graded size h (distance / rim_zone)^a near the rims, "
         "bounded by rim_factor h below and h above; 1: geometric (elements as large as a "

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import signal
 import sys
 import textwrap
@@ -17,40 +18,17 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from analytical.params import BEAM_THEORIES, PLATFORM_INERTIAS
+from analytical.beam import SHEAR_COEFFICIENTS
+from analytical.params import BEAM_THEORIES, JOINT_ENDS, PLATFORM_INERTIAS, ModelOptions
 from common.locations import DISTRIBUTION, cache_root, checkout_root, default_scene
 from common.messages import failed
+from meshing.geometry import MeshSettings
 
 from . import human
+from .fidelity import FidelitySettings
+from .options import MAX_MAP_POSES, MapGrid, Workers, declared_option, typed
 
 EXIT_BAD_INPUT = 2
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{value} must be >= 1")
-    return value
-
-
-def _finite(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"{text} is not finite")
-    return value
-
-
-def _positive_mm(text: str) -> float:
-    value = _finite(text)
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"{text} must be a positive size in mm")
-    return value
 
 
 def _scene_option(p: argparse.ArgumentParser) -> None:
@@ -62,12 +40,18 @@ def _scene_args(p: argparse.ArgumentParser) -> None:
     _scene_option(p)
     p.add_argument("--case", metavar="NAME",
                    help="case of the scene (default: the scene's first case)")
-    p.add_argument("--height", type=_finite, metavar="MM",
-                   help="platform height z, mm (default: the case's)")
-    p.add_argument("--azimuth", type=_finite, metavar="DEG",
-                   help="tilt azimuth phi, degrees (default: the case's)")
-    p.add_argument("--tilt", type=_finite, metavar="DEG",
-                   help="tilt theta, degrees (default: the case's)")
+    from .scene import CaseSettings
+    declared_option(p, "--height", CaseSettings, "height", metavar="MM",
+                    help="platform height z, mm (default: the case's)")
+    declared_option(p, "--azimuth", CaseSettings, "azimuth", metavar="DEG",
+                    help="tilt azimuth phi, degrees (default: the case's)")
+    declared_option(p, "--tilt", CaseSettings, "tilt", metavar="DEG",
+                    help="tilt theta, degrees (default: the case's)")
+    p.add_argument("--from-results", metavar="JSON", type=Path,
+                   help="use the model the validated run chose for this scene, read from "
+                   "the fidelity block of its results.json (e.g. out/results.json, written "
+                   "by `make`); options given beside it still override (default: the scene's "
+                   "own settings)")
     p.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 
 
@@ -86,16 +70,53 @@ def _cache_dir(args: argparse.Namespace) -> Path:
 
 
 def _case(scene, args):
-    """The named case, its pose overridden by --height/--azimuth/--tilt (mm, deg at the edge)."""
+    """The named case, its pose overridden by --height/--azimuth/--tilt (read in mm and deg,
+    in SI here), and its geometry; an unreachable pose is refused naming what was typed."""
+    from analytical.kinematics import PoseError, pose_geometry
+
     case = scene.case(args.case if args.case is not None else next(iter(scene.cases)))
     pose = case.pose
-    if args.height is not None:
-        pose = replace(pose, height=args.height * 1e-3)
-    if args.azimuth is not None:
-        pose = replace(pose, azimuth=math.radians(args.azimuth))
-    if args.tilt is not None:
-        pose = replace(pose, tilt=math.radians(args.tilt))
-    return replace(case, pose=pose)
+    for name in ("height", "azimuth", "tilt"):
+        if getattr(args, name) is not None:
+            pose = replace(pose, **{name: getattr(args, name)})
+    try:
+        geometry = pose_geometry(scene.manipulator, pose)
+    except PoseError as exc:
+        what = typed(args, "height", "azimuth", "tilt") or (
+            f"case {case.name} of {args.scene} (height_mm = {pose.height * 1e3:g}, "
+            f"azimuth_deg = {math.degrees(pose.azimuth):g}, tilt_deg = "
+            f"{math.degrees(pose.tilt):g})")
+        raise ValueError(f"{what}: {exc}") from None
+    return replace(case, pose=pose), geometry
+
+
+def _named_first(exc: Exception, key: str, what: str) -> Exception:
+    """`key = value: why` as `what: why` when the user typed `what` (e.g. --size 0.5 mm)."""
+    text = str(exc)
+    found = re.match(rf"{re.escape(key)} = [^:]*: ", text)
+    if what and found:
+        return ValueError(f"{what}: {text[found.end():]}")
+    return exc
+
+
+def _chosen(args: argparse.Namespace, scene) -> dict | None:
+    """The fidelity block of --from-results, checked to be a run of this scene file."""
+    if args.from_results is None:
+        return None
+    import hashlib
+    from .results import read
+
+    where = f"--from-results {args.from_results}"
+    try:
+        results = read(args.from_results)
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from None
+    digest = hashlib.sha256(Path(args.scene).read_bytes()).hexdigest()
+    if results["scene"]["sha256"] != digest:
+        raise ValueError(f"{where}: a run of scene {results['scene']['path']} "
+                         f"({results['scene']['name']!r}), not of --scene {args.scene} as it "
+                         "is now; run `rps validate --scene` on it first")
+    return results["fidelity"]
 
 
 def _pose_payload(pose) -> dict:
@@ -105,10 +126,12 @@ def _pose_payload(pose) -> dict:
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line on stderr and exit status 2."""
+    """argparse, but a usage error is one line on stderr and exit status 2; a refused value
+    is named first, as typed (`error: --tilt 100 deg: must be ...`)."""
 
     def error(self, message: str):  # noqa: D401 - argparse hook
-        self.exit(EXIT_BAD_INPUT, f"error: {self.prog}: {message}\n")
+        where = "" if message.startswith("--") else f"{self.prog}: "
+        self.exit(EXIT_BAD_INPUT, f"error: {where}{message}\n")
 
 
 class _Help(argparse.RawDescriptionHelpFormatter):
@@ -164,20 +187,30 @@ def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
 
     a = command("analytical", "substructure model of one case (Gong & Lou's Eqs. 1-25)")
     _scene_args(a)
-    a.add_argument("--elements", type=_positive_int, metavar="N",
-                   help="beam elements per leg s (default: the scene's)")
+    declared_option(a, "--elements", ModelOptions, "elements", metavar="N",
+                    help="beam elements per leg s (default: the scene's)")
     a.add_argument("--beam", choices=BEAM_THEORIES, help="beam theory (default: the scene's)")
+    a.add_argument("--shear", choices=SHEAR_COEFFICIENTS,
+                   help="Timoshenko shear coefficient (default: the scene's)")
+    a.add_argument("--joint-ends", choices=JOINT_ENDS,
+                   help="leg ends: beam elements to the joint centre, or condensed solid end "
+                   "zones (default: the scene's)")
+    declared_option(a, "--end-zone", ModelOptions, "end_zone", metavar="D",
+                    help="length of each solid end zone, in leg diameters (default: the "
+                    "scene's)")
     a.add_argument("--platform-inertia", choices=PLATFORM_INERTIAS,
                    help="platform inertia: the plate's own, or Eq. (8)'s m r2^2 "
                         "(default: the scene's)")
-    a.add_argument("--modes", type=_positive_int, metavar="N",
-                   help="number of modes (default: the scene's)")
+    declared_option(a, "--modes", FidelitySettings, "modes", metavar="N",
+                    help="number of modes (default: the scene's)")
 
     platforms, couplings, leg_models = _fem_choices()
     f = command("fem", "3D solid FEM reference of one case")
     _scene_args(f)
-    f.add_argument("--size", type=_positive_mm, metavar="MM",
-                   help="global element size, mm (default: the scene's mesh_size_mm)")
+    declared_option(f, "--size", MeshSettings, "size", metavar="MM",
+                    help="global element size, mm (default: the scene's mesh_size_mm, or "
+                    "0.32 leg diameters when the scene leaves the size to the run; the size "
+                    "the run chose: --from-results)")
     f.add_argument("--platform", choices=platforms,
                    help="rigid platform or elastic plate (default: the scene's)")
     f.add_argument("--coupling", choices=couplings,
@@ -185,8 +218,8 @@ def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
     f.add_argument("--legs", choices=leg_models,
                    help="legs by Fourier harmonics on a meridian mesh, or 3D tetrahedra "
                    "(default: the scene's; an elastic plate takes tetrahedra)")
-    f.add_argument("--modes", type=_positive_int, metavar="N",
-                   help="number of modes (default: the scene's)")
+    declared_option(f, "--modes", FidelitySettings, "modes", metavar="N",
+                    help="number of modes (default: the scene's)")
     f.add_argument("--vtu", metavar="PATH",
                    help="also write the mode shapes for ParaView: PATH (.vtu, legs and "
                         "platform) and a .pvd beside it (default: not written)")
@@ -199,14 +232,14 @@ def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
 
     w = command("workspace", "f1..fN over the regular workspace (Fig. 6)")
     _scene_option(w)
-    w.add_argument("--layers", type=_positive_int, default=8, metavar="N",
-                   help="height layers")
-    w.add_argument("--rings", type=_positive_int, default=6, metavar="N",
-                   help="tilt rings per layer")
-    w.add_argument("--azimuths", type=_positive_int, default=36, metavar="N",
-                   help="azimuths per ring")
-    w.add_argument("--modes", type=_positive_int, default=3, metavar="N",
-                   help="modes per pose")
+    declared_option(w, "--layers", MapGrid, "layers", default=8, metavar="N",
+                    help="height layers")
+    declared_option(w, "--rings", MapGrid, "rings", default=6, metavar="N",
+                    help="tilt rings per layer")
+    declared_option(w, "--azimuths", MapGrid, "azimuths", default=36, metavar="N",
+                    help="azimuths per ring")
+    declared_option(w, "--modes", FidelitySettings, "modes", default=3, metavar="N",
+                    help="modes per pose")
     w.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 
     v = command("validate", "run the whole validation of a scene: results, tables, report")
@@ -218,9 +251,9 @@ def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
                    help="full: every case and study; ci: the scene's ci_cases only, no "
                         "refinement study or variants")
     v.add_argument("--no-report", action="store_true", help="skip the HTML/PDF report")
-    v.add_argument("--workers", type=_positive_int, default=None,
-                   help="local worker processes of the workspace sweep (default: the number "
-                        "of cores)")
+    declared_option(v, "--workers", Workers, "workers", default=None, metavar="N",
+                    help="local worker processes of the workspace sweep (default: the number "
+                    "of cores)")
     v.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="send the sweep's poses to this running dask.distributed scheduler "
                         "(e.g. tcp://10.0.0.5:8786) instead of local workers (default: none)")
@@ -257,27 +290,49 @@ def _emit(payload: dict, as_json: bool) -> None:
     print("\n".join(human.payload_lines(payload)))
 
 
+CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "elements", "platform_inertia")
+
+
 def cmd_analytical(args: argparse.Namespace) -> dict:
     from analytical.model import analyse
+    from analytical.modal import ModalError
     from .scene import load_scene
 
     scene = load_scene(args.scene)
-    case = _case(scene, args)
+    case, _ = _case(scene, args)
     opts = scene.analytical
-    overrides = {k: v for k, v in {"elements": args.elements, "beam": args.beam,
-                                   "platform_inertia": args.platform_inertia,
-                                   "modes": args.modes}.items() if v is not None}
+    chosen = _chosen(args, scene)
+    if chosen is not None:
+        opts = replace(opts, **{k: chosen["analytical"][k] for k in CHOSEN_ANALYTICAL})
+        source = f"the run's choice, {chosen['analytical']['setting']} ({args.from_results})"
+    else:
+        source = ("the scene's [analytical]" if scene.analytical_given else
+                  "the scene's defaults, not the model a validated run chooses (that one: "
+                  "--from-results out/results.json)")
+    overrides = {k: getattr(args, k) for k in ("elements", "beam", "shear", "joint_ends",
+                                               "end_zone", "platform_inertia", "modes")
+                 if getattr(args, k) is not None}
     opts = replace(opts, **overrides)
     start = time.perf_counter()
-    result = analyse(scene.manipulator, case.pose, opts)
+    try:
+        result = analyse(scene.manipulator, case.pose, opts)
+    except ModalError as exc:
+        raise _named_first(exc, "modes", typed(args, "modes")) from None
+    except ValueError as exc:  # e.g. end zones longer than the legs: name what was typed
+        what = typed(args, "end_zone", "elements") if "end_zone" in str(exc) else ""
+        raise ValueError(f"{what}: {exc}" if what else str(exc)) from None
     seconds = time.perf_counter() - start
     return {
         "case": case.name,
         "pose": _pose_payload(case.pose),
         "model": "analytical",
+        "settings_from": source + (" with options" if overrides else ""),
         "elements": opts.elements,
         "beam": opts.beam,
+        "shear": opts.shear,
+        "joint_ends": opts.joint_ends,
         "platform_inertia": opts.platform_inertia,
+        **({"end_zone_diameters": opts.end_zone} if opts.joint_ends == "solid" else {}),
         "frequencies_hz": [float(x) for x in result.frequencies_hz],
         "leg_lengths_mm": [float(x) * 1e3 for x in result.geometry.leg_lengths],
         "dofs": int(result.model.stiffness.shape[0]),
@@ -285,32 +340,53 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
     }
 
 
+def _fem_size(args: argparse.Namespace, scene) -> tuple[float, str]:
+    """The element size (m) and where it comes from."""
+    chosen = _chosen(args, scene)
+    if args.size is not None:
+        return args.size, "--size"
+    if chosen is not None:
+        return chosen["fem"]["mesh_size_mm"] * 1e-3, f"the run's choice ({args.from_results})"
+    if scene.fem_size_given:
+        return scene.fem.mesh_size, "the scene's mesh_size_mm"
+    return scene.fem.mesh_size, ("the scene's default, 0.32 leg diameters, not the size a "
+                                 "validated run chooses (that one: --from-results "
+                                 "out/results.json)")
+
+
 def cmd_fem(args: argparse.Namespace) -> dict:
-    from analytical.kinematics import pose_geometry
     from fem_reference import solve_pose
     from fem_reference.convergence import sequence_around
-    from fem_reference.model import check_mesh_size
+    from fem_reference.model import FemError, check_mesh_size
     from meshing.bodies import pose_assembly
     from .cache import ResultCache
     from .compare import fem_options, fem_runtime
     from .scene import load_scene
 
     scene = load_scene(args.scene)
-    case = _case(scene, args)
-    size = args.size * 1e-3 if args.size is not None else scene.fem.mesh_size
+    case, geometry = _case(scene, args)
+    size, source = _fem_size(args, scene)
     count = args.modes or scene.analytical.modes
     options = fem_options(scene, size, platform=args.platform, coupling=args.coupling,
                           modes=count, legs=args.legs)
-    geometry = pose_geometry(scene.manipulator, case.pose)
     cache = ResultCache(_cache_dir(args))
     runtime = fem_runtime(scene, cache)
     sizes = sequence_around(size, scene.fem_study.refinement) if args.estimate_error else ()
     assembly = pose_assembly(scene.manipulator, geometry,
                              elastic_platform=options.platform == "elastic")
-    for h in reversed(sizes):  # every size of the study checked up front, the finest first
-        check_mesh_size(assembly, options.with_size(h), runtime)
+    what = typed(args, "size")
+    try:  # every size of the study checked up front, the finest first
+        for h in reversed(sorted(set(sizes) | {size})):
+            check_mesh_size(assembly, options.with_size(h), runtime)
+    except FemError as exc:
+        if sizes:  # a size of the study, not necessarily the one typed
+            raise ValueError(f"{what + ' ' if what else ''}--estimate-error: {exc}") from None
+        raise _named_first(exc, "mesh_size_mm", what) from None
     start = time.perf_counter()
-    result = solve_pose(scene.manipulator, geometry, options, runtime)
+    try:
+        result = solve_pose(scene.manipulator, geometry, options, runtime)
+    except FemError as exc:
+        raise _named_first(exc, "mesh_size_mm", what) from None
     seconds = time.perf_counter() - start
     if args.vtu:
         result.write_vtu(args.vtu, pvd=True)
@@ -318,12 +394,13 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         "case": case.name,
         "pose": _pose_payload(case.pose),
         "model": "fem",
+        "mesh_size_from": source,
         "platform": options.platform,
         "coupling": options.coupling,
         "legs": options.legs,
         "frequencies_hz": [float(x) for x in result.frequencies_hz[:count]],
         "dofs": int(result.dofs),
-        "mesh_size_m": float(result.mesh_size),
+        "mesh_size_mm": float(result.mesh_size) * 1e3,
         "min_scaled_jacobian": float(result.min_quality),
         "timings": {k: float(v) for k, v in result.timings.items()},
         "seconds": seconds,
@@ -340,6 +417,30 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         payload["extrapolated_hz"] = study["extrapolated_hz"]
         payload["observed_order"] = study["observed_order"]
     return payload
+
+
+def cmd_workspace(args: argparse.Namespace) -> dict:
+    """The frequency map; the grid and the mode count checked against what the model holds
+    before any pose is solved."""
+    from analytical.end_zones import segments
+    from .scene import load_scene
+    from .studies import workspace_map
+
+    scene = load_scene(args.scene)
+    poses = args.layers * args.rings * args.azimuths
+    if poses > MAX_MAP_POSES:
+        raise ValueError(f"{typed(args, 'layers', 'rings', 'azimuths') or 'the grid'}: "
+                         f"{poses:,} poses, above the {MAX_MAP_POSES:,} of one map (about a "
+                         "minute); use a coarser grid")
+    followed = 18 * segments(scene.analytical) - 1  # analytical.workspace's window
+    if args.modes > followed:
+        raise ValueError(f"{typed(args, 'modes') or f'modes = {args.modes}'}: the map follows "
+                         f"at most {followed} modes with this scene's model "
+                         f"(s = {scene.analytical.elements} elements per leg)")
+    start = time.perf_counter()
+    fmap = workspace_map(scene, args.layers, args.rings, args.azimuths, args.modes)
+    fmap["seconds"] = time.perf_counter() - start
+    return fmap
 
 
 def cmd_cache(args: argparse.Namespace) -> int:
@@ -396,12 +497,7 @@ def main(argv: list[str] | None = None) -> int:
         elif args.command == "fem":
             _emit(cmd_fem(args), args.json)
         elif args.command == "workspace":
-            from .scene import load_scene
-            from .studies import workspace_map
-            start = time.perf_counter()
-            fmap = workspace_map(load_scene(args.scene), args.layers, args.rings,
-                                 args.azimuths, args.modes)
-            fmap["seconds"] = time.perf_counter() - start
+            fmap = cmd_workspace(args)
             if args.json:
                 print(json.dumps(fmap))
             else:

@@ -14,7 +14,8 @@ import tomllib
 from typing import Any
 
 from analytical.params import Manipulator, Material, ModelOptions, Pose, check_manipulator
-from common.settings import MISSING, Setting, declared, nested, setting
+from common.settings import MAX_ANGLE, MAX_LENGTH, MISSING, Setting, declared, nested, setting
+from meshing.geometry import MIN_MESH_SIZE
 from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
 from meshing.geometry import MeshSettings
 
@@ -31,10 +32,10 @@ class FemStudy:
     the mesh of the CI regression baselines."""
 
     refinement: tuple[float, ...] = setting(
-        kind=tuple, unit="mm", minimum=0.0, exclusive_minimum=True, min_length=3,
+        kind=tuple, unit="mm", minimum=MIN_MESH_SIZE, maximum=MAX_LENGTH, min_length=3,
         doc="global element sizes of the Richardson refinement study, coarse to fine "
         "(strictly decreasing, at least three)")
-    ci_mesh_size: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+    ci_mesh_size: float = setting(unit="mm", minimum=MIN_MESH_SIZE, maximum=MAX_LENGTH,
                                   doc="mesh size of the CI regression baselines")
 
 
@@ -56,32 +57,40 @@ class ManipulatorNotes:
                                          doc="why this platform shape (when it is an assumption)")
 
 
+# A structural mode of a machine of this kind lies far below 1 MHz (the paper's: 0.1-1 kHz).
+MAX_FREQUENCY = 1e6  # Hz
+
+
 @dataclass(frozen=True)
 class CaseSettings:
     """One pose of a [cases.NAME] table, and the paper's rows for it where there are any."""
 
-    height: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+    height: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True, maximum=MAX_LENGTH,
                             doc='z of the platform centre o, or "calibrated" for '
                             "[calibration.height]")
     description: str = setting(None, kind=str, doc="title of the case (default: its name)")
-    azimuth: float = setting(0.0, unit="deg", doc="phi, direction of the tilt axis (Eq. 1)")
+    azimuth: float = setting(0.0, unit="deg", minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
+                             doc="phi, direction of the tilt axis (Eq. 1; one turn either way "
+                             "reaches every direction)")
     tilt: float = setting(0.0, unit="deg", minimum=-math.pi / 2, maximum=math.pi / 2,
-                          doc="theta, tilt of the platform (Eq. 1)")
+                          doc="theta, tilt of the platform (Eq. 1; beyond 90 degrees the "
+                          "platform would face the base)")
     paper_fea_hz: tuple[float, ...] | None = setting(
-        None, kind=tuple, minimum=0.0, exclusive_minimum=True,
+        None, kind=tuple, minimum=0.0, exclusive_minimum=True, maximum=MAX_FREQUENCY,
         doc="the paper's FEA frequencies for this pose (Table I), Hz")
     paper_theory_hz: tuple[float, ...] | None = setting(
-        None, kind=tuple, minimum=0.0, exclusive_minimum=True,
+        None, kind=tuple, minimum=0.0, exclusive_minimum=True, maximum=MAX_FREQUENCY,
         doc="the paper's theoretical frequencies for this pose (Table I), Hz")
     paper_error_percent: tuple[float, ...] | None = setting(
-        None, kind=tuple, doc="the paper's errors as printed (Table I), %")
+        None, kind=tuple, minimum=-100.0, maximum=100.0,
+        doc="the paper's errors as printed (Table I), %")
 
 
 @dataclass(frozen=True)
 class HeightCalibration:
     """[calibration.height]: a value the paper leaves wrong or open, with its reason."""
 
-    value: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True,
+    value: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True, maximum=MAX_LENGTH,
                            doc="the calibrated platform height")
     reason: str = setting(kind=str, doc="why and how it was calibrated (required, non-empty)")
 
@@ -154,7 +163,7 @@ class _Table:
 
     def __init__(self, data: Any, where: str):
         if not isinstance(data, dict):
-            raise SceneError(f"{where}: expected a table, got {data!r}")
+            raise SceneError(f"{where} = {_short(data)}: expected a table")
         self.data, self.where, self.used = data, where, set()
 
     def _get(self, key: str, default: Any) -> Any:
@@ -164,56 +173,6 @@ class _Table:
                 raise SceneError(f"{self.where}.{key}: missing")
             return default
         return self.data[key]
-
-    def number(self, key: str, default: Any = None, *, positive: bool = True,
-               minimum: float | None = None, maximum: float | None = None) -> float:
-        default = _REQUIRED if default is None else default
-        value = self._get(key, default)
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected a finite number")
-        if positive and value <= 0:
-            raise SceneError(f"{self.where}.{key} = {value!r}: must be positive")
-        if minimum is not None and value < minimum:
-            raise SceneError(f"{self.where}.{key} = {value!r}: must be >= {minimum}")
-        if maximum is not None and value > maximum:
-            raise SceneError(f"{self.where}.{key} = {value!r}: must be <= {maximum}")
-        return float(value)
-
-    def integer(self, key: str, default: Any = None, *, minimum: int = 1) -> int:
-        value = self._get(key, _REQUIRED if default is None else default)
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected an integer")
-        if value < minimum:
-            raise SceneError(f"{self.where}.{key} = {value!r}: must be >= {minimum}")
-        return value
-
-    def choice(self, key: str, options: tuple[str, ...], default: Any = None) -> str:
-        value = self._get(key, _REQUIRED if default is None else default)
-        if value not in options:
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected one of "
-                             f"{', '.join(options)}")
-        return value
-
-    def text(self, key: str, default: str | None = None) -> str:
-        value = self._get(key, _REQUIRED if default is None else default)
-        if not isinstance(value, str):
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected a string")
-        return value.strip()
-
-    def numbers(self, key: str, default: Any = None, *, length: int | None = None,
-                positive: bool = True) -> tuple[float, ...] | None:
-        value = self._get(key, _REQUIRED if default is None else default)
-        if value is _ABSENT:
-            return None
-        if not isinstance(value, list) or not value or any(
-                isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
-                for v in value):
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected a list of numbers")
-        if length is not None and len(value) != length:
-            raise SceneError(f"{self.where}.{key} = {value!r}: expected {length} numbers")
-        if positive and any(v <= 0 for v in value):
-            raise SceneError(f"{self.where}.{key} = {value!r}: every value must be positive")
-        return tuple(float(v) for v in value)
 
     def table(self, key: str, default: Any = None) -> "_Table":
         value = self._get(key, _REQUIRED if default is None else default)
@@ -290,7 +249,6 @@ def _found_instead(key: str, data: dict) -> str:
 
 
 _REQUIRED = object()
-_ABSENT = object()
 
 
 def _short(value: Any, limit: int = 80) -> str:

@@ -100,10 +100,21 @@ def _dispatch(fn: TaskFn, tasks: list, todo: list[int], workers: int, scheduler:
         _run_local(fn, tasks, todo, workers, store)
 
 
+# loky retires a worker whose memory grew 300 MB above its start (its leak guard,
+# loky.process_executor._MAX_MEMORY_LEAK_SIZE) and then warns "A worker stopped while some jobs
+# were given to the executor ... memory leak". Our workers grow by design, not by a leak: a FEM
+# factorisation's peak and the per-process mesh and harmonic caches. The retired worker has
+# finished its task and loky starts a fresh one, so nothing is lost; only that message is
+# silenced, only around our pool.
+LOKY_RESTART = "A worker stopped while some jobs were given to the executor"
+
+
 def _run_local(fn: TaskFn, tasks: list, todo: list[int], workers: int, store) -> None:
+    import warnings
     from joblib import Parallel, delayed, parallel_config
 
-    with parallel_config(backend="loky", inner_max_num_threads=1):
+    with warnings.catch_warnings(), parallel_config(backend="loky", inner_max_num_threads=1):
+        warnings.filterwarnings("ignore", message=LOKY_RESTART, category=UserWarning)
         stream = Parallel(n_jobs=workers, return_as="generator_unordered")(
             delayed(_indexed)(fn, i, tasks[i]) for i in todo)
         for i, value in stream:

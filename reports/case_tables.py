@@ -84,6 +84,12 @@ def fem_variants_table(results: dict, i: int, c: Cells) -> dict | None:
         rows.append({"label": label, "error": None, "cells": [
             c.text(literal=f"{label}: f (Hz)")] + [c.num(f"{q}/frequencies_hz/{k}", 2)
                                                    for k in range(n)]})
+        by_fem = {p["fem_mode"]: j for j, p in enumerate(variants[label]["pairs"])}
+        if any(p["analytical_mode"] != p["fem_mode"] for p in variants[label]["pairs"]):
+            rows.append({"label": label, "error": None, "cells": [
+                c.text(literal="its mode paired with our f_k", cls="text sub")]
+                + [c.num(f"{q}/pairs/{by_fem[k + 1]}/analytical_mode", None) if k + 1 in by_fem
+                   else c.text(literal="–") for k in range(n)]})
         rows.append({"label": label, "error": None, "cells": [
             c.text(literal="shift vs our FEM (%)", cls="text sub")]
             + [c.num(f"{q}/shift_percent/{k}", 2, signed=True) for k in range(n)]})

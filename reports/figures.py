@@ -139,25 +139,33 @@ def speed_vs_error(entries: dict[str, list[dict]], path: Path, paper: bool) -> N
     """Time per pose (log) against the worst |error| of f1..f6, one panel per case; with the
     paper's times per pose when the results carry the paper's data (`paper`)."""
     names = list(entries)
-    fig, axes = plt.subplots(1, len(names), figsize=(WIDTH, 3.2), sharey=True, squeeze=False)
-    styles = {"EB": dict(marker="o", color="#1f77b4", label="analytical, Euler–Bernoulli"),
-              "Timoshenko": dict(marker="s", color="#2ca02c", label="analytical, Timoshenko"),
-              "fem": dict(marker="D", color="#d62728", label="FEM (3D solid), mesh h")}
+    fig, axes = plt.subplots(1, len(names), figsize=(WIDTH, 4.0), sharey=True, squeeze=False)
+    # Each setting is a curve through its refinements (s elements, or the FEM's mesh h), named
+    # in the legend with its refinements in the order of the points: labels on the points
+    # would overlap where two curves run close (Cowper's and Hutchinson's shear coefficients).
+    markers = "osv^p<>h"
+    colours = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
+    fem_style = dict(marker="D", color="#d62728")
+    seen: list[str] = []
     for ax, name in zip(axes[0], names):
         groups: dict[str, list[dict]] = {}
         for e in entries[name]:
-            key = "fem" if e["model"] == "fem" else e["setting"].split(",")[0]
+            key = "fem" if e["model"] == "fem" else e["setting"].rsplit(",", 1)[0].strip()
             groups.setdefault(key, []).append(e)
         for key, rows in groups.items():
-            rows = sorted(rows, key=lambda e: e["seconds"])
-            st = styles.get(key, dict(marker="^", color="0.3", label=key))
+            if key not in seen:
+                seen.append(key)
+            k = seen.index(key)
+            steps = ", ".join(e["setting"].rsplit(",", 1)[-1].split("=", 1)[-1]
+                              .replace("mm", "").strip() for e in rows)
+            if key == "fem":
+                st = dict(fem_style, label=f"FEM (3D solid), h = {steps} mm")
+            else:
+                st = dict(marker=markers[k % len(markers)], color=colours[k % len(colours)],
+                          label=f"{key.replace('EB', 'Euler–Bernoulli')}, s = {steps}")
             x = [max(e["seconds"], 1e-6) for e in rows]
             y = [max(abs(e["worst_error_percent"]), 1e-3) for e in rows]
             ax.plot(x, y, ls="-", lw=0.8, ms=4, **st)
-            for e, xi, yi in zip(rows, x, y):
-                label = e["setting"].split(",")[-1].strip().replace(" ", "")
-                ax.annotate(label, (xi, yi), xytext=(3, 3), textcoords="offset points",
-                            fontsize=6, color=st["color"])
         for model, t in (PAPER_SECONDS.items() if paper else ()):
             text = f"paper: {model} {t:g} s"
             ax.axvline(t, color="0.35", lw=0.9, ls="--")
@@ -170,9 +178,10 @@ def speed_vs_error(entries: dict[str, list[dict]], path: Path, paper: bool) -> N
         ax.set_title(name)
     axes[0, 0].set_ylabel("worst |error| of f1–f6 (%)")
     handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=3, frameon=False,
+    fig.legend(handles, labels, loc="lower center", ncol=2, frameon=False, fontsize=6.5,
+               title="each curve: one setting, refined as listed", title_fontsize=6.5,
                bbox_to_anchor=(0.5, -0.02))
-    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    fig.tight_layout(rect=(0, 0.2, 1, 1))
     save(fig, path)
 
 

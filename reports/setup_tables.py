@@ -44,11 +44,19 @@ def manipulator_table(results: dict, c: Cells) -> dict:
 
 
 def fidelity_table(results: dict, c: Cells) -> dict:
-    rows = [[c.text(literal=f"analytical: {label}"), c.num(f"/scene/analytical/{key}", None)]
-            for key, label in (("elements", "elements per leg s"), ("modes", "modes compared"))]
-    rows += [[c.text(literal=f"analytical: {label}"), c.text(f"/scene/analytical/{key}")]
-             for key, label in (("beam", "beam theory"), ("platform_inertia", "platform inertia"))]
-    rows.append([c.text(literal="FEM: mesh size h (mm)"), c.num("/scene/fem/mesh_size_mm", 1)])
+    """The settings the run used: the analytical model and FEM size of results.json's
+    `fidelity` block (chosen by the run, or the scene's own, checked), not the scene's
+    defaults."""
+    q = "/fidelity/analytical"
+    rows = [[c.text(literal="analytical: model used"), c.text(f"{q}/setting")],
+            [c.text(literal="analytical: elements per leg s"), c.num(f"{q}/elements", None)]]
+    rows += [[c.text(literal=f"analytical: {label}"), c.text(f"{q}/{key}")]
+             for key, label in (("beam", "beam theory"), ("shear", "shear coefficient"),
+                                ("joint_ends", "joint ends"),
+                                ("platform_inertia", "platform inertia"))]
+    rows += [[c.text(literal="modes compared"), c.num("/fidelity/modes", None)],
+             [c.text(literal="tolerance (%)"), c.num("/fidelity/tolerance_percent", None)],
+             [c.text(literal="FEM: mesh size h (mm)"), c.num("/fidelity/fem/mesh_size_mm", 1)]]
     rows += [[c.text(literal=f"FEM: refinement size {i + 1} (mm)"),
               c.num(f"/scene/fem/refinement_mm/{i}", 1)]
              for i, _ in enumerate(results["scene"]["fem"]["refinement_mm"])]

@@ -69,7 +69,9 @@ def case_verdict(case: dict, conventions: bool = False) -> list[str]:
         lo = min(macs)
         shape = ("the mode shapes match" if lo >= 0.9 else
                  "most mode shapes match" if lo >= 0.7 else "some mode shapes do not match")
-        out.append(f"Paired by shape, {shape} (lowest MAC {lo:.3f}).")
+        reps = any(p["repeated"] for p in pairs)
+        out.append(f"Paired by shape, {shape} (lowest MAC {lo:.3f}"
+                   + (", a repeated pair's taken over its 2-D subspace" if reps else "") + ").")
     reps = {p["group"] for p in pairs if p["repeated"]}
     if reps:
         out.append(f"{len(reps)} repeated pair{'s' if len(reps) > 1 else ''} "

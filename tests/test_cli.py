@@ -45,7 +45,7 @@ def scene_with(tmp_path, old, new):
 
 @pytest.mark.parametrize("args, needle", [
     (("--case", "case9"), "case 'case9'"),
-    (("--elements", "0"), "0 must be >= 1"),
+    (("--elements", "0"), "error: --elements 0: must be >= 1 and <= 200"),
     (("--beam", "bernoulli"), "'bernoulli'"),
 ])
 def test_bad_arguments_exit_2_with_one_line(args, needle):
@@ -59,7 +59,7 @@ def test_bad_arguments_exit_2_with_one_line(args, needle):
 @pytest.mark.parametrize("old, new, needle", [
     ("leg_diameter_mm = 100.0", "leg_diameter_mm = -100.0", "leg_diameter_mm = -100.0"),
     ('height_mm = 490.0', 'height_mm = 1200.0', "outside the actuator range"),
-    ("tilt_deg = -12.0\n", "tilt_deg = -70.0\n", "exceeds"),
+    ("tilt_deg = -12.0\n", "tilt_deg = -70.0\n", "would reach"),
 ])
 def test_bad_scenes_exit_2_with_one_line(tmp_path, old, new, needle):
     path = scene_with(tmp_path, old, new)
@@ -77,7 +77,7 @@ def test_fem_json_contract(tmp_path):
     payload = json.loads(proc.stdout)
     f = payload["frequencies_hz"]
     assert len(f) == 6 and f == sorted(f)
-    assert payload["mesh_size_m"] == 0.04 and payload["dofs"] > 1000
+    assert payload["mesh_size_mm"] == 40.0 and payload["dofs"] > 1000
     assert set(payload["timings"]) >= {"mesh", "assemble", "solve"}
     assert (tmp_path / "modes.vtu").stat().st_size > 0
 
@@ -86,7 +86,8 @@ def test_fem_refuses_a_size_beyond_the_leg_diameter():
     proc = run("fem", "--case", "case1", "--size", "500")
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and "0.5 m" in lines[0]
+    assert len(lines) == 1 and lines[0].startswith("error: --size 500 mm: coarser than the leg "
+                                                   "diameter 100 mm")
 
 
 def test_validate_refuses_an_unreachable_case_before_any_work(tmp_path):
@@ -109,7 +110,7 @@ def test_any_pose_can_be_asked_in_millimetres_and_degrees():
                             "30", "--tilt", "10", "--json").stdout)
     assert all(h < f for h, f in zip(higher["frequencies_hz"], payload["frequencies_hz"]))
     proc = run("analytical", "--height", "1700")
-    assert proc.returncode == 2 and "1702.939 mm is outside" in proc.stderr
+    assert proc.returncode == 2 and "--height 1700 mm: leg 1 would be 1702.9 mm long" in proc.stderr
 
 
 def test_workspace_map_command():
@@ -120,8 +121,8 @@ def test_workspace_map_command():
 
 
 @pytest.mark.parametrize("args, needle", [
-    (("--elements", "100000"), "elements = 100000"),
-    (("--height", "1e308"), "no leg of this manipulator reaches it"),
+    (("--elements", "100000"), "--elements 100000: must be >= 1 and <= 200"),
+    (("--height", "1e308"), "--height 1e308 mm: must be > 0 and <= 100000 mm"),
 ])
 def test_absurd_values_are_refused_in_one_line(args, needle):
     proc = run("analytical", *args)
@@ -199,7 +200,8 @@ def test_estimate_error_refuses_a_size_beyond_the_dof_guard_before_any_work(tmp_
                str(tmp_path / "cache"))
     assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and "0.003 m" in lines[0] and "max_dofs" in lines[0]
+    assert len(lines) == 1 and lines[0].startswith("error: --size 3 mm --estimate-error: ")
+    assert "max_dofs" in lines[0]
     assert not (tmp_path / "cache").exists()
 
 

@@ -104,5 +104,5 @@ def test_a_new_mesh_knob_changes_the_key_without_touching_the_key_code(scene):
 
 
 def test_declared_ranges_are_checked_from_python_too():
-    with pytest.raises(ValueError, match="rim_factor = 1.5: must be > 0 and <= 1"):
+    with pytest.raises(ValueError, match="rim_factor = 1.5: must be >= 0.005 and <= 1"):
         MeshSettings(0.03, rim_factor=1.5)

@@ -207,10 +207,10 @@ def test_bad_options_raise_fem_error(kwargs, message):
 
 
 @pytest.mark.parametrize("kwargs,message", [
-    ({"size": -0.02}, "size = -0.02 m: must be > 0 m"),
+    ({"size": -0.02}, "size = -0.02 m: must be >= 1e-05 and <= 100 m"),
     ({"size": float("nan")}, "size = nan m: expected a finite number"),
-    ({"size": 0.02, "rim_factor": 0.0}, "rim_factor = 0.0: must be > 0 and <= 1"),
-    ({"size": 0.02, "rim_zone": -1e-3}, "rim_zone = -0.001 m: must be >= 0 m"),
+    ({"size": 0.02, "rim_factor": 0.0}, "rim_factor = 0.0: must be >= 0.005 and <= 1"),
+    ({"size": 0.02, "rim_zone": -1e-3}, "rim_zone = -0.001 m: must be >= 0 and <= 100 m"),
 ])
 def test_bad_mesh_settings_name_the_value(kwargs, message):
     with pytest.raises(ValueError, match=message):
@@ -218,9 +218,9 @@ def test_bad_mesh_settings_name_the_value(kwargs, message):
 
 
 def test_bad_sizes_and_geometry_raise_fem_error(manipulator, case1, cache):
-    with pytest.raises(FemError, match=r"mesh_size = 0.5 m: coarser than the leg diameter"):
+    with pytest.raises(FemError, match=r"mesh_size_mm = 500: coarser than the leg diameter 100 mm"):
         solve_pose(manipulator, case1, options(0.5), runtime(cache))
-    with pytest.raises(FemError, match=r"mesh_size = 0.002 m: about \d+ dofs expected, above "
+    with pytest.raises(FemError, match=r"mesh_size_mm = 2: about \d+ dofs expected, above "
                                        r"max_dofs = 600000"):
         solve_pose(manipulator, case1, options(0.002), runtime(cache))
     with pytest.raises(FemError, match="max_dofs = 5000"):
@@ -249,7 +249,7 @@ def test_gmsh_failure_is_a_fem_error(manipulator, case1, tmp_path, monkeypatch):
     def fail(*args, **kwargs):
         raise GmshFailure("12 inverted curved tetrahedra (min scaled Jacobian -0.1)")
     monkeypatch.setattr(meshing.cache, "build_mesh", fail)
-    with pytest.raises(FemError, match="mesh_size = 0.04 m: gmsh failed"):
+    with pytest.raises(FemError, match="mesh_size_mm = 40: gmsh failed"):
         solve_pose(manipulator, case1, options(SIZE), runtime(tmp_path))
     assert not list(tmp_path.iterdir())
 
