@@ -37,7 +37,8 @@ from .couplings import coupling_study
 from .joint_orders import joint_order_study
 from .selection import prefetch_fem, validate_fidelity
 from .outdir import staged_output
-from .compare import STATIONS, Solve, analytical_case, error_table, fem_case
+from .compare import (STATIONS, Solve, analytical_case, error_table, fem_case,
+                      with_cache_dir)
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
 from .timing import seconds_per_pose
@@ -323,6 +324,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
         except PoseError as exc:
             raise PoseError(f"case {name}: {exc}") from None
     cache = ResultCache(cache_dir)
+    scene = with_cache_dir(scene, cache.directory)  # solid end zones beside the other entries
     workers = workers or min(os.cpu_count() or 1, 8)
     console = Console(stderr=True)
     with staged_output(out) as stage:  # locked for the run; swapped in whole at the end
