@@ -23,8 +23,8 @@ from __future__ import annotations
 import os
 import re
 import unicodedata
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Iterable
 
 MAX_LENGTH = 64  # characters; the longest file name built from one is ~90 bytes
 SAFE_CHARACTERS = "letters, digits, spaces, '.', '_' and '-'"

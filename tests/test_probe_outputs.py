@@ -15,7 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from common.paths import MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, file_stem, inside
+from common.paths import (MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, file_stem,
+                          inside)
 from pipeline import cli
 from pipeline.results import MAX_DEPTH, SCHEMA_VERSION
 from reports.tables import write_tables
@@ -144,8 +145,8 @@ BAD_RESULTS = {
                           "cases[0].fem.vtu: expected a path relative to the results file"),
     "two names, one file": (doctored(_set("cases/1/name", "Case1")),
                             "'case1' and 'Case1' would both be written as"),
-    "deep nesting": ("[" * 100_000 + "]" * 100_000, f"nested 100000 deep; a results file "
-                                                    f"nests {MAX_DEPTH} at most"),
+    "deep nesting": ("[" * 100_000 + "]" * 100_000,
+                     f"nested 100000 deep; a results file nests {MAX_DEPTH} at most"),
     "not JSON": ("results, but not JSON", "not valid JSON"),
     "not UTF-8": (b"\xff\xfe{}", "is not UTF-8 text"),
     "wrong schema version": ({"schema": SCHEMA_VERSION - 1, "cases": []},
