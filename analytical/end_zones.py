@@ -55,13 +55,13 @@ def segments(options: ModelOptions) -> int:
 
 def solid_end_zone(manipulator: Manipulator, options: ModelOptions) -> EndZone:
     """The condensed end zone of this leg diameter, material and joint coupling (built once,
-    then read from the cache of `joint_ends`)."""
+    then read from the cache of `joint_ends`, under `options.cache_dir`)."""
     mat = manipulator.material
     try:
         from joint_ends import end_zone
         return end_zone(manipulator.leg_diameter, options.end_zone * manipulator.leg_diameter,
                         mat.youngs_modulus, mat.shear_modulus, mat.density,
-                        options.joint_coupling)
+                        options.joint_coupling, cache_dir=options.cache_dir)
     except ModuleNotFoundError as exc:  # gmsh, scikit-fem or the package itself
         raise JointEndsUnavailable(
             f"joint_ends = 'solid' needs the solid sub-model ({exc.name or exc} is not "

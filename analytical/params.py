@@ -5,7 +5,7 @@ Everything here is in SI units (m, kg, Pa, rad). Scene files speak millimetres a
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 import math
 
 from common.settings import (MAX_ANGLE, MAX_LENGTH, MAX_SOLVED_MODES, MIN_PART, check_settings,
@@ -173,6 +173,12 @@ class ModelOptions:
                                   "coupling)")
     end_zone: float = setting(0.5, minimum=0.1, maximum=3.0,
                               doc="length of each solid end zone, in leg diameters")
+    # Not a setting (no scene key) and not part of what the model is: the cache directory
+    # whose joint_ends/ holds the condensed solid end zones (None: the default one,
+    # common.locations.cache_root). The run sets it from --cache, and it travels with the
+    # options to every process that assembles a model. Not compared, so it is in no cache key
+    # (common.settings.as_dict) and two runs with different caches compute the same model.
+    cache_dir: str | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         check_settings(self)

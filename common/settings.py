@@ -213,11 +213,13 @@ def _short(value: Any, limit: int = 80) -> str:
 
 
 def as_dict(obj) -> dict:
-    """Every field of a dataclass, nested dataclasses and arrays included, as plain JSON-ready
-    values (floats rounded to 12 significant digits): the whole object, for cache keys."""
+    """Every compared field of a dataclass, nested dataclasses and arrays included, as plain
+    JSON-ready values (floats rounded to 12 significant digits): the whole object, for cache
+    keys. A field declared with compare=False (where a value is stored, such as
+    ModelOptions.cache_dir) is not part of what the object is, and is left out."""
     if not is_dataclass(obj):
         raise TypeError(f"{obj!r} is not a dataclass")
-    return {f.name: _plain(getattr(obj, f.name)) for f in fields(obj)}
+    return {f.name: _plain(getattr(obj, f.name)) for f in fields(obj) if f.compare}
 
 
 def _plain(v: Any) -> Any:

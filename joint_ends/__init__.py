@@ -4,7 +4,8 @@
     zone = end_zone(diameter, length, E, G, rho, coupling)   # analytical.end_zones.EndZone
 
 The zone is built by `joint_ends.zone` (gmsh + scikit-fem, the FEM reference's machinery), once
-per content: the matrices are cached on disk (`joint_ends.cache`) and in this process.
+per content: the matrices are cached on disk (`joint_ends.cache`, in `joint_ends/` under the
+cache directory given, the run's `--cache`) and in this process.
 """
 from __future__ import annotations
 
@@ -18,7 +19,8 @@ __all__ = ["COUPLINGS", "ZoneMesh", "end_zone"]
 def end_zone(diameter: float, length: float, youngs_modulus: float, shear_modulus: float,
              density: float, coupling: str, mesh: ZoneMesh = ZoneMesh(), cache_dir=None):
     """The condensed end zone (`analytical.end_zones.EndZone`) of a leg of this diameter and
-    material, `length` long, its joint face coupled as `coupling`; SI units."""
+    material, `length` long, its joint face coupled as `coupling`; SI units. `cache_dir`: the
+    cache directory (the zones go to its `joint_ends/`); None: the default one."""
     return _memo(float(diameter), float(length), float(youngs_modulus), float(shear_modulus),
                  float(density), str(coupling), mesh, None if cache_dir is None
                  else str(cache_dir))
@@ -28,10 +30,10 @@ def end_zone(diameter: float, length: float, youngs_modulus: float, shear_modulu
 def _memo(diameter, length, youngs_modulus, shear_modulus, density, coupling, mesh, cache_dir):
     from analytical.end_zones import EndZone
 
-    from .cache import cached_zone
+    from .cache import cached_zone, default_dir
 
     model = cached_zone(diameter, length, youngs_modulus, shear_modulus, density, coupling,
-                        mesh, cache_dir)
+                        mesh, default_dir(cache_dir))
     model.stiffness.setflags(write=False)
     model.mass.setflags(write=False)
     return EndZone(model.length, model.stiffness, model.mass)

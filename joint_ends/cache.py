@@ -24,6 +24,7 @@ from common.settings import as_dict
 from .zone import ZoneMesh, ZoneModel, build_zone
 
 FORMAT_VERSION = 1
+KIND = "joint_ends"  # the entries' folder under a cache directory, beside the other kinds
 
 
 def zone_inputs(diameter, length, youngs_modulus, shear_modulus, density, coupling,
@@ -42,8 +43,10 @@ def zone_key(inputs: dict) -> str:
     return hashlib.sha256(json.dumps(inputs, sort_keys=True).encode()).hexdigest()
 
 
-def default_dir() -> Path:
-    return cache_root() / "joint_ends"
+def default_dir(root: str | os.PathLike | None = None) -> Path:
+    """The zones' folder under the cache directory `root` (None: the default one,
+    `common.locations.cache_root`: the checkout's .cache/, or the user cache directory)."""
+    return Path(cache_root() if root is None else root) / KIND
 
 
 def cached_zone(diameter, length, youngs_modulus, shear_modulus, density, coupling,

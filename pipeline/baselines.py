@@ -25,7 +25,7 @@ from analytical.kinematics import pose_geometry
 
 from common.atomic import write_json_atomic
 from .cache import ResultCache
-from .compare import analytical_case, error_table, fem_case
+from .compare import analytical_case, error_table, fem_case, with_cache_dir
 from .scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -46,6 +46,7 @@ def compute_tables(scene_path: str | Path, mesh_size: float, cache_dir: Path | N
             return compute_tables(scene_path, mesh_size, Path(tmp), **analytical_overrides)
     scene = load_scene(scene_path)
     scene = replace(scene, analytical=replace(scene.analytical, **analytical_overrides))
+    scene = with_cache_dir(scene, cache_dir)
     cache = ResultCache(cache_dir)
     out = {}
     for name in scene.ci_cases:

@@ -93,6 +93,14 @@ def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | No
     return replace(options, **changes)
 
 
+def with_cache_dir(scene: Scene, directory: str | os.PathLike) -> Scene:
+    """The scene whose analytical models keep their solid end zones under the run's cache
+    directory (`ModelOptions.cache_dir`: every setting derived from scene.analytical, in this
+    process and on the workers, carries it), as the FEM keeps its meshes there
+    (`fem_runtime`)."""
+    return replace(scene, analytical=replace(scene.analytical, cache_dir=str(directory)))
+
+
 def fem_runtime(scene: Scene, cache: ResultCache | None = None, use_cache: bool = True):
     """How the scene's FEM solves run: its DOF guard, the mesh cache beside the result cache."""
     return replace(scene.fem_runtime, use_cache=use_cache,

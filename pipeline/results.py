@@ -7,23 +7,67 @@ null, never a missing key), checked by pydantic in strict mode with unknown keys
 version gets one line naming its version. Change a field here and bump SCHEMA_VERSION.
 
 Units are in the key names (_hz, _mm, _m, _deg, _percent, seconds); modes are 1-based in
-`pairs` and 0-based in lists. Mode shapes are mass-normalised; a platform motion is
+`pairs` and 0-based in lists. Every frequency is finite, positive and at most
+MAX_FREQUENCY_HZ; the frequencies of one solve ascend (`Hz`; limits extrapolated from several
+solves, and the paper's rows, need not: `Frequencies`). A case name is a name `common.paths`
+turns into file names, and no two give the same one; a mode file is named by a relative
+path inside the results' folder. Mode shapes are mass-normalised; a platform motion is
 [6][mode]: the translation of the platform centre o (m) then the rotation (rad), base axes.
 """
 from __future__ import annotations
 
 import json
-from pathlib import Path
-from typing import Any, Literal
+import re
+from pathlib import Path, PurePosixPath
+from typing import Annotated, Any, Literal
 
+import numpy as np
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
-from pydantic import ConfigDict, FiniteFloat, TypeAdapter, ValidationError, with_config
+from pydantic import (AfterValidator, ConfigDict, Field, FiniteFloat, TypeAdapter,
+                      ValidationError, with_config)
+
+from common.paths import UnsafeName, distinct_stems, name_problem
 
 SCHEMA_VERSION = 6
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
+# No structural mode of a machine the scene ranges admit comes near 1 GHz; a larger value in
+# a results file is a doctored or corrupted one (1e308 Hz), never a result.
+MAX_FREQUENCY_HZ = 1e9
+# A results file nests 9 deep (a case's leg_axis_shapes [leg][station][xyz][mode], the
+# workspace maps); one nested deeper than this is refused before it is parsed (`read`), so no
+# input reaches the parser's or the validator's recursion limit.
+MAX_DEPTH = 32
 
-Hz = list[FiniteFloat]
+
+def _ascending(values: list[float]) -> list[float]:
+    for k in range(1, len(values)):
+        if values[k] < values[k - 1]:
+            raise ValueError(f"frequencies must ascend, but [{k}] = {values[k]!r} comes after "
+                             f"{values[k - 1]!r}")
+    return values
+
+
+def _file_name(name: str) -> str:
+    why = name_problem(name)
+    if why is not None:
+        raise ValueError(f"case name {why}, so it cannot name the case's files")
+    return name
+
+
+def _relative(path: str | None) -> str | None:
+    if path is not None and (not path or "\\" in path or "\0" in path
+                             or PurePosixPath(path).is_absolute()
+                             or ".." in PurePosixPath(path).parts):
+        raise ValueError("expected a path relative to the results file, inside its folder")
+    return path
+
+
+Frequency = Annotated[FiniteFloat, Field(gt=0.0, le=MAX_FREQUENCY_HZ)]
+Frequencies = list[Frequency]  # several solves' extrapolated limits, the paper's rows
+Hz = Annotated[list[Frequency], AfterValidator(_ascending)]  # the modes of one solve
+CaseName = Annotated[str, AfterValidator(_file_name)]
+RelativePath = Annotated[str | None, AfterValidator(_relative)]
 Motion = list[list[FiniteFloat]]  # [6][mode]: translation of o (m), rotation (rad)
 _STRICT = ConfigDict(extra="forbid", strict=True)
 
@@ -115,14 +159,14 @@ class Pair(TypedDict):
     """FEM mode `fem_mode` and the analytical mode of the same shape."""
     fem_mode: int
     analytical_mode: int
-    f_fem_hz: FiniteFloat
-    f_analytical_hz: FiniteFloat
+    f_fem_hz: Frequency
+    f_analytical_hz: Frequency
     error_percent: FiniteFloat  # analytical vs this FEM mesh
     mac: FiniteFloat  # or cos^2 of the largest principal angle of a repeated group
     repeated: bool
     group: int
     fem_estimated_error_percent: FiniteFloat | None  # the FEM's own, from its refinement
-    f_reference_hz: FiniteFloat | None  # the FEM extrapolated to h -> 0
+    f_reference_hz: Frequency | None  # the FEM extrapolated to h -> 0
     error_vs_reference_percent: FiniteFloat | None
 
 
@@ -162,14 +206,14 @@ class CaseAnalytical(AnalyticalRecord):
 
 @with_config(_STRICT)
 class CaseFem(FemRecord):
-    vtu: str | None  # mode shapes of the solid, relative to results.json
-    pvd: str | None  # ParaView collection stepping through the modes, relative
+    vtu: RelativePath  # mode shapes of the solid, relative to results.json
+    pvd: RelativePath  # ParaView collection stepping through the modes, relative
 
 
 @with_config(_STRICT)
 class Paper(TypedDict):
-    fea_hz: Hz | None
-    theory_hz: Hz | None
+    fea_hz: Frequencies | None
+    theory_hz: Frequencies | None
     error_percent: list[FiniteFloat] | None  # recomputed: theory / FEA - 1
     printed_error_percent: list[FiniteFloat] | None
     printed_error_note: str | None  # where the printed errors do not follow from the rows
@@ -189,7 +233,7 @@ class Refinement(TypedDict):
     observed_order: list[FiniteFloat | None]
     orders_by_triplet: list[list[FiniteFloat | None]]
     status: list[str]  # ok, order bounded by theory, non-monotone, order out of range, converged
-    extrapolated_hz: Hz
+    extrapolated_hz: Frequencies
     estimated_error_percent: list[list[FiniteFloat]]  # [size][mode]
     estimated_error_percent_max: list[FiniteFloat]
 
@@ -225,7 +269,7 @@ class SpeedPoint(TypedDict):
 
 @with_config(_STRICT)
 class Case(TypedDict):
-    name: str
+    name: CaseName
     description: str
     pose: Pose
     analytical: CaseAnalytical
@@ -234,7 +278,7 @@ class Case(TypedDict):
     paper: Paper | None
     mac_matrix: list[list[FiniteFloat]]  # [analytical mode][FEM mode]
     fem_estimated_error_percent: list[FiniteFloat] | None
-    fem_reference_hz: Hz | None
+    fem_reference_hz: Frequencies | None
     fem_refinement: Refinement | None
     models: dict[str, ModelVariant] | None
     element_convergence: dict[str, ElementConvergence] | None
@@ -278,9 +322,9 @@ class Workspace(TypedDict):
     regular_tilt_deg: list[FiniteFloat]
     tilts_deg: list[list[FiniteFloat]]
     azimuths_deg: list[FiniteFloat]
-    frequencies_hz: list[list[list[list[FiniteFloat | None] | None]]]  # [z][tilt][azimuth][mode]
+    frequencies_hz: list[list[list[list[Frequency | None] | None]]]  # [z][tilt][azimuth][mode]
     # per family: mode k followed by its shape (MAC) from pose to pose, so a crossing shows
-    tracked_frequencies_hz: list[list[list[list[FiniteFloat | None] | None]]]
+    tracked_frequencies_hz: list[list[list[list[Frequency | None] | None]]]
     crossings: list[dict[str, Any]]  # families, height_mm, tilt_deg, azimuth_deg, frequency_hz
     tracking: dict[str, Any]  # how the families were followed (steps, lowest MAC, ...)
     settings: str
@@ -322,7 +366,7 @@ class CouplingReading(TypedDict):
     scene_coupling: bool  # the coupling of the scene's FEM
     error: str | None  # why this coupling could not be solved
     fem_sizes_mm: list[FiniteFloat]  # the refinement study behind the limit
-    fem_limit_hz: Hz | None  # Richardson limit h -> 0
+    fem_limit_hz: Frequencies | None  # Richardson limit h -> 0
     fem_finest_error_percent: list[FiniteFloat] | None  # stated error of the finest mesh
     models: dict[str, CouplingModel] | None
 
@@ -341,7 +385,7 @@ class ValidationPose(TypedDict):
     kind: str  # which part of the design: layer, boundary ring, joint limit, Sobol interior
     error: str | None  # why the pose could not be solved (then the rest is null)
     fem_hz: Hz | None  # the finer of the two meshes
-    fem_limit_hz: list[FiniteFloat] | None  # Richardson's step between them at order 1.42
+    fem_limit_hz: Frequencies | None  # Richardson's step between them at order 1.42
     fem_estimated_error_percent: list[FiniteFloat] | None  # two-mesh estimate, per mode
     fem_seconds: FiniteFloat | None
     slenderness: list[FiniteFloat] | None  # shortest and longest leg, in leg diameters
@@ -490,10 +534,15 @@ def validated(results: dict, where: str = "results") -> Results:
         first = errors[0]
         more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
         value = "" if first["type"] == "missing" else f", got {_short(first.get('input'))}"
-        raise ValueError(f"{where}: {_location(first['loc'])}: {first['msg'].lower()}"
-                         f"{value}{more}") from None
+        message = first["msg"].removeprefix("Value error, ")
+        raise ValueError(f"{where}: {_location(first['loc'])}: {message[:1].lower()}"
+                         f"{message[1:]}{value}{more}") from None
     if not out["cases"]:
         raise ValueError(f"{where}: cases: the results hold no case")
+    try:
+        distinct_stems((case["name"] for case in out["cases"]), "case name")
+    except UnsafeName as exc:
+        raise ValueError(f"{where}: cases: {exc}") from None
     return out
 
 
@@ -506,6 +555,13 @@ def read(path) -> Results:
         raise ValueError(f"{path}: results file not found") from None
     except OSError as exc:
         raise ValueError(f"{path}: cannot read results file ({exc.strerror})") from None
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a results file (byte {exc.start} is not UTF-8 text)") \
+            from None
+    depth = nesting_depth(text)
+    if depth > MAX_DEPTH:
+        raise ValueError(f"{path}: not a results file (JSON nested {depth} deep; a results "
+                         f"file nests {MAX_DEPTH} at most)")
     try:
         raw = json.loads(text)
     except json.JSONDecodeError as exc:
@@ -514,6 +570,19 @@ def read(path) -> Results:
     if not isinstance(raw, dict):
         raise ValueError(f"{path}: expected a JSON object at the top level")
     return validated(raw, str(path))
+
+
+def nesting_depth(text: str) -> int:
+    """How deep the arrays and objects of a JSON text nest (brackets inside strings ignored),
+    found in one linear scan without parsing, so no nesting can exhaust the parser's stack."""
+    bare = _STRINGS.sub("", text).encode("utf-8", "replace")
+    codes = np.frombuffer(bare, np.uint8)
+    step = np.isin(codes, _OPEN).astype(np.int64) - np.isin(codes, _CLOSE)
+    return int(np.cumsum(step).max(initial=0))
+
+
+_STRINGS = re.compile(r'"(?:[^"\\]|\\.)*"?', re.DOTALL)
+_OPEN, _CLOSE = (np.frombuffer(b"[{", np.uint8), np.frombuffer(b"]}", np.uint8))
 
 
 def dumps(results: Results) -> str:

@@ -25,6 +25,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from analytical.kinematics import pose_geometry
+from common.paths import distinct_stems, inside
 from common.settings import as_dict
 from fem_reference.export import write_mode_collection
 from reports.tables import write_tables
@@ -36,7 +37,8 @@ from .couplings import coupling_study
 from .joint_orders import joint_order_study
 from .selection import prefetch_fem, validate_fidelity
 from .outdir import staged_output
-from .compare import STATIONS, Solve, analytical_case, error_table, fem_case
+from .compare import (STATIONS, Solve, analytical_case, error_table, fem_case,
+                      with_cache_dir)
 from .pairing import mac_matrix
 from .scene import Case, Scene, load_scene
 from .timing import seconds_per_pose
@@ -319,6 +321,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
     # every case and the workspace the studies take their poses from, before any expensive work
     reachable_workspace = envelope.check(scene, profile)
     cache = ResultCache(cache_dir)
+    scene = with_cache_dir(scene, cache.directory)  # solid end zones beside the other entries
     workers = workers or min(os.cpu_count() or 1, 8)
     console = Console(stderr=True)
     with staged_output(out) as stage:  # locked for the run; swapped in whole at the end
@@ -387,17 +390,23 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
 
 def _write_outputs(results: dict, mode_files: dict, stage: Path) -> dict:
     """Copy the FEM mode files in, check the results against the schema and write them with
-    their tables; the checked results are returned."""
-    modes = stage / "modes"
+    their tables; the checked results are returned. Case names become file names only through
+    `common.paths` (their stems, and every path checked to stay inside the staging folder)."""
+    stems = distinct_stems((case["name"] for case in results["cases"]), "case name")
+    modes = inside(stage, "modes")
     modes.mkdir(exist_ok=True)
     for case in results["cases"]:
         source = mode_files.get(case["name"])
         if source is not None and source.is_file():
-            target = modes / f"{case['name']}_fem.vtu"
+            stem = stems[case["name"]]
+            target = inside(stage, "modes", f"{stem}_fem.vtu")
+            # write_mode_collection writes these two beside the VTU
+            inside(stage, "modes", f"{stem}_fem.pvd")
+            inside(stage, "modes", f"{stem}_fem_modes")
             shutil.copyfile(source, target)
-            case["fem"]["vtu"] = str(target.relative_to(stage))
-            case["fem"]["pvd"] = str(write_mode_collection(target).relative_to(stage))
+            case["fem"]["vtu"] = target.relative_to(stage).as_posix()
+            case["fem"]["pvd"] = write_mode_collection(target).relative_to(stage).as_posix()
     results = schema.validated(results)
-    (stage / "results.json").write_text(schema.dumps(results))
+    inside(stage, "results.json").write_text(schema.dumps(results))
     write_tables(results, stage)
     return results

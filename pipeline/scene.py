@@ -14,6 +14,7 @@ import tomllib
 from typing import Any
 
 from analytical.params import Manipulator, Material, ModelOptions, Pose, check_manipulator
+from common.paths import UnsafeName, distinct_stems
 from common.settings import MAX_ANGLE, MAX_LENGTH, MISSING, Setting, declared, nested, setting
 from meshing.geometry import MIN_MESH_SIZE
 from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
@@ -332,6 +333,10 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         cal.done()
 
     cases_t = top.table("cases")
+    try:  # case names become file names: checked by the one rule before any case is read
+        distinct_stems(cases_t.data, "case name")
+    except UnsafeName as exc:
+        raise SceneError(f"{where}: {exc}") from None
     cases = {}
     for case_name in cases_t.data:
         c = cases_t.table(case_name)

@@ -11,6 +11,7 @@ from dataclasses import MISSING
 from pathlib import Path
 
 from analytical.params import Manipulator, Material, ModelOptions
+from common.paths import MAX_LENGTH
 from common.settings import Setting, declared
 from fem_reference.model import FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
@@ -37,7 +38,13 @@ TABLES = (
      (MeshSettings, FemOptions, FemStudy, FemRuntime)),
     ("[calibration.height]", "A value the paper prints wrongly, recovered and labelled.",
      (HeightCalibration,)),
-    ("[cases.NAME]", "One table per pose; NAME is the case's name.", (CaseSettings,)),
+    ("[cases.NAME]", ("One table per pose; NAME is the case's name, and names its files "
+                      "(tables/NAME.csv, modes/NAME_fem.vtu): a name with a path separator, a "
+                      f"control character, a leading dot, more than {MAX_LENGTH} characters "
+                      "or a device name Windows reserves (CON, NUL, COM1, ...) is refused; "
+                      "any character other than A-Z, a-z, 0-9, '.', '_' and '-' is written "
+                      "as '_' in the file names (common/paths.py), and two names that give "
+                      "one file name (case ignored) are refused."), (CaseSettings,)),
 )
 
 HEADER = """# Scene files

@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from common.paths import inside
 from common.worker import stoppable
 from pipeline.outdir import staged_output
 
@@ -52,7 +53,7 @@ def render_report(results_json_path, directory, cache_dir: Path | None = None,
     results_path = Path(results_json_path)
     target = Path(directory)
     results = load_results(results_path)
-    fig_dir = target / "figures"
+    fig_dir = inside(target, "figures")
     fig_dir.mkdir()
     try:
         html = render_html(context(results, results_path,
@@ -63,9 +64,9 @@ def render_report(results_json_path, directory, cache_dir: Path | None = None,
     except Exception as exc:  # noqa: BLE001
         raise ReportError(f"report rendering failed ({type(exc).__name__}: "
                           f"{' '.join(str(exc).split())})") from None
-    (target / "report.html").write_text(html, encoding="utf-8")
+    inside(target, "report.html").write_text(html, encoding="utf-8")
     try:
-        render_pdf(html, target, target / "report.pdf")
+        render_pdf(html, target, inside(target, "report.pdf"))
     except Exception as exc:  # noqa: BLE001  (weasyprint raises anything)
         raise ReportError(f"PDF rendering failed ({type(exc).__name__}: "
                           f"{' '.join(str(exc).split())})") from None

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from common.paths import distinct_stems, file_stem, inside
+
 from . import figures, validation, workspace_figures
 from .beam_figure import beam_mode
 from .figure_jobs import Job, draw
@@ -59,34 +61,35 @@ def make_figures(results: dict, results_path: Path, fig_dir: Path,
     figs: dict = {"cases": {}, "notes": []}
     plan = _Plan()
     main = main_cases(results)
+    stems = distinct_stems((case["name"] for case in results["cases"]), "case name")
     for i, case in enumerate(results["cases"]):
-        name = case["name"]
+        name, stem = case["name"], stems[case["name"]]
         entry: dict = {"modes": {"pairs": [], "fem_note": None}}
         if case["element_convergence"]:
             ref, label = reference(case)
-            path = fig_dir / f"element_convergence_{name}.png"
+            path = inside(fig_dir, f"element_convergence_{stem}.png")
             plan.add(figures.element_convergence, path, case["element_convergence"], ref, label,
                      path)
             entry["element_convergence"] = (path, label)
         if case["fem_refinement"]:
-            path = fig_dir / f"fem_refinement_{name}.png"
+            path = inside(fig_dir, f"fem_refinement_{stem}.png")
             plan.add(figures.fem_refinement, path, case["fem_refinement"], path,
                      case["fem"]["mesh_size_m"])
             entry["fem_refinement"] = path
         if case in main:
-            entry["mac"] = fig_dir / f"mac_{name}.png"
+            entry["mac"] = inside(fig_dir, f"mac_{stem}.png")
             plan.add(figures.mac_matrix, entry["mac"], case["mac_matrix"], case["pairs"],
                      entry["mac"])
             entry["modes"] = mode_figures(results, results_path, i, fig_dir, figs["notes"], plan)
         figs["cases"][name] = entry
     speed = {c["name"]: c["speed_vs_error"] for c in results["cases"] if c["speed_vs_error"]}
     if speed:
-        figs["speed"] = fig_dir / "speed_vs_error.png"
+        figs["speed"] = inside(fig_dir, "speed_vs_error.png")
         plan.add(figures.speed_vs_error, figs["speed"], speed, figs["speed"],
                  paper=has_paper(results))
     wv = results["studies"]["workspace_validation"]
     if wv and wv["worst_pose"]:
-        figs["validation_map"] = fig_dir / "workspace_validation.png"
+        figs["validation_map"] = inside(fig_dir, "workspace_validation.png")
 
         def validation_done(outcome):
             if outcome.error is not None:
@@ -96,8 +99,8 @@ def make_figures(results: dict, results_path: Path, fig_dir: Path,
                  figs["validation_map"], then=validation_done)
     ws = results["studies"]["workspace"]
     if ws:
-        figs["workspace_polar"] = fig_dir / "workspace_polar.png"
-        figs["workspace_height"] = fig_dir / "workspace_height.png"
+        figs["workspace_polar"] = inside(fig_dir, "workspace_polar.png")
+        figs["workspace_height"] = inside(fig_dir, "workspace_height.png")
 
         def polar_done(outcome):
             if outcome.error is not None:
@@ -126,6 +129,7 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
 
     case = results["cases"][i]
     name, fem = case["name"], case["fem"]
+    stem = file_stem(name, "case name")
     pairs = sorted(case["pairs"], key=lambda p: p["fem_mode"])
     out = {"pairs": [], "fem_note": None}
     base, platform = joint_points(case)
@@ -136,7 +140,7 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
     fem_paths = {}
     if fem["vtu"]:
         modes = [p["fem_mode"] for p in pairs]
-        fem_paths = {k: fig_dir / f"mode_{name}_fem_{k}.png" for k in modes}
+        fem_paths = {k: inside(fig_dir, f"mode_{stem}_fem_{k}.png") for k in modes}
         plate = render3d.Platform(platform, centre, radius, m["platform_thickness_mm"] * 1e-3,
                                   {k: platform_motion(fem, k) for k in modes})
         labels = {k: f"FEM mode {k}: {fem['frequencies_hz'][k - 1]:.2f} Hz" for k in modes}
@@ -161,7 +165,7 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
                 "f_an": p["f_analytical_hz"], "mac": p["mac"], "fem_png": fem_paths.get(k),
                 "beam_png": None}
         if j <= shapes.shape[-1]:
-            item["beam_png"] = fig_dir / f"mode_{name}_beam_{j}.png"
+            item["beam_png"] = inside(fig_dir, f"mode_{stem}_beam_{j}.png")
             plan.add(beam_mode, item["beam_png"], base, platform, centre, stations,
                      shapes[..., j - 1], platform_motion(case["analytical"], j), radius,
                      item["beam_png"], f"beam model mode {j}: {p['f_analytical_hz']:.2f} Hz",

@@ -11,6 +11,7 @@ import io
 from pathlib import Path
 
 from common.atomic import write_text_atomic
+from common.paths import distinct_stems, inside
 from pipeline.results import Case, Results
 
 PAPER_COLUMNS = ("paper_fea_hz", "paper_theory_hz", "paper_error_percent")
@@ -81,7 +82,9 @@ def case_markdown(case: Case) -> str:
 
 
 def write_tables(results: Results, out: Path) -> None:
-    folder = Path(out) / "tables"
+    """tables/<case>.csv and .md of every case under `out` (file names by `common.paths`)."""
+    stems = distinct_stems((case["name"] for case in results["cases"]), "case name")
     for case in results["cases"]:
-        write_text_atomic(folder / f"{case['name']}.csv", case_csv(case))
-        write_text_atomic(folder / f"{case['name']}.md", case_markdown(case))
+        stem = stems[case["name"]]
+        write_text_atomic(inside(out, "tables", f"{stem}.csv"), case_csv(case))
+        write_text_atomic(inside(out, "tables", f"{stem}.md"), case_markdown(case))

@@ -31,10 +31,16 @@ def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
     assert sorted(p.name for p in out.iterdir()) == ["results.json"]
 
 
-def test_ci_profile_run_writes_the_contract(tmp_path):
+def test_ci_profile_run_writes_the_contract(tmp_path, monkeypatch):
+    import joint_ends.cache
+
+    default = tmp_path / "default-cache"  # the solid end zones went here whatever --cache was
+    monkeypatch.setattr(joint_ends.cache, "cache_root", lambda: default)
     out = tmp_path / "out"
     results = run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci",
                            build_report=False)
+    # every cache under the run's cache directory: the fidelity step assembles solid end zones
+    assert list((tmp_path / "cache" / "joint_ends").glob("*.npz")) and not default.exists()
     on_disk = json.loads((out / "results.json").read_text())
     assert [c["name"] for c in on_disk["cases"]] == ["case1", "case2"]
     for case in on_disk["cases"]:
