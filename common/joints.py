@@ -40,7 +40,7 @@ class JointType:
         if not self.has_axis:
             return np.zeros((0, 3))
         a = np.asarray(axis, float)
-        _, _, vt = np.linalg.svd(a[None, :] / np.linalg.norm(a))
+        _, _, vt = np.linalg.svd(a[None, :])
         return vt[1:]
 
     @property
