@@ -1,7 +1,7 @@
 """Physical parameters of a 3-RPS manipulator, a pose, and the analytical model's fidelity.
 
 Everything here is in SI units (m, kg, Pa, rad). Scene files speak millimetres and degrees;
-`pipeline.scene` converts once, at the edge, and hands these plain dataclasses inward.
+`scene` converts once, at the edge, and hands these plain dataclasses inward.
 """
 from __future__ import annotations
 

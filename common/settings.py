@@ -3,7 +3,7 @@
 A model's options are frozen dataclasses whose fields are declared with `setting(...)`. The same
 declaration
 - validates a value given from Python (`check_settings` in the dataclass's __post_init__),
-- reads and validates the scene file's key (`pipeline.scene` converts the edge unit to SI once),
+- reads and validates the scene file's key (`scene` converts the edge unit to SI once),
 - documents the key (`docs/scenes.md` is generated from it),
 so a new knob is one field in one dataclass and one key in a scene file.
 

@@ -24,9 +24,9 @@ from pathlib import Path
 from analytical.kinematics import pose_geometry
 
 from common.atomic import write_json_atomic
-from .cache import ResultCache
+from runtime.cache import ResultCache
 from .compare import analytical_case, error_table, fem_case, with_cache_dir
-from .scene import load_scene
+from scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = ROOT / "tests" / "baselines" / "error_tables.json"
@@ -117,7 +117,7 @@ def results_tables(path: str | Path, baseline: dict) -> dict:
     """The error tables of the baseline's cases as a results file holds them (`validate`'s
     results.json); ValueError naming the file when it is unreadable, lacks a case, or was
     computed at another FEM mesh size or with other analytical settings than the baseline."""
-    from reports.results import load_results
+    from results import read as load_results
 
     results = load_results(path)
     tables = {}

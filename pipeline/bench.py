@@ -36,7 +36,7 @@ from analytical.workspace import default_workers, frequency_map
 from common.atomic import write_json_atomic
 from common.locations import default_scene
 from .compare import fem_options, fem_runtime
-from .scene import load_scene
+from scene import load_scene
 from .studies import workspace_heights
 
 MAP_GRID = (20, 10, 50)  # heights x rings x azimuths: the 10,000-pose map of issue 12
@@ -159,7 +159,7 @@ def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> dict:
     from an empty cache (meshes included), alternating the worker counts run by run."""
     import tempfile
 
-    from .cache import ResultCache
+    from runtime.cache import ResultCache
     from .studies import speed_settings
     from .workspace_validation import SMALL, coarse_size, run_study
 
@@ -252,7 +252,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def _estimated_errors(results_path: Path, case_name: str) -> dict | None:
     """The refinement study's estimated error per size, if a validation run left one."""
-    from .results import read
+    from results import read
 
     try:
         results = read(results_path)

@@ -40,7 +40,7 @@ def _scene_args(p: argparse.ArgumentParser) -> None:
     _scene_option(p)
     p.add_argument("--case", metavar="NAME",
                    help="case of the scene (default: the scene's first case)")
-    from .scene import CaseSettings
+    from scene import CaseSettings
     declared_option(p, "--height", CaseSettings, "height", metavar="MM",
                     help="platform height z, mm (default: the case's)")
     declared_option(p, "--azimuth", CaseSettings, "azimuth", metavar="DEG",
@@ -104,7 +104,7 @@ def _chosen(args: argparse.Namespace, scene) -> dict | None:
     if args.from_results is None:
         return None
     import hashlib
-    from .results import read
+    from results import read
 
     where = f"--from-results {args.from_results}"
     try:
@@ -296,7 +296,7 @@ CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "elements", "platform_inerti
 def cmd_analytical(args: argparse.Namespace) -> dict:
     from analytical.model import analyse
     from analytical.modal import ModalError
-    from .scene import load_scene
+    from scene import load_scene
 
     scene = load_scene(args.scene)
     case, _ = _case(scene, args)
@@ -359,9 +359,9 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     from fem_reference.convergence import sequence_around
     from fem_reference.model import FemError, check_mesh_size
     from meshing.bodies import pose_assembly
-    from .cache import ResultCache
+    from runtime.cache import ResultCache
     from .compare import fem_options, fem_runtime
-    from .scene import load_scene
+    from scene import load_scene
 
     scene = load_scene(args.scene)
     case, geometry = _case(scene, args)
@@ -423,7 +423,7 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
     """The frequency map; the grid and the mode count checked against what the model holds
     before any pose is solved."""
     from analytical.end_zones import segments
-    from .scene import load_scene
+    from scene import load_scene
     from .studies import workspace_map
 
     scene = load_scene(args.scene)
@@ -444,7 +444,7 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
 
 
 def cmd_cache(args: argparse.Namespace) -> int:
-    from .cache import cache_info, clear
+    from runtime.cache import cache_info, clear
 
     directory = _cache_dir(args)
     if args.action == "clear":
@@ -516,12 +516,12 @@ def main(argv: list[str] | None = None) -> int:
             return check_command(args.results)
         elif args.command == "readme":
             from reports.readme import update_readme
-            from .results import read
+            from results import read
             readme = _checkout(args.command) / "README.md"
             update_readme(readme, read(args.results))
         elif args.command == "scene-docs":
             _checkout(args.command)
-            from .scene_docs import write
+            from scene.docs import write
             print(f"wrote {write()}")
         elif args.command == "update-baselines":
             _checkout(args.command)

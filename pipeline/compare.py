@@ -18,10 +18,10 @@ from common.settings import as_dict
 
 from fem_reference.model import legs_for
 
-from . import results
-from .cache import ResultCache
+import results
+from runtime.cache import ResultCache
 from .pairing import pair_modes
-from .scene import Case, Scene
+from scene import Case, Scene
 
 # Shared points for MAC: eleven stations along every leg axis, joint centres included.
 STATIONS = np.linspace(0.0, 1.0, 11)

@@ -18,10 +18,10 @@ import numpy as np
 from analytical.kinematics import pose_geometry
 from analytical.params import JOINT_COUPLINGS
 
-from . import results
-from .cache import ResultCache
+import results
+from runtime.cache import ResultCache
 from .compare import analytical_case, error_table, fem_case, model_reading
-from .scene import Scene
+from scene import Scene
 from .studies import speed_settings
 
 MODELS = ("Timoshenko (Hutchinson), s=5", "Timoshenko (Hutchinson) + solid ends, s=5")

@@ -18,8 +18,8 @@ from analytical.kinematics import PoseError, pose_geometry
 from analytical.reach import (LAYER_INSET, LAYER_INSET_SHARE, WorkspaceError, layer_band,
                               level_band, regular_radii)
 
-from . import results as schema
-from .scene import Scene
+import results as schema
+from scene import Scene
 from .studies import MAP_LAYERS, workspace_heights
 from .workspace_validation import FULL, SMALL, design_with_dropped
 

@@ -15,28 +15,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from common.settings import MAX_MODES, check_settings, setting
+from scene.fidelity import MIN_TOLERANCE_PERCENT, FidelitySettings  # noqa: F401
 
 FEM_ERROR_SHARE = 0.2  # the reference may use a fifth of the tolerance
-MIN_TOLERANCE_PERCENT = 0.01  # a fifth of it is the FEM's attainable accuracy (see the doc)
 TIE = 0.10  # measured times within 10 % are a tie, broken by the smaller error
-
-
-@dataclass(frozen=True)
-class FidelitySettings:
-    """[fidelity]: what accuracy the scene needs, on which modes."""
-
-    modes: int = setting(6, kind=int, minimum=1, maximum=MAX_MODES,
-                         doc="number of modes compared, lowest first")
-    tolerance_percent: float = setting(
-        1.0, minimum=MIN_TOLERANCE_PERCENT, maximum=50.0,
-        doc="largest |error| accepted on each compared mode, analytical model against the "
-        "converged FEM, in percent (at least 0.01: the FEM reference may use a fifth of it, "
-        "and 0.002 % is already below the stated error of the finest meshes that fit in "
-        "memory; a smaller tolerance could never be shown to be met)")
-
-    def __post_init__(self):
-        check_settings(self)
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,7 @@ from analytical.reach import (WorkspaceError, layer_heights, max_tilts, regular_
                               regular_radius, sample_poses)
 from common.modes import clusters
 
-from .scene import Scene
+from scene import Scene
 
 SEED = 20231201
 
@@ -455,7 +455,7 @@ def _row(task) -> dict:
 def evaluate(scene: Scene, workers: int = 1) -> list[dict]:
     """The analytical hard cases of `scene` (about ten seconds of one core): rows for the
     report, in the order of CHEAP then LIMITS, the claims spread over `workers` processes."""
-    from .sweep import map_tasks
+    from runtime.sweep import map_tasks
 
     tasks = [(claim, scene, None) for claim in CHEAP]
     tasks += [(joint_limit, scene, limit) for limit in LIMITS]

@@ -72,7 +72,7 @@ def _percent(x: float | None) -> str:
 def case_summary(case: dict) -> dict:
     """The numbers of one summary row: worst |error| of the analytical model against the FEM
     per mode range, the FEM's own worst estimated error, the lowest MAC and a verdict."""
-    from reports.verdict import _grade as grade  # the report's own wording of agreement
+    from results.verdict import grade  # the report's own wording of agreement
 
     pairs = case["pairs"]
     modes = sorted(p["fem_mode"] for p in pairs)

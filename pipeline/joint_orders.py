@@ -12,10 +12,10 @@ from dataclasses import replace
 
 from analytical.kinematics import pose_geometry
 
-from . import results
-from .cache import ResultCache
+import results
+from runtime.cache import ResultCache
 from .compare import analytical_case, error_table, fem_case, model_reading
-from .scene import Scene
+from scene import Scene
 
 ORDERS = (("R", "S"), ("S", "R"))
 MODELS = {"EB, s=3": dict(beam="euler-bernoulli", elements=3),

@@ -1,7 +1,7 @@
 """The validation run behind `make`: every case of a scene, both models, studies, into out/.
 
 Outputs are built in a staging directory beside `out/` and swapped in whole only when
-everything has been computed (`pipeline.outdir`: one run per out/ at a time, one atomic swap),
+everything has been computed (`runtime.outdir`: one run per out/ at a time, one atomic swap),
 so an interrupted or failed run leaves the previous outputs intact and nothing half-written,
 and no file of an earlier run survives a successful one. Expensive results come from a
 content-keyed cache, so a second run with nothing changed takes seconds.
@@ -28,19 +28,19 @@ from analytical.kinematics import pose_geometry
 from common.paths import distinct_stems, inside
 from common.settings import as_dict
 from fem_reference.export import write_mode_collection
-from reports.tables import write_tables
+from results.tables import write_tables
 
-from . import results as schema
+import results as schema
 from . import envelope, hard_cases, studies
-from .cache import ROOT, ResultCache
+from runtime.cache import ROOT, ResultCache
 from .couplings import coupling_study
 from .joint_orders import joint_order_study
 from .selection import prefetch_fem, validate_fidelity
-from .outdir import staged_output
+from runtime.outdir import staged_output
 from .compare import (STATIONS, Solve, analytical_case, error_table, fem_case,
                       with_cache_dir)
 from .pairing import mac_matrix
-from .scene import Case, Scene, load_scene
+from scene import Case, Scene, load_scene
 from .timing import seconds_per_pose
 
 PROJECT = "rps-elastodynamics"

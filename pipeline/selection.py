@@ -15,11 +15,11 @@ from analytical.kinematics import pose_geometry
 from analytical.params import Pose
 
 from . import studies
-from .cache import ResultCache
+from runtime.cache import ResultCache
 from .compare import analytical_case, error_table, fem_case
 from .fidelity import (FEM_ERROR_SHARE, AnalyticalChoice, FemChoice, choose_analytical,
                        choose_fem_size)
-from .scene import Scene
+from scene import Scene
 from .timing import seconds_per_pose
 
 SCENE_SETTING = "scene's [analytical]"
@@ -87,7 +87,7 @@ def prefetch_fem(scene: Scene, geometries: list, sizes, cache: ResultCache, work
     """Fill the result cache with the FEM solve of every geometry at every size, on the
     sweep's workers (finest first, for balance); the callers then read them from the cache. A
     failed solve is left to its caller, which repeats it and reports its error."""
-    from .sweep import map_tasks
+    from runtime.sweep import map_tasks
 
     tasks = [{"scene": scene, "geometry": g, "size": h, "cache_dir": str(cache.directory)}
              for h in sorted(sizes) for g in geometries]

@@ -22,8 +22,8 @@ from analytical.model import natural_frequencies
 from analytical.params import ModelOptions, Pose
 from analytical.reach import layer_heights
 
-from . import results
-from .scene import Case, Scene
+import results
+from scene import Case, Scene
 
 ELEMENT_RANGE = tuple(range(1, 11))
 

@@ -17,8 +17,8 @@ from functools import lru_cache
 
 from common.settings import as_dict
 
-from .cache import ResultCache
-from .scene import Case, Scene
+from runtime.cache import ResultCache
+from scene import Case, Scene
 
 RUNS = 30  # repetitions per measurement (the median is kept)
 KIND = "model-timings"

@@ -14,7 +14,7 @@ the model's discretisation-free target, not a mesh that is itself 0.1-0.2 % stif
 observed orders of these graded meshes are at or above 1.42, the step at 1.42 reaches at least
 as far as the true limit, so the true error lies between the error against the limit and the
 error against the fine mesh (both are in the results: `fem_hz` is the fine mesh's).
-One pose is one task of a sweep (`pipeline.sweep`), cached by content.
+One pose is one task of a sweep (`runtime.sweep`), cached by content.
 """
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ from analytical.reach import layer_band, max_tilts, regular_radii
 from common.settings import as_dict
 from fem_reference.convergence import P_THEORY
 
-from .cache import ResultCache
+from runtime.cache import ResultCache
 from .compare import analytical_case, error_table, fem_case
 
 PAPER_MODEL = "paper (EB, s=3, Eq. 8 inertia)"  # a label of studies.model_variants
@@ -144,7 +144,7 @@ def two_mesh_error(fine_hz, coarse_hz, ratio: float, order: float = P_THEORY):
 
 # the modules a pose's result is computed with, beyond the model packages (its cache key)
 TASK_CODE = ("pipeline.workspace_validation", "pipeline.compare", "pipeline.pairing",
-             "pipeline.results", "pipeline.scene")
+             "results.schema", "scene")
 
 
 def validate_pose(task: dict) -> dict:
@@ -236,7 +236,7 @@ def run_study(scene, models: dict[str, ModelOptions], cache: ResultCache, coarse
               size: DesignSize = FULL, workers: int = 2, scheduler: str | None = None,
               announce=None, progress=None, seconds_per_pose: float | None = None) -> dict:
     """studies.workspace_validation of results.json (see the module docstring)."""
-    from .sweep import run_sweep
+    from runtime.sweep import run_sweep
 
     poses = design(scene.manipulator, size)
     tasks = [{"scene": scene, "cache_dir": str(cache.directory),

@@ -175,7 +175,7 @@ def test_human_output_is_rounded_and_json_is_exact():
 
 
 def test_cache_info_and_clear_touch_only_cache_entries(tmp_path):
-    from pipeline.cache import ResultCache
+    from runtime.cache import ResultCache
 
     cache = tmp_path / "cache"
     ResultCache(cache).put("fem", "0123456789abcdef01234567", {"x": 1})

@@ -14,7 +14,7 @@ from common.settings import as_dict, setting
 from fem_reference.model import FemOptions
 from meshing.geometry import MeshSettings
 from pipeline.compare import fem_cache_payload
-from pipeline.cache import content_key
+from runtime.cache import content_key
 
 
 def test_skew_is_the_cross_product():

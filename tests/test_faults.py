@@ -22,14 +22,14 @@ from types import SimpleNamespace
 
 import pytest
 
-import pipeline.outdir as outdir
+import runtime.outdir as outdir
 import pipeline.run as run
 from analytical.kinematics import pose_geometry
 from fem_reference import resources
 from fem_reference.model import FemError, solve_pose
 from common.worker import WorkerDied, stoppable
 from pipeline.baselines import check_command, load_baseline
-from pipeline.cache import ResultCache
+from runtime.cache import ResultCache
 from pipeline.compare import fem_case, fem_options, fem_runtime
 from tests.conftest import PAPER_SCENE, ROOT
 

@@ -29,7 +29,7 @@ from analytical.model import natural_frequencies
 from analytical.params import Pose
 from analytical.reach import WorkspaceError, level_band, sample_poses
 from pipeline import envelope, hard_cases
-from pipeline.scene import parse_scene
+from scene import parse_scene
 from pipeline.studies import MAP_LAYERS, workspace_heights
 from pipeline.workspace_validation import FULL, design
 
@@ -148,7 +148,7 @@ def test_the_fem_solves_and_pairs_every_case_of_a_checked_machine(raw):
     from dataclasses import replace
 
     from pipeline.compare import analytical_case, error_table, fem_case
-    from pipeline.cache import ResultCache
+    from runtime.cache import ResultCache
     import tempfile
 
     got = checked(raw)

@@ -21,7 +21,7 @@ from fem_reference.eigen import EigenError, lowest_modes
 import fem_reference.model as fem_model
 from meshing.geometry import MeshSettings
 from pipeline import hard_cases as hc
-from pipeline.scene import load_scene
+from scene import load_scene
 from tests.conftest import ROOT
 
 pytestmark = pytest.mark.hard
@@ -328,7 +328,7 @@ def test_the_hard_cases_spread_over_two_workers_give_the_serial_rows(scene):
 
 def test_the_hard_cases_of_a_run_are_computed_once_per_scene_and_code(scene, tmp_path,
                                                                        monkeypatch):
-    from pipeline.cache import ResultCache
+    from runtime.cache import ResultCache
     from pipeline.run import hard_case_rows
 
     calls = []

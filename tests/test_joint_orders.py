@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pipeline.cache import ResultCache
+from runtime.cache import ResultCache
 from pipeline.joint_orders import joint_order_study
 
 

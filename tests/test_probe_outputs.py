@@ -18,8 +18,8 @@ import pytest
 from common.paths import (MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, file_stem,
                           inside)
 from pipeline import cli
-from pipeline.results import MAX_DEPTH, SCHEMA_VERSION
-from reports.tables import write_tables
+from results import MAX_DEPTH, SCHEMA_VERSION
+from results.tables import write_tables
 from tests.conftest import PAPER_SCENE, ROOT
 
 RESULTS = ROOT / "tests" / "fixtures" / "report_results.json"

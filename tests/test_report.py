@@ -390,7 +390,7 @@ def test_results_without_paper_rows_show_nothing_of_the_paper(tmp_path):
 
 
 def test_tables_drop_the_paper_columns_without_paper_rows():
-    from reports.tables import case_csv, case_markdown
+    from results.tables import case_csv, case_markdown
 
     case = json.loads(RESULTS.read_text())["cases"][0]
     assert case_csv(case).startswith("mode,paper_fea_hz,paper_theory_hz,paper_error_percent,")

@@ -4,7 +4,7 @@ from __future__ import annotations
 import tomllib
 
 from common.settings import declared
-from pipeline.scene_docs import DOC, TABLES, render
+from scene.docs import DOC, TABLES, render
 from tests.conftest import PAPER_SCENE
 
 

@@ -10,9 +10,9 @@ import pytest
 
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions, Pose
-from pipeline.cache import ResultCache
-from pipeline.scene import load_scene
-from pipeline.sweep import run_sweep
+from runtime.cache import ResultCache
+from scene import load_scene
+from runtime.sweep import run_sweep
 from tests.conftest import PAPER_SCENE
 
 

@@ -19,7 +19,7 @@ from analytical.substructure import assemble
 from analytical.tracking import match_modes, steps_needing_shapes
 from analytical.reach import MAX_TILT, max_tilt, reachable
 from analytical.workspace import frequency_map
-from pipeline.scene import load_scene
+from scene import load_scene
 from tests.conftest import ROOT
 
 FIELDS = ("rotation", "platform_centre", "base_points", "platform_points", "joint_axes",

@@ -47,7 +47,7 @@ def run_sweep(fn: TaskFn, tasks: list, payloads: list, cache: ResultCache, kind:
 
     `payloads[i]` is what determines task i's result (its cache key), with the source of
     `code` (the modules fn computes with beyond the model packages, see
-    pipeline.cache.code_fingerprint). `progress(done, total)` is called as results arrive.
+    runtime.cache.code_fingerprint). `progress(done, total)` is called as results arrive.
     """
     keys = [content_key({"kind": kind, "task": p}, code) for p in payloads]
     results: list[dict | None] = [cache.get(kind, k) for k in keys]

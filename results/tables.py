@@ -12,7 +12,7 @@ from pathlib import Path
 
 from common.atomic import write_text_atomic
 from common.paths import distinct_stems, inside
-from pipeline.results import Case, Results
+from results import Case, Results
 
 PAPER_COLUMNS = ("paper_fea_hz", "paper_theory_hz", "paper_error_percent")
 COLUMNS = ("mode",) + PAPER_COLUMNS + ("fem_hz", "fem_estimated_error_percent",

@@ -1,7 +1,7 @@
 """A short plain-language verdict per case, written from the numbers in results.json only."""
 from __future__ import annotations
 
-from pipeline.results import (LOW_MODES, mode_ranges, worst_by_mode_range,
+from results import (LOW_MODES, mode_ranges, worst_by_mode_range,
                               worst_in_mode_ranges)
 
 
@@ -14,7 +14,7 @@ def _pct(x: float) -> str:
     return f"{x:.2f} %" if x < 10 else f"{x:.1f} %"
 
 
-def _grade(x: float) -> str:
+def grade(x: float) -> str:
     if x <= 1.0:
         return "agree closely"
     if x <= 3.0:
@@ -40,10 +40,10 @@ def case_verdict(case: dict, conventions: bool = False) -> list[str]:
     parts = []
     if low is not None:
         count = sum(p["fem_mode"] <= LOW_MODES for p in pairs)
-        parts.append(f"the first {count} modes {_grade(low)} with our FEM, {_bound(low)}")
+        parts.append(f"the first {count} modes {grade(low)} with our FEM, {_bound(low)}")
     if high is not None:
         last = max(p["fem_mode"] for p in pairs)
-        parts.append(f"modes {LOW_MODES + 1}–{last} {_grade(high)}, {_bound(high)}")
+        parts.append(f"modes {LOW_MODES + 1}–{last} {grade(high)}, {_bound(high)}")
     if parts:
         out.append(f"{model}: " + "; ".join(parts) + ".")
     signs = {p["error_percent"] > 0 for p in pairs if abs(p["error_percent"]) > 0.05}

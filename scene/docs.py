@@ -1,7 +1,7 @@
 """docs/scenes.md, generated from the declarations that validate scene files.
 
 Every key, its type, unit, default, admitted values and meaning come from the `setting(...)`
-declarations of the dataclasses the scene reader fills (`pipeline.scene.parse_scene`), so the
+declarations of the dataclasses the scene reader fills (`scene.parse_scene`), so the
 page cannot disagree with the reader; `tests/test_scene_docs.py` fails when the committed page
 is stale (`python -m pipeline scene-docs` rewrites it).
 """
@@ -17,7 +17,7 @@ from fem_reference.model import FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
 
 from .fidelity import FidelitySettings
-from .scene import (GEOMETRY_DEFAULTS_TEXT, CaseSettings, FemStudy, HeightCalibration,
+from .load import (GEOMETRY_DEFAULTS_TEXT, CaseSettings, FemStudy, HeightCalibration,
                     ManipulatorNotes, SceneSettings)
 
 ROOT = Path(__file__).resolve().parents[1]
