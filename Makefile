@@ -26,7 +26,7 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 run: $(STAMP)
-	$(PYTHON) -m pipeline validate --scene $(SCENE) --out out
+	$(PYTHON) -m rps validate --scene $(SCENE) --out out
 
 test: $(STAMP)
 	$(PYTHON) -m pytest
@@ -38,16 +38,16 @@ report: $(STAMP)
 	$(PYTHON) -m reports --results out/results.json --out out
 
 readme: $(STAMP)
-	$(PYTHON) -m pipeline readme --results out/results.json
+	$(PYTHON) -m rps readme --results out/results.json
 
 docs: $(STAMP)
-	$(PYTHON) -m pipeline scene-docs
+	$(PYTHON) -m rps scene-docs
 
 update-baselines: $(STAMP)
-	$(PYTHON) -m pipeline update-baselines --scene $(SCENE)
+	$(PYTHON) -m rps update-baselines --scene $(SCENE)
 
 clean-cache: $(STAMP)
-	$(PYTHON) -m pipeline cache clear
+	$(PYTHON) -m rps cache clear
 
 clean:
 	rm -rf out .out.staging-* .out.previous-* .out.lock out.partial .cache .pytest_cache .hypothesis

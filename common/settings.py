@@ -41,7 +41,7 @@ MIN_PART = 1e-3  # m
 MAX_ANGLE = 2 * math.pi  # rad
 # Modes compared or solved for: the lowest few dozen describe a manipulator's dynamics; the
 # dense and shift-invert solvers are sized for that many (the FEM adds a few beyond the
-# compared ones to pair by shape, pipeline.compare.EXTRA_MODES).
+# compared ones to pair by shape, solvers.compare.EXTRA_MODES).
 MAX_MODES = 60
 MAX_SOLVED_MODES = 100
 

@@ -25,7 +25,7 @@ from analytical.kinematics import pose_geometry
 
 from common.atomic import write_json_atomic
 from runtime.cache import ResultCache
-from .compare import analytical_case, error_table, fem_case, with_cache_dir
+from solvers.compare import analytical_case, error_table, fem_case, with_cache_dir
 from scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -35,9 +35,9 @@ from analytical.workspace import default_workers, frequency_map
 
 from common.atomic import write_json_atomic
 from common.locations import default_scene
-from .compare import fem_options, fem_runtime
+from solvers.compare import fem_options, fem_runtime
 from scene import load_scene
-from .studies import workspace_heights
+from studies.workspace_map import workspace_heights
 
 MAP_GRID = (20, 10, 50)  # heights x rings x azimuths: the 10,000-pose map of issue 12
 
@@ -160,8 +160,8 @@ def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> dict:
     import tempfile
 
     from runtime.cache import ResultCache
-    from .studies import speed_settings
-    from .workspace_validation import SMALL, coarse_size, run_study
+    from solvers.settings import speed_settings
+    from studies.workspace_validation import SMALL, coarse_size, run_study
 
     models = speed_settings(scene)
     samples: dict[int, list[float]] = {w: [] for w in workers}

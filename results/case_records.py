@@ -6,7 +6,7 @@ from typing import Literal
 
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
-from pydantic import with_config
+from pydantic import FiniteFloat, with_config
 
 from .types import STRICT, Frequencies, Frequency, Hz, Motion, CaseName, RelativePath
 

@@ -5,7 +5,7 @@ from typing import Any
 
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
-from pydantic import with_config
+from pydantic import FiniteFloat, with_config
 
 from .types import STRICT, Frequencies, Frequency, Hz
 
@@ -150,7 +150,7 @@ class WorkspaceValidation(TypedDict):
 
 @with_config(STRICT)
 class HardCase(TypedDict):
-    """One claim of pipeline.hard_cases, measured on the scene's machine."""
+    """One claim of studies.hard_cases, measured on the scene's machine."""
     case: str
     claim: str
     tolerance: FiniteFloat
@@ -162,7 +162,7 @@ class HardCase(TypedDict):
 
 @with_config(STRICT)
 class ReachableWorkspace(TypedDict):
-    """The machine's reachable workspace, computed before any expensive work (pipeline.envelope),
+    """The machine's reachable workspace, computed before any expensive work (studies.reachable),
     and every way a study adapted its poses to it."""
     level_band_mm: list[FiniteFloat]  # [low, high]: heights whose level pose is reachable
     bounded_by: list[str]  # the limit binding just below and just above the band

@@ -26,10 +26,12 @@ CODE_PACKAGES = ("analytical", "common", "joint_ends", "meshing", "fem_reference
 @lru_cache(maxsize=None)
 def code_fingerprint(modules: tuple[str, ...] = ()) -> str:
     """Hash of every Python source that the cached values depend on: the model packages, and
-    the modules (dotted names under the project root) of a value computed above them (a
+    the modules or packages (dotted names under the project root) of a value computed above them (a
     sweep task pairing modes in pipeline/ is stale when the pairing changes)."""
     paths = [p for package in CODE_PACKAGES for p in sorted((ROOT / package).rglob("*.py"))]
-    paths += [ROOT / (name.replace(".", "/") + ".py") for name in sorted(modules)]
+    for name in sorted(modules):  # a module, or a package (every module in it)
+        base = ROOT / name.replace(".", "/")
+        paths += sorted(base.rglob("*.py")) if base.is_dir() else [base.with_suffix(".py")]
     digest = hashlib.sha256()
     for path in paths:
         digest.update(path.relative_to(ROOT).as_posix().encode())

@@ -3,7 +3,7 @@
 Every key, its type, unit, default, admitted values and meaning come from the `setting(...)`
 declarations of the dataclasses the scene reader fills (`scene.parse_scene`), so the
 page cannot disagree with the reader; `tests/test_scene_docs.py` fails when the committed page
-is stale (`python -m pipeline scene-docs` rewrites it).
+is stale (`python -m rps scene-docs` rewrites it).
 """
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ TABLES = (
     ("[material]", "One isotropic material for legs and platform.", (Material,)),
     ("[fidelity]", "What accuracy the scene needs, on which modes. Where the scene leaves "
      "[analytical] out, and mesh_size_mm out of [fem], the run chooses the cheapest models that "
-     "meet it, by measurement (pipeline/fidelity.py).", (FidelitySettings,)),
+     "meet it, by measurement (studies/choice.py).", (FidelitySettings,)),
     ("[analytical]", "Fidelity of the beam model (substructure synthesis, Eqs. 4-24); an "
      "explicit choice that overrides the automatic one.", (ModelOptions,)),
     ("[fem]", "Fidelity of the 3D solid reference, its refinement study and its guard; "
@@ -55,7 +55,7 @@ once to SI. Run one with `make SCENE=path/to/scene.toml`. Unknown keys are refus
 closest known key named), and every value outside its range gives a one-line error naming the
 key and the value. Defaults written with `d` scale with the leg diameter d.
 
-Generated from the declarations by `python -m pipeline scene-docs`; do not edit by hand.
+Generated from the declarations by `python -m rps scene-docs`; do not edit by hand.
 """
 
 

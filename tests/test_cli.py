@@ -15,7 +15,7 @@ from tests.conftest import PAPER_SCENE, ROOT
 
 def run(*args, cwd=ROOT):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([sys.executable, "-m", "pipeline", *args], cwd=cwd, env=env,
+    return subprocess.run([sys.executable, "-m", "rps", *args], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=300)
 
 
@@ -139,7 +139,7 @@ def test_version_names_the_project_and_its_commit():
 
 
 def test_help_lists_every_command_and_every_option_default_and_unit():
-    from pipeline.cli import _Help, build_parser
+    from rps.app import _Help, build_parser
 
     parser = build_parser()
     commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
@@ -217,7 +217,7 @@ def test_estimate_error_refines_around_a_size_outside_the_scenes_sequence(tmp_pa
 
 
 def test_developer_commands_refuse_to_run_outside_a_checkout(monkeypatch, capsys):
-    import pipeline.cli as cli
+    import rps.app as cli
 
     monkeypatch.setattr(cli, "checkout_root", lambda: None)
     assert cli.main(["scene-docs"]) == 2

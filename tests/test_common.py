@@ -13,7 +13,7 @@ from common.rigid_body import rigid_fit, skew
 from common.settings import as_dict, setting
 from fem_reference.model import FemOptions
 from meshing.geometry import MeshSettings
-from pipeline.compare import fem_cache_payload
+from solvers.compare import fem_cache_payload
 from runtime.cache import content_key
 
 

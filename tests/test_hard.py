@@ -1,6 +1,6 @@
 """Hard cases (issue 12): geometry at the edges, repeated and near-repeated eigenvalues,
 eigen-solutions checked rather than trusted, continuity. Each test is one claim with its
-tolerance; the analytical claims are measured by pipeline.hard_cases (which also feeds the
+tolerance; the analytical claims are measured by studies.hard_cases (which also feeds the
 report), the FEM ones here. Run alone with `pytest -m hard`."""
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ from fem_reference import eigen
 from fem_reference.eigen import EigenError, lowest_modes
 import fem_reference.model as fem_model
 from meshing.geometry import MeshSettings
-from pipeline import hard_cases as hc
+from studies import hard_cases as hc
 from scene import load_scene
 from tests.conftest import ROOT
 
@@ -329,7 +329,7 @@ def test_the_hard_cases_spread_over_two_workers_give_the_serial_rows(scene):
 def test_the_hard_cases_of_a_run_are_computed_once_per_scene_and_code(scene, tmp_path,
                                                                        monkeypatch):
     from runtime.cache import ResultCache
-    from pipeline.run import hard_case_rows
+    from studies.hard_cases import hard_case_rows
 
     calls = []
     monkeypatch.setattr(hc, "evaluate", lambda scene, workers=1: calls.append(1) or

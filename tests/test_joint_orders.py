@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from runtime.cache import ResultCache
-from pipeline.joint_orders import joint_order_study
+from studies.joint_orders import joint_order_study
 
 
 @pytest.mark.slow

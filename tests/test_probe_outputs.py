@@ -199,7 +199,7 @@ def test_joint_end_zones_land_under_the_cache_directory_of_the_run(tmp_path, mon
                                                                     scene):
     import joint_ends.cache
     from analytical.model import natural_frequencies
-    from pipeline.compare import with_cache_dir
+    from solvers.compare import with_cache_dir
 
     default = tmp_path / "default-cache"  # where zones went whatever --cache said (issue 20)
     monkeypatch.setattr(joint_ends.cache, "cache_root", lambda: default)

@@ -10,7 +10,7 @@ from tests.conftest import PAPER_SCENE
 
 def test_committed_scene_docs_are_current():
     assert DOC.read_text(encoding="utf-8") == render(), (
-        "docs/scenes.md is stale: run `.venv/bin/python -m pipeline scene-docs`")
+        "docs/scenes.md is stale: run `.venv/bin/python -m rps scene-docs`")
 
 
 def test_every_key_of_the_paper_scene_is_documented():

@@ -14,8 +14,7 @@ SCENES = sorted((Path(__file__).resolve().parents[1] / "scenes").glob("*.toml"))
 @pytest.mark.slow
 @pytest.mark.parametrize("path", SCENES, ids=lambda p: p.stem)
 def test_scene_validates_at_ci_size(path, tmp_path):
-    results = validate(str(path), tmp_path / "out", tmp_path / "cache", profile="ci",
-                       build_report=False)
+    results = validate(str(path), tmp_path / "out", tmp_path / "cache", profile="ci")
     fidelity = results["fidelity"]
     tol = fidelity["tolerance_percent"]
     assert len(results["cases"]) >= 1

@@ -191,7 +191,7 @@ def test_only_steps_that_can_hide_a_crossing_need_shapes():
 
 
 def test_workspace_map_results_name_families_and_crossings(scene):
-    from pipeline.studies import workspace_map
+    from studies.workspace_map import workspace_map
 
     result = workspace_map(scene, layers=3, rings=3, azimuths=12, modes=3)
     json.dumps(result, allow_nan=False)

@@ -20,9 +20,11 @@ from analytical.params import JOINT_COUPLINGS
 
 import results
 from runtime.cache import ResultCache
-from .compare import analytical_case, error_table, fem_case, model_reading
+from solvers.compare import analytical_case, error_table, fem_case, model_reading
 from scene import Scene
-from .studies import speed_settings
+
+from .registry import Context, Study
+from solvers.settings import speed_settings
 
 MODELS = ("Timoshenko (Hutchinson), s=5", "Timoshenko (Hutchinson) + solid ends, s=5")
 
@@ -43,8 +45,8 @@ def models(scene: Scene, chosen_label: str | None) -> dict:
 def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: str | None,
                    workers: int = 1, scheduler: str | None = None) -> list[dict]:
     """Per case and coupling: the FEM limit and each model's error against it."""
-    from .run import fem_refinement
-    from .selection import prefetch_fem
+    from solvers.refinement import fem_refinement
+    from solvers.refinement import prefetch_fem
 
     count = scene.analytical.modes
     sizes = tuple(sorted(scene.fem_study.refinement, reverse=True))
@@ -83,3 +85,12 @@ def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: s
             readings.append(entry)
         out.append(results.CouplingCase(case=name, readings=readings))
     return out
+
+
+def run(ctx: Context) -> list:
+    return coupling_study(ctx.scene, ctx.scene.ci_cases, ctx.cache, ctx.chosen_setting,
+                          ctx.workers, ctx.scheduler)
+
+
+STUDY = Study("joint_couplings", "Joint faces: rigid and distributing couplings",
+              "joint-couplings", "scene", run)

@@ -1,8 +1,8 @@
 """The run's fidelity step: measure the candidates on the scene's cases, choose, report.
 
-Pure choosing lives in `pipeline.fidelity`; this module runs what the choice is made from:
+Pure choosing lives in `studies.choice`; this module runs what the choice is made from:
 every case's FEM refinement study (cached solves) and every analytical candidate of the
-speed-vs-error set (`studies.speed_settings`) against the FEM limit, timed per pose.
+speed-vs-error set (`solvers.settings.speed_settings`) against the FEM limit, timed per pose.
 """
 from __future__ import annotations
 
@@ -14,13 +14,16 @@ import numpy as np
 from analytical.kinematics import pose_geometry
 from analytical.params import Pose
 
-from . import studies
+from solvers.settings import model_variants, speed_settings
+
+from . import workspace_validation as wv
 from runtime.cache import ResultCache
-from .compare import analytical_case, error_table, fem_case
-from .fidelity import (FEM_ERROR_SHARE, AnalyticalChoice, FemChoice, choose_analytical,
+from solvers.compare import analytical_case, error_table, fem_case
+from studies.choice import (FEM_ERROR_SHARE, AnalyticalChoice, FemChoice, choose_analytical,
                        choose_fem_size)
 from scene import Scene
-from .timing import seconds_per_pose
+from solvers.refinement import prefetch_fem
+from solvers.timing import seconds_per_pose
 
 SCENE_SETTING = "scene's [analytical]"
 
@@ -76,31 +79,12 @@ def _fem_seconds(fid: Fidelity) -> float | None:
     return float(np.median(times)) if times else None
 
 
-def _solve_fem(task: dict) -> dict:
-    """One FEM solve into the result cache (a task of `prefetch_fem`)."""
-    fem_case(task["scene"], task["geometry"], ResultCache(task["cache_dir"]), task["size"])
-    return {"error": None}
-
-
-def prefetch_fem(scene: Scene, geometries: list, sizes, cache: ResultCache, workers: int,
-                 scheduler: str | None = None) -> None:
-    """Fill the result cache with the FEM solve of every geometry at every size, on the
-    sweep's workers (finest first, for balance); the callers then read them from the cache. A
-    failed solve is left to its caller, which repeats it and reports its error."""
-    from runtime.sweep import map_tasks
-
-    tasks = [{"scene": scene, "geometry": g, "size": h, "cache_dir": str(cache.directory)}
-             for h in sorted(sizes) for g in geometries]
-    if workers > 1 or scheduler:
-        map_tasks(_solve_fem, tasks, workers, scheduler)
-
-
 def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
                step=lambda text: None, workers: int = 1, scheduler: str | None = None
                ) -> tuple[Scene, FemChoice, dict]:
     """The FEM size (chosen, or the scene's checked), the scene at that size, and every
     case's refinement study (when refined)."""
-    from .run import fem_refinement
+    from solvers.refinement import fem_refinement
 
     tol = scene.fidelity.tolerance_percent
     refinements = {}
@@ -135,7 +119,7 @@ def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
 
 def candidate_settings(scene: Scene) -> dict:
     """Every analytical setting the choice is made among (the scene's own first, if given)."""
-    candidates = dict(studies.speed_settings(scene))
+    candidates = dict(speed_settings(scene))
     if scene.analytical_given:
         candidates = {SCENE_SETTING: scene.analytical} | candidates
     return candidates
@@ -191,12 +175,11 @@ def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
     size from the cases' refinement studies; then the study over the workspace (every
     candidate at every pose); then the analytical setting over the cases AND each candidate's
     worst study pose (beam models are worst at compact poses, which two cases may miss)."""
-    from . import workspace_validation as wv
 
     sized, fem, refinements = choose_fem(scene, case_names, cache, full, step, workers,
                                          scheduler)
     models = candidate_settings(scene) | {
-        wv.PAPER_MODEL: studies.model_variants(scene)[wv.PAPER_MODEL]}
+        wv.PAPER_MODEL: model_variants(scene)[wv.PAPER_MODEL]}
     coarse = wv.coarse_size(scene, fem.size)
     seconds = _fem_seconds_of(refinements, fem.size, coarse)
 
@@ -236,8 +219,7 @@ def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache,
     candidates are compared with the extrapolated limit, like the cases; in the CI profile
     with the FEM of the study. A second row per candidate is its largest error over every
     study pose, so a candidate cannot be chosen on poses where it happens to be good."""
-    from . import workspace_validation as wv
-    from .run import fem_refinement
+    from solvers.refinement import fem_refinement
 
     labels = list(candidate_settings(scene))
     ok = [p for p in study["poses"] if p.get("models")]

@@ -1,6 +1,6 @@
 """Wall time per pose of an analytical setting, measured once and kept with the results.
 
-One pose's time (kinematics, synthesis and eigen solve; `studies.time_model`: the median of
+One pose's time (kinematics, synthesis and eigen solve; `time_model`: the median of
 RUNS repetitions after a warm-up) is asked for by three steps of a run - the fidelity choice,
 the model-variant table and the speed-vs-error chart - for the same settings at the same
 poses. It is measured once per (machine, code, manipulator, pose, setting) and kept in the
@@ -15,8 +15,13 @@ import os
 import platform
 from functools import lru_cache
 
-from common.settings import as_dict
+import time
 
+import numpy as np
+
+from analytical.model import natural_frequencies
+from analytical.params import ModelOptions
+from common.settings import as_dict
 from runtime.cache import ResultCache
 from scene import Case, Scene
 
@@ -41,13 +46,22 @@ def machine() -> dict:
 def seconds_per_pose(scene: Scene, case: Case, options, cache: ResultCache | None) -> float:
     """Median wall time (s) of one pose of `case` with the analytical `options`; from the
     cache when this machine measured it with this code before (no cache: always measured)."""
-    from .studies import time_model
-
     if cache is None:
         return time_model(scene, case, options, runs=RUNS)
     payload = {"manipulator": as_dict(scene.manipulator), "pose": as_dict(case.pose),
                "options": as_dict(options), "runs": RUNS, "machine": machine()}
     value, _, _ = cache.get_or_compute(
         KIND, payload, lambda: ({"seconds": time_model(scene, case, options, runs=RUNS)}, {}),
-        required=("seconds",), modules=("pipeline.timing", "pipeline.studies"))
+        required=("seconds",), modules=("solvers.timing",))
     return float(value["seconds"])
+
+
+def time_model(scene: Scene, case: Case, options: ModelOptions, runs: int = 30) -> float:
+    """Median wall time (s) of one pose: kinematics, synthesis and eigen solve."""
+    natural_frequencies(scene.manipulator, case.pose, options)
+    samples = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        natural_frequencies(scene.manipulator, case.pose, options)
+        samples.append(time.perf_counter() - start)
+    return float(np.median(samples))

@@ -14,8 +14,10 @@ from analytical.kinematics import pose_geometry
 
 import results
 from runtime.cache import ResultCache
-from .compare import analytical_case, error_table, fem_case, model_reading
+from solvers.compare import analytical_case, error_table, fem_case, model_reading
 from scene import Scene
+
+from .registry import Context, Study
 
 ORDERS = (("R", "S"), ("S", "R"))
 MODELS = {"EB, s=3": dict(beam="euler-bernoulli", elements=3),
@@ -53,3 +55,10 @@ def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict
             readings.append(entry)
         out.append(results.JointOrderCase(case=name, readings=readings))
     return out
+
+
+def run(ctx: Context) -> list:
+    return joint_order_study(ctx.scene, ctx.scene.ci_cases, ctx.cache)
+
+
+STUDY = Study("joint_orders", "Both joint orders", "joint-orders", "scene", run)

@@ -20,8 +20,10 @@ from analytical.reach import (LAYER_INSET, LAYER_INSET_SHARE, WorkspaceError, la
 
 import results as schema
 from scene import Scene
-from .studies import MAP_LAYERS, workspace_heights
-from .workspace_validation import FULL, SMALL, design_with_dropped
+
+from .registry import Study
+from studies.workspace_map import MAP_LAYERS, workspace_heights
+from studies.workspace_validation import FULL, SMALL, design_with_dropped
 
 MIN_BAND = 1e-3  # m: a level band narrower than this leaves the layered studies nothing to map
 FLAT_TILT = math.radians(0.01)  # a layer whose theta_r is below this cannot tilt every way
@@ -68,3 +70,7 @@ def check(scene: Scene, profile: str = "full") -> schema.ReachableWorkspace:
         regular_tilt_deg=np.degrees(radii).tolist(),
         validation_poses=len(poses), validation_poses_dropped=dropped,
         adaptations=adaptations)
+
+
+STUDY = Study("reachable_workspace", "Scene and set-up", "scene", "check", None,
+              profiles=("full", "ci"))

@@ -20,7 +20,7 @@ from fem_reference.model import legs_for
 
 import results
 from runtime.cache import ResultCache
-from .pairing import pair_modes
+from solvers.pairing import pair_modes
 from scene import Case, Scene
 
 # Shared points for MAC: eleven stations along every leg axis, joint centres included.

@@ -31,7 +31,9 @@ from common.settings import as_dict
 from fem_reference.convergence import P_THEORY
 
 from runtime.cache import ResultCache
-from .compare import analytical_case, error_table, fem_case
+from solvers.compare import analytical_case, error_table, fem_case
+
+from .registry import Study
 
 PAPER_MODEL = "paper (EB, s=3, Eq. 8 inertia)"  # a label of studies.model_variants
 SOBOL_SEED = 20231
@@ -143,7 +145,7 @@ def two_mesh_error(fine_hz, coarse_hz, ratio: float, order: float = P_THEORY):
 
 
 # the modules a pose's result is computed with, beyond the model packages (its cache key)
-TASK_CODE = ("pipeline.workspace_validation", "pipeline.compare", "pipeline.pairing",
+TASK_CODE = ("studies.workspace_validation", "solvers.compare", "solvers.pairing",
              "results.schema", "scene")
 
 
@@ -267,3 +269,7 @@ def summarise(study: dict, default: str) -> dict:
                               "fem_estimated_error_percent")} | {
         "error_percent": worst["models"][default],
         "worst_error_percent": worst_error(worst["models"][default])}}
+
+
+STUDY = Study("workspace_validation", "The model against the FEM over the workspace",
+              "validation", "fidelity", None, profiles=("full", "ci"))
