@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 import math
 
+from common.joints import COUPLINGS, JOINT_TYPES
 from common.settings import (MAX_ANGLE, MAX_LENGTH, MAX_SOLVED_MODES, MIN_PART, check_settings,
                              declared, nested_setting, setting)
 
@@ -18,11 +19,8 @@ PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
 R_JOINT_COORDINATES = ("axis", "paper-eq18")
 JOINT_ENDS = ("beam", "solid")
-JOINT_COUPLINGS = ("rigid", "distributing")
+JOINT_COUPLINGS = COUPLINGS  # common.joints' declaration (pipeline.couplings reads this name)
 MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
-
-
-JOINT_TYPES = ("R", "S")
 
 # Plausible materials and proportions (checked at load, `check_manipulator`).
 # Poisson ratio nu = E / (2 G) - 1 in (0, 0.49]: the engineering solids a manipulator is built
@@ -167,7 +165,7 @@ class ModelOptions:
                               doc="leg ends at the joints: beam elements to the joint centre, or "
                               "a solid end zone condensed from a small solid model (captures "
                               "the joint face's restraint of warping and Poisson contraction)")
-    joint_coupling: str = setting("rigid", kind=str, choices=JOINT_COUPLINGS,
+    joint_coupling: str = setting("rigid", kind=str, choices=COUPLINGS,
                                   doc="how a solid end zone's joint face follows the joint "
                                   "centre, as the FEM's coupling (default: the scene's [fem] "
                                   "coupling)")
