@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 import math
 
-from common.joints import COUPLINGS, JOINT_TYPES
+from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
 from common.settings import (MAX_ANGLE, MAX_LENGTH, MAX_SOLVED_MODES, MIN_PART, check_settings,
                              declared, nested_setting, setting)
 
@@ -109,10 +109,18 @@ class Manipulator:
                                   "equations: S)")
 
     def __post_init__(self) -> None:
-        if {self.base_joint, self.platform_joint} != {"R", "S"}:
+        # the kinematics closes on the one joint of a leg with an axis (`axis_end`)
+        kinds = [JOINTS.get(j) for j in (self.base_joint, self.platform_joint)]
+        if None in kinds or sum(k.has_axis for k in kinds) != 1:
             raise ValueError(f"base_joint = {self.base_joint!r}, platform_joint = "
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
+
+    @property
+    def axis_end(self) -> str:
+        """The end of every leg ("base" or "platform") whose joint has an axis (the R joint):
+        where the axis lies, and so the closure of the kinematics, follows that body."""
+        return "base" if JOINTS[self.base_joint].has_axis else "platform"
 
     def scaled(self, length_factor: float) -> "Manipulator":
         """The same manipulator with every length multiplied by `length_factor`."""
