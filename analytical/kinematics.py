@@ -81,7 +81,7 @@ class Joint(NamedTuple):
     body: str  # "base" (fixed) or "platform" (moving)
 
     @classmethod
-    def at(cls, kind: str, centre, axis, body: str) -> "Joint":
+    def at(cls, kind: str, centre, axis, body: str) -> Joint:
         """A joint of type `kind` (`common.joints.JOINTS`); `axis` is kept only if it has one."""
         return cls(kind, np.asarray(centre), axis if JOINTS[kind].has_axis else None, body)
 
