@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 import math
 
+from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
 from common.settings import (MAX_ANGLE, MAX_LENGTH, MAX_SOLVED_MODES, MIN_PART, check_settings,
                              declared, nested_setting, setting)
 
@@ -18,11 +19,8 @@ PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
 R_JOINT_COORDINATES = ("axis", "paper-eq18")
 JOINT_ENDS = ("beam", "solid")
-JOINT_COUPLINGS = ("rigid", "distributing")
+JOINT_COUPLINGS = COUPLINGS  # common.joints' declaration (pipeline.couplings reads this name)
 MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
-
-
-JOINT_TYPES = ("R", "S")
 
 # Plausible materials and proportions (checked at load, `check_manipulator`).
 # Poisson ratio nu = E / (2 G) - 1 in (0, 0.49]: the engineering solids a manipulator is built
@@ -111,10 +109,18 @@ class Manipulator:
                                   "equations: S)")
 
     def __post_init__(self) -> None:
-        if {self.base_joint, self.platform_joint} != {"R", "S"}:
+        # the kinematics closes on the one joint of a leg with an axis (`axis_end`)
+        kinds = [JOINTS.get(j) for j in (self.base_joint, self.platform_joint)]
+        if None in kinds or sum(k.has_axis for k in kinds) != 1:
             raise ValueError(f"base_joint = {self.base_joint!r}, platform_joint = "
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
+
+    @property
+    def axis_end(self) -> str:
+        """The end of every leg ("base" or "platform") whose joint has an axis (the R joint):
+        where the axis lies, and so the closure of the kinematics, follows that body."""
+        return "base" if JOINTS[self.base_joint].has_axis else "platform"
 
     def scaled(self, length_factor: float) -> "Manipulator":
         """The same manipulator with every length multiplied by `length_factor`."""
@@ -167,7 +173,7 @@ class ModelOptions:
                               doc="leg ends at the joints: beam elements to the joint centre, or "
                               "a solid end zone condensed from a small solid model (captures "
                               "the joint face's restraint of warping and Poisson contraction)")
-    joint_coupling: str = setting("rigid", kind=str, choices=JOINT_COUPLINGS,
+    joint_coupling: str = setting("rigid", kind=str, choices=COUPLINGS,
                                   doc="how a solid end zone's joint face follows the joint "
                                   "centre, as the FEM's coupling (default: the scene's [fem] "
                                   "coupling)")

@@ -28,6 +28,7 @@ from .end_zones import segments, zone_for
 from .params import Manipulator, ModelOptions
 from .pose_batch import pose_batch
 from .reach import regular_radii
+from .substructure import coordinate_count
 from .tracking import (REPEATED, family_values, follow, match_modes, match_steps,
                        steps_needing_shapes)
 
@@ -294,7 +295,8 @@ def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, ring
     phis = np.linspace(0.0, 2 * math.pi, azimuths, endpoint=False)
     fractions = np.linspace(0.0, 1.0, rings)
     modes = options.modes
-    window = min(modes + GUARD_MODES, 18 * segments(options) - 1)
+    window = min(modes + GUARD_MODES, coordinate_count(
+        segments(options), manipulator.base_joint, manipulator.platform_joint) - 1)
     if not len(heights):
         raise ValueError("heights = []: a map needs at least one height")
     radii = regular_radii(manipulator, heights)

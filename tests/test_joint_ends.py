@@ -16,9 +16,10 @@ import pytest
 import scipy.linalg as la
 
 from analytical.beam import Section, assemble_beam
-from analytical.end_zones import EndZone, JointEndsUnavailable, leg_segments
+from analytical.end_zones import JointEndsUnavailable, leg_segments
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions
+from joint_ends import EndZone
 from tests.conftest import ROOT
 
 pytest.importorskip("gmsh")
