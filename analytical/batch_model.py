@@ -23,8 +23,8 @@ the per-pose model.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
@@ -35,7 +35,12 @@ from .modal import ModalError
 from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
 from .pose_batch import PoseBatch
-from .substructure import SingularJointMap, _leg_map, coordinate_count, r_joint_direction
+from .substructure import (
+    SingularJointMap,
+    _leg_map,
+    coordinate_count,
+    r_joint_direction,
+)
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from common.errors import InputError
+
 from .beam import Section, frame_element
 from .params import Manipulator, ModelOptions
 
@@ -29,7 +31,7 @@ if TYPE_CHECKING:  # the zone's type lives with its builder, imported only for s
 MIN_MIDDLE = 0.1  # the beam middle must be at least this many leg diameters long
 
 
-class JointEndsUnavailable(ValueError):
+class JointEndsUnavailable(InputError):
     """Solid joint ends were asked for but cannot be built here."""
 
 

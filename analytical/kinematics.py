@@ -21,21 +21,21 @@ joint has an axis (`Manipulator.axis_end`) carries the axis; `pose_batch` branch
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
+from common.errors import InputError
 from common.joints import JOINTS, JointType
 
 from .params import Manipulator, Pose
 
-
 _EVEN_SPACING = np.array([0.0, 2 * math.pi / 3, 4 * math.pi / 3])
 
 
-class PoseError(ValueError):
+class PoseError(InputError):
     """The pose cannot be assembled or violates a joint or actuator limit."""
 
 

@@ -5,12 +5,20 @@ Everything here is in SI units (m, kg, Pa, rad). Scene files speak millimetres a
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
 import math
+from dataclasses import dataclass, field, replace
 
 from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
-from common.settings import (MAX_ANGLE, MAX_LENGTH, MAX_SOLVED_MODES, MIN_PART, check_settings,
-                             declared, nested_setting, setting)
+from common.settings import (
+    MAX_ANGLE,
+    MAX_LENGTH,
+    MAX_SOLVED_MODES,
+    MIN_PART,
+    check_settings,
+    declared,
+    nested_setting,
+    setting,
+)
 
 from .beam import SHEAR_COEFFICIENTS
 
@@ -19,7 +27,6 @@ PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
 R_JOINT_COORDINATES = ("axis", "paper-eq18")
 JOINT_ENDS = ("beam", "solid")
-JOINT_COUPLINGS = COUPLINGS  # common.joints' declaration (pipeline.couplings reads this name)
 MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
 
 # Plausible materials and proportions (checked at load, `check_manipulator`).

@@ -9,8 +9,8 @@ error); tests/test_workspace_fast.py checks every field of this twin against it.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
 import math
+from dataclasses import dataclass, fields
 
 import numpy as np
 

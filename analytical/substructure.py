@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common.errors import InputError
 from common.joints import JOINTS
 from common.rigid_body import skew
 
@@ -47,7 +48,7 @@ from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
 
 
-class SingularJointMap(ValueError):
+class SingularJointMap(InputError):
     """The chosen independent R-joint coordinate cannot describe the joint's rotation."""
 
 

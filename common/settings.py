@@ -17,8 +17,8 @@ admit the same values.
 """
 from __future__ import annotations
 
-from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 import math
+from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 from typing import Any
 
 # edge unit -> (scene-key suffix, SI value of one edge unit, SI unit name)

@@ -8,15 +8,25 @@ from pathlib import Path
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from . import validation, verdict
-from .case_tables import (comparison_table, fem_variants_table, refinement_table,
-                          repeated_limit_notes, variants_table)
+from .case_tables import (
+    comparison_table,
+    fem_variants_table,
+    refinement_table,
+    repeated_limit_notes,
+    variants_table,
+)
 from .cells import Cells, align, tables_in
 from .figure_set import has_paper, main_cases
 from .figures import PAPER_SECONDS
 from .setup_tables import setup_tables
-from .study_tables import (calibration_table, convention_tables, coupling_tables,
-                           hard_cases_table,
-                           joint_order_tables, speed_table)
+from .study_tables import (
+    calibration_table,
+    convention_tables,
+    coupling_tables,
+    hard_cases_table,
+    joint_order_tables,
+    speed_table,
+)
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 

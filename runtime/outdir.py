@@ -46,6 +46,8 @@ import threading
 from pathlib import Path
 from typing import Callable, Iterator
 
+from common.errors import RpsError
+
 # An existing directory holding one of these may be replaced (outputs of earlier runs).
 OUTPUT_MARKERS = ("results.json", "report.html", "bench.json")
 
@@ -54,7 +56,7 @@ _RENAME_EXCHANGE = 2  # linux/fs.h
 _UNSUPPORTED = (errno.ENOSYS, errno.EINVAL, errno.EOPNOTSUPP)
 
 
-class OutputError(OSError):
+class OutputError(RpsError, OSError):
     """The output directory cannot be used or replaced (one-line message naming it)."""
 
 

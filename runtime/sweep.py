@@ -13,8 +13,8 @@
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import os
+from dataclasses import dataclass
 from typing import Any, Callable
 
 from .cache import ResultCache, content_key
@@ -111,6 +111,7 @@ LOKY_RESTART = "A worker stopped while some jobs were given to the executor"
 
 def _run_local(fn: TaskFn, tasks: list, todo: list[int], workers: int, store) -> None:
     import warnings
+
     from joblib import Parallel, delayed, parallel_config
 
     with warnings.catch_warnings(), parallel_config(backend="loky", inner_max_num_threads=1):

@@ -11,8 +11,16 @@ meshing) and `common`, never the studies, the run or the reports.
 from __future__ import annotations
 
 from .fidelity import FidelitySettings
-from .load import (Case, CaseSettings, FemStudy, HeightCalibration, Scene, SceneError,
-                   load_scene, parse_scene)
+from .load import (
+                   Case,
+                   CaseSettings,
+                   FemStudy,
+                   HeightCalibration,
+                   Scene,
+                   SceneError,
+                   load_scene,
+                   parse_scene,
+)
 
 __all__ = ["Case", "CaseSettings", "FemStudy", "FidelitySettings", "HeightCalibration", "Scene",
            "SceneError", "load_scene", "parse_scene"]

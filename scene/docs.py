@@ -17,8 +17,14 @@ from fem_reference.model import FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
 
 from .fidelity import FidelitySettings
-from .load import (GEOMETRY_DEFAULTS_TEXT, CaseSettings, FemStudy, HeightCalibration,
-                    ManipulatorNotes, SceneSettings)
+from .load import (
+    GEOMETRY_DEFAULTS_TEXT,
+    CaseSettings,
+    FemStudy,
+    HeightCalibration,
+    ManipulatorNotes,
+    SceneSettings,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "scenes.md"

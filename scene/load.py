@@ -6,24 +6,38 @@ naming the key and the offending value.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import difflib
 import math
-from pathlib import Path
 import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
-from analytical.params import Manipulator, Material, ModelOptions, Pose, check_manipulator
+from analytical.params import (
+    Manipulator,
+    Material,
+    ModelOptions,
+    Pose,
+    check_manipulator,
+)
+from common.errors import InputError
 from common.paths import UnsafeName, distinct_stems
-from common.settings import MAX_ANGLE, MAX_LENGTH, MISSING, Setting, declared, nested, setting
-from meshing.geometry import MIN_MESH_SIZE
+from common.settings import (
+    MAX_ANGLE,
+    MAX_LENGTH,
+    MISSING,
+    Setting,
+    declared,
+    nested,
+    setting,
+)
 from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
-from meshing.geometry import MeshSettings
+from meshing.geometry import MIN_MESH_SIZE, MeshSettings
 
 from .fidelity import FidelitySettings
 
 
-class SceneError(ValueError):
+class SceneError(InputError):
     """The scene file is unreadable or holds an invalid value."""
 
 

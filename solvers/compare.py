@@ -13,6 +13,7 @@ from analytical.kinematics import PoseGeometry
 from analytical.modal import leg_axis_displacements, leg_axis_twists, platform_motion
 from analytical.model import analyse
 from analytical.params import ModelOptions
+from analytical.substructure import coordinate_count
 
 from common.settings import as_dict
 
@@ -61,9 +62,16 @@ class Solve:
                               shapes.shape[-1])[:, :, :3].tolist()
 
 
+def scene_coordinates(scene: Scene, options: ModelOptions) -> int:
+    """The analytical model's coordinates (its number of modes) with these options: the
+    joints' free rotations and six per interior node of every leg, plus the platform's six."""
+    m = scene.manipulator
+    return coordinate_count(options.elements, m.base_joint, m.platform_joint)
+
+
 def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
     """Frequencies, platform motion, sampled shapes and wall time of the substructure model."""
-    opts = replace(options, modes=min(options.modes + EXTRA_MODES, 18 * options.elements))
+    opts = replace(options, modes=min(options.modes + EXTRA_MODES, scene_coordinates(scene, options)))
     start = time.perf_counter()
     res = analyse(scene.manipulator, case.pose, opts)
     seconds = time.perf_counter() - start

@@ -16,7 +16,7 @@ from dataclasses import replace
 import numpy as np
 
 from analytical.kinematics import pose_geometry
-from analytical.params import JOINT_COUPLINGS
+from common.joints import COUPLINGS
 
 import results
 from runtime.cache import ResultCache
@@ -50,7 +50,7 @@ def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: s
 
     count = scene.analytical.modes
     sizes = tuple(sorted(scene.fem_study.refinement, reverse=True))
-    for coupling in JOINT_COUPLINGS:
+    for coupling in COUPLINGS:
         prefetch_fem(coupled(scene, coupling),
                      [pose_geometry(scene.manipulator, scene.case(n).pose) for n in case_names],
                      sizes, cache, workers, scheduler)
@@ -59,7 +59,7 @@ def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: s
         case = scene.case(name)
         geometry = pose_geometry(scene.manipulator, case.pose)
         readings = []
-        for coupling in JOINT_COUPLINGS:
+        for coupling in COUPLINGS:
             variant = coupled(scene, coupling)
             entry = results.CouplingReading(
                 coupling=coupling, scene_coupling=coupling == scene.fem.coupling, error=None,

@@ -15,7 +15,7 @@ from .registry import Command
 def cmd_workspace(args: argparse.Namespace) -> dict:
     """The frequency map; the grid and the mode count checked against what the model holds
     before any pose is solved."""
-    from analytical.end_zones import segments
+    from analytical.workspace import followed_modes
     from scene import load_scene
     from studies.workspace_map import workspace_map
 
@@ -25,7 +25,7 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
         raise ValueError(f"{typed(args, 'layers', 'rings', 'azimuths') or 'the grid'}: "
                          f"{poses:,} poses, above the {MAX_MAP_POSES:,} of one map (about a "
                          "minute); use a coarser grid")
-    followed = 18 * segments(scene.analytical) - 1  # analytical.workspace's window
+    followed = followed_modes(scene.manipulator, scene.analytical)
     if args.modes > followed:
         raise ValueError(f"{typed(args, 'modes') or f'modes = {args.modes}'}: the map follows "
                          f"at most {followed} modes with this scene's model "
