@@ -23,6 +23,7 @@ from pathlib import Path
 
 import pytest
 
+from pipeline.results import SCHEMA_VERSION
 from reports.build import ReportError, build_report
 from reports.results import resolve
 
@@ -240,10 +241,11 @@ def _assert_untouched(out: Path, before: dict[str, bytes]) -> None:
 @pytest.mark.parametrize("content, message", [
     (None, "results file not found"),
     ("{ not json", "not valid JSON"),
-    ('{"schema": 99, "cases": []}', "results schema 99, this version reads schema 5"),
-    ('{"schema": 2, "cases": []}', "results schema 2, this version reads schema 5: rerun `make`"),
+    ('{"schema": 99, "cases": []}', f"results schema 99, this version reads schema {SCHEMA_VERSION}"),
+    ('{"schema": 2, "cases": []}',
+     f"results schema 2, this version reads schema {SCHEMA_VERSION}: rerun `make`"),
     ('{"cases": []}', "results schema None"),
-    ('{"schema": 5, "cases": []}', "profile: field required"),
+    (f'{{"schema": {SCHEMA_VERSION}, "cases": []}}', "profile: field required"),
 ])
 def test_bad_results_file(tmp_path, content, message):
     path = tmp_path / "results.json"
