@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from pipeline.results import SCHEMA_VERSION
+from results import SCHEMA_VERSION
 from reports.build import ReportError, build_report
 from reports.results import resolve
 
