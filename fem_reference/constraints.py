@@ -125,8 +125,14 @@ class ConstraintMap:
         return p.matrix @ u[dofs]
 
 
-class _Builder:
-    """Collects T in COO form: rows are raw dofs, columns free coordinates."""
+class ConstraintBuilder:
+    """Collects T (u = T q) in COO form: rows are raw dofs, columns free coordinates.
+
+    A raw dof marked in `dependent` is eliminated; every other one is kept as its own
+    coordinate. Named extra coordinates (the joints' rotations, the rigid platform's six) are
+    added with `add_extra`; `entries` records T[rows, cols]; `finish` numbers the columns
+    (kept raw dofs first, then the extras) and returns (T, kept dofs, extra columns by name).
+    Shared by the tetrahedral legs (`build_constraints`) and the harmonic ones."""
 
     def __init__(self, n_raw: int):
         self.n_raw = n_raw
@@ -171,7 +177,7 @@ class _Builder:
         return t, retained, columns
 
 
-def _rigid_face(builder: _Builder, nodes: np.ndarray, xyz: np.ndarray, ref: np.ndarray,
+def _rigid_face(builder: ConstraintBuilder, nodes: np.ndarray, xyz: np.ndarray, ref: np.ndarray,
                 translation_cols: np.ndarray | None, translation_vals: np.ndarray | None,
                 translation_extra: bool, rotation_cols: np.ndarray, rotation_map: np.ndarray):
     """Face nodes follow the reference point rigidly: u_k = t + theta x r_k (RBE2).
@@ -194,7 +200,7 @@ def _rigid_face(builder: _Builder, nodes: np.ndarray, xyz: np.ndarray, ref: np.n
                         extra=translation_extra)
 
 
-def _eliminate(builder: _Builder, face_dofs: np.ndarray, c: np.ndarray,
+def _eliminate(builder: ConstraintBuilder, face_dofs: np.ndarray, c: np.ndarray,
                rhs_cols: np.ndarray | None, rhs: np.ndarray | None, rhs_extra: bool,
                candidates: np.ndarray | None = None):
     """Solve C u_face = D q for len(C) face dofs chosen by pivoted QR (among the columns
@@ -235,7 +241,7 @@ def rigid_rotation(joint, leg: int, phi: np.ndarray, psi: np.ndarray, plat: np.n
     return cols, rot
 
 
-def distributing_joint(bld: _Builder, face_dofs: np.ndarray, projection: np.ndarray,
+def distributing_joint(bld: ConstraintBuilder, face_dofs: np.ndarray, projection: np.ndarray,
                        joint, t_cols, t_vals, t_extra: bool, plat: np.ndarray | None,
                        candidates: np.ndarray | None = None) -> None:
     """The joint on a distributing face, whose rigid-motion projection a = projection @ u_face
@@ -282,7 +288,7 @@ def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = 
     if coupling not in COUPLINGS:
         raise ValueError(f"coupling = {coupling!r}: expected one of {', '.join(COUPLINGS)}")
     n_raw = disc.n_dofs
-    bld = _Builder(n_raw)
+    bld = ConstraintBuilder(n_raw)
     xyz = disc.node_xyz
     o = np.asarray(geometry.platform_centre, float)
     projections, references = {}, {}

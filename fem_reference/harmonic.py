@@ -55,11 +55,11 @@ from skfem import Basis, ElementTriP2, FacetBasis, LinearForm, MeshTri
 from common.rigid_body import skew
 
 from .assembly import lame
-from .constraints import COUPLINGS, _Builder, distributing_joint, rigid_rotation
+from .constraints import COUPLINGS, ConstraintBuilder, distributing_joint, rigid_rotation
 from .eigen import EigenError, lowest_modes
 from .model import (normalise_signs, reduced_matrices, section_arms, solve_record,
                     station_fractions, twist_from_section)
-from .export import _write_vtu, solid_to_meshio, write_mode_collection
+from .export import write_mesh_vtu, solid_to_meshio, write_mode_collection
 from meshing.bodies import platform_plate
 from meshing.geometry import GmshFailure, gmsh_session
 
@@ -477,7 +477,7 @@ class HarmonicResult:
         """Mode shapes for ParaView: the legs' 3D displacement on a structured display mesh
         (from the harmonics) and the rigid platform, as `FemResult.write_vtu`."""
         points, cells, body, u = self.display_mesh()
-        _write_vtu(Path(path), solid_to_meshio(points, cells, body, len(self.legs), u,
+        write_mesh_vtu(path, solid_to_meshio(points, cells, body, len(self.legs), u,
                                                self.frequencies_hz, self.plate,
                                                self.platform_motion))
         if pvd:
@@ -641,7 +641,7 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
     if max_dofs is not None and n_raw > max_dofs:
         raise HarmonicError(f"mesh_size_mm = {size * 1e3:g}: {n_raw} harmonic dofs, above max_dofs = "
                             f"{max_dofs}")
-    bld = _Builder(n_raw)
+    bld = ConstraintBuilder(n_raw)
     o = np.asarray(geometry.platform_centre, float)
     if coupling == "rigid":
         phi = bld.add_extra("phi", len(legs))
