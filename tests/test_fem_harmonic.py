@@ -85,7 +85,7 @@ def test_the_section_harmonics_left_out_lie_where_the_solver_says(scene, diamete
     """Harmonics n >= 2 never couple to a joint; the solver leaves n = 2 out after an inertia
     count says none of its modes lies below LOWEST_EXCLUDED_MARGIN x the highest mode solved.
     An independent eigen solve of every leg's n = 2 block holds it to that."""
-    from fem_reference.harmonic import LOWEST_EXCLUDED_MARGIN, _leg_data
+    from fem_reference.harmonic import LOWEST_EXCLUDED_MARGIN, leg_data
 
     m = replace(scene.manipulator, leg_diameter=diameter)
     geometry = pose_geometry(m, scene.case("case2").pose)
@@ -95,7 +95,7 @@ def test_the_section_harmonics_left_out_lie_where_the_solver_says(scene, diamete
     assert result.excluded_above_hz == pytest.approx(
         LOWEST_EXCLUDED_MARGIN * result.frequencies_hz[-1])
     lowest = []  # every leg, not only the one the solver checks for rigid faces
-    for leg, _ in _leg_data(m, geometry, size, (2,)):
+    for leg, _ in leg_data(m, geometry, size, (2,)):
         k, mass = leg.stiffness[2], leg.mass
         held = [leg.axis_nodes] + (list(leg.face_nodes) if coupling == "rigid" else [])
         free = np.setdiff1d(np.arange(k.shape[0]),
@@ -109,10 +109,10 @@ def test_the_section_harmonics_left_out_lie_where_the_solver_says(scene, diamete
 
 def test_the_inertia_count_of_section_modes_is_the_eigenvalue_count(scene):
     """Sylvester: the negative pivots of K - mu M count the eigenvalues below mu."""
-    from fem_reference.harmonic import _section_blocks, modes_below
+    from fem_reference.harmonic import section_blocks, modes_below
 
     geometry = pose_geometry(scene.manipulator, scene.case("case2").pose)
-    k, m = next(_section_blocks(scene.manipulator, geometry, 0.032, "rigid", 2))
+    k, m = next(section_blocks(scene.manipulator, geometry, 0.032, "rigid", 2))
     w = lowest_modes(k, m, 4, extra=1).eigenvalues
     f = np.sqrt(w) / (2 * math.pi)
     assert modes_below(k, m, 0.5 * f[0]) == 0
