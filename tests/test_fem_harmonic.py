@@ -173,3 +173,29 @@ def test_the_dof_guard_refuses_a_harmonic_model_too_large(scene):
     with pytest.raises(FemError,
                        match=r"about \d+ harmonic dofs expected, above max_dofs = 1000$"):
         solve_pose(scene.manipulator, geometry, _options(scene), FemRuntime(max_dofs=1000))
+
+
+def test_both_discretisations_answer_the_same_interface(scene, tmp_path):
+    """`HarmonicResult` and the tetrahedra's `FemResult` are both `FemAnswer`s: what the
+    pipeline reads of a solve (frequencies, sizes, timings, the leg-axis and platform motions,
+    the record) has the same form whichever the legs."""
+    from fem_reference import FemRuntime
+    from fem_reference.answer import FemAnswer
+
+    geometry = pose_geometry(scene.manipulator, scene.case("case1").pose)
+    answers = [solve_pose(scene.manipulator, geometry,
+                          replace(_options(scene), legs=legs).with_size(0.06),
+                          FemRuntime(cache_dir=tmp_path))
+               for legs in ("harmonic", "tetrahedra")]
+    assert [type(a).__name__ for a in answers] == ["HarmonicResult", "FemResult"]
+    stations = [0.0, 0.3, 1.0]
+    shapes = []
+    for answer in answers:
+        assert isinstance(answer, FemAnswer)
+        n = len(answer.frequencies_hz)
+        shapes.append((answer.leg_axis_displacements(stations).shape,
+                       answer.leg_axis_twists(stations).shape, answer.platform_motion.shape))
+        assert shapes[-1] == ((3, 3, 3, n), (3, 3, n), (6, n))
+        assert {"frequencies_hz", "dofs", "raw_dofs", "mesh_size_m", "timings",
+                "legs"} <= set(answer.to_dict())
+    np.testing.assert_allclose(answers[1].frequencies_hz, answers[0].frequencies_hz, rtol=0.02)
