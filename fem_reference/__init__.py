@@ -7,8 +7,6 @@ and the discretisation error from mesh refinement with Richardson extrapolation.
 """
 from __future__ import annotations
 
-import numpy as np
-
 from .convergence import RefinementStudy, richardson
 from .model import (FemError, FemOptions, FemResult, FemRuntime, estimate_raw_dofs, solve_pose,
                     with_size)

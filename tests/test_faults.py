@@ -428,7 +428,7 @@ def test_size_9_mm_is_refused_before_meshing_on_this_machine(manipulator, scene,
     def no_meshing(*args, **kwargs):
         raise AssertionError("meshed before the memory check")
 
-    monkeypatch.setattr("fem_reference.model.cached_mesh", no_meshing)
+    monkeypatch.setattr("fem_reference.tetrahedra.cached_mesh", no_meshing)
     available = resources.available_bytes()
     if available is not None and resources.MEMORY_FRACTION * available > 20.7e9:
         pytest.skip(f"this machine has {available / 1e9:.0f} GB available: 9 mm would fit")

@@ -12,7 +12,7 @@ from analytical.kinematics import pose_geometry
 from fem_reference import FemError, FemOptions, FemRuntime, refinement_study, solve_pose
 from fem_reference.convergence import P_THEORY
 from meshing.geometry import MeshSettings
-import fem_reference.model as fem_model
+import fem_reference.tetrahedra as fem_tetrahedra
 from fem_reference.eigen import EigenError
 
 SIZE = 0.04  # coarse: ~7000 dofs, ~0.5 s a pose
@@ -237,7 +237,7 @@ def test_bad_sizes_and_geometry_raise_fem_error(manipulator, case1, cache):
 def test_eigensolver_failure_is_a_fem_error(manipulator, case1, cache, monkeypatch):
     def fail(*args, **kwargs):
         raise EigenError("ARPACK did not converge: 3 of 8 eigenpairs found")
-    monkeypatch.setattr(fem_model, "lowest_modes", fail)
+    monkeypatch.setattr(fem_tetrahedra, "lowest_modes", fail)
     with pytest.raises(FemError, match="eigensolver failed .ARPACK did not converge"):
         solve_pose(manipulator, case1, options(SIZE), runtime(cache))
 

@@ -18,7 +18,7 @@ from analytical.params import Material
 from fem_reference import FemOptions, FemRuntime, solve_pose
 from fem_reference import eigen
 from fem_reference.eigen import EigenError, lowest_modes
-import fem_reference.model as fem_model
+import fem_reference.tetrahedra as fem_tetrahedra
 from meshing.geometry import MeshSettings
 from studies import hard_cases as hc
 from scene import load_scene
@@ -188,9 +188,9 @@ def fem_level_solves(scene, tmp_path_factory):
 
     out = []
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(fem_model, "lowest_modes", spy)
+        patch.setattr(fem_tetrahedra, "lowest_modes", spy)
         # in this process, so the spy sees the matrices (solves normally run in a child)
-        patch.setattr(fem_model, "stoppable", lambda fn, *args, **kw: fn(*args, **kw))
+        patch.setattr(fem_tetrahedra, "stoppable", lambda fn, *args, **kw: fn(*args, **kw))
         for size, turn in MESHES:
             machine = hc.turned(scene.manipulator, math.radians(turn))
             geometry = pose_geometry(machine, scene.case("case1").pose)
