@@ -184,8 +184,10 @@ def _ci_profile(results: dict) -> dict:
     """What a CI-profile run writes: case1/case2, no refinement, variants or studies."""
     ci = copy.deepcopy(results)
     ci["profile"] = "ci"
-    ci["studies"] = {"height_calibration": None, "angle_conventions": [], "workspace": None,
-                     "joint_orders": [], "joint_couplings": [], "workspace_validation": None, "hard_cases": []}
+    ci["studies"] = {"reachable_workspace": results["studies"]["reachable_workspace"],
+                     "height_calibration": None, "angle_conventions": [], "workspace": None,
+                     "joint_orders": [], "joint_couplings": [], "workspace_validation": None,
+                     "hard_cases": []}
     ci["cases"] = [c for c in ci["cases"] if c["name"] in ("case1", "case2")]
     for case in ci["cases"]:
         for key in ("fem_refinement", "models", "element_convergence", "fem_variants",
