@@ -90,7 +90,8 @@ class Manipulator:
                                         **_PART)
     material: Material = nested_setting(Material)
     leg_angles: tuple[float, float, float] = setting(
-        (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3, minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
+        (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3,
+        minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
         doc="polar angles of the three legs from the base x-axis (120 degrees apart; one turn "
         "either way at most)")
     platform_shape: str = setting("disk", kind=str, choices=PLATFORM_SHAPES,

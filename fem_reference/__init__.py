@@ -8,11 +8,18 @@ and the discretisation error from mesh refinement with Richardson extrapolation.
 from __future__ import annotations
 
 from .convergence import RefinementStudy, richardson
-from .model import (FemError, FemOptions, FemResult, FemRuntime, estimate_raw_dofs, solve_pose,
-                    with_size)
+from .model import (
+    FemError,
+    FemOptions,
+    FemResult,
+    FemRuntime,
+    estimate_raw_dofs,
+    solve_pose,
+    with_size,
+)
 
-__all__ = ["FemError", "FemOptions", "FemResult", "FemRuntime", "RefinementStudy", "estimate_raw_dofs",
-           "refinement_study", "richardson", "solve_pose"]
+__all__ = ["FemError", "FemOptions", "FemResult", "FemRuntime", "RefinementStudy",
+           "estimate_raw_dofs", "refinement_study", "richardson", "solve_pose"]
 
 
 def refinement_study(manipulator, geometry, sizes, options: FemOptions,
@@ -21,8 +28,9 @@ def refinement_study(manipulator, geometry, sizes, options: FemOptions,
 
     Raises FemError for fewer than three sizes or sizes that do not strictly decrease.
     """
-    from .convergence import study_from_results
     from meshing.bodies import pose_assembly
+
+    from .convergence import study_from_results
 
     sizes = [float(s) for s in sizes]
     if len(sizes) < 3:

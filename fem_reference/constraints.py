@@ -54,7 +54,6 @@ from common.rigid_body import rigid_body_mass, skew
 
 from .discretisation import Discretisation
 
-
 # ---------------------------------------------------------------- face averages (RBE3 weights)
 
 def _tri6_shape(xi: np.ndarray, eta: np.ndarray):

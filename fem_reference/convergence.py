@@ -34,8 +34,8 @@ sequence converging at P_THEORY, |largest change| / ((h_{n-1} / h_n)^P_THEORY - 
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq

@@ -58,9 +58,23 @@ from .answer import normalise_signs
 from .eigen import EigenError, lowest_modes
 from .harmonic_faces import harmonic_constraints
 from .harmonic_result import HarmonicResult
-from .harmonic_sections import lowest_leg_harmonic, modes_below, section_blocks, section_modes_above
-from .meridian import (HarmonicError, clear_caches, estimate_raw_dofs, families, leg_data,
-                       leg_harmonics, leg_lengths, meridian_mesh, mesh_quality)
+from .harmonic_sections import (
+    lowest_leg_harmonic,
+    modes_below,
+    section_blocks,
+    section_modes_above,
+)
+from .meridian import (
+    HarmonicError,
+    clear_caches,
+    estimate_raw_dofs,
+    families,
+    leg_data,
+    leg_harmonics,
+    leg_lengths,
+    meridian_mesh,
+    mesh_quality,
+)
 from .reduction import reduced_matrices
 
 __all__ = ["HarmonicError", "HarmonicResult", "LOWEST_EXCLUDED_MARGIN", "clear_caches",
@@ -118,8 +132,8 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
         offsets.append(n_raw)
         n_raw += len(fams) * 3 * leg.n_scalar
     if max_dofs is not None and n_raw > max_dofs:
-        raise HarmonicError(f"mesh_size_mm = {size * 1e3:g}: {n_raw} harmonic dofs, above max_dofs = "
-                            f"{max_dofs}")
+        raise HarmonicError(f"mesh_size_mm = {size * 1e3:g}: {n_raw} harmonic dofs, above "
+                            f"max_dofs = {max_dofs}")
     t_map, columns = harmonic_constraints(legs, offsets, harmonics, geometry, coupling, n_raw)
     k_blocks, m_blocks = [], []
     for leg, _ in legs:

@@ -7,8 +7,8 @@ tetrahedral model's `FemResult` does.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 

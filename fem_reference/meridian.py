@@ -9,14 +9,15 @@ DOF guard's number (`guard.check_mesh_size`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import functools
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementTriP2, FacetBasis, LinearForm, MeshTri
 
+from common.errors import InputError
 from meshing.geometry import GmshFailure, gmsh_session
 
 from .assembly import lame
@@ -25,7 +26,7 @@ AXIS_TOL = 1e-12  # relative to R: a node on the axis
 FACE_TOL = 1e-12  # relative to L: a node on an end face
 
 
-class HarmonicError(ValueError):
+class HarmonicError(InputError):
     """Bad input or a failed step of the harmonic model; one line naming the value."""
 
 

@@ -22,7 +22,15 @@ from meshing.bodies import GeometryError, pose_assembly
 from .answer import FemAnswer
 from .guard import check_mesh_size, estimate_raw_dofs
 from .harmonic import HarmonicError, HarmonicResult, solve_pose_harmonic
-from .options import LEG_MODELS, PLATFORMS, FemError, FemOptions, FemRuntime, legs_for, with_size
+from .options import (
+    LEG_MODELS,
+    PLATFORMS,
+    FemError,
+    FemOptions,
+    FemRuntime,
+    legs_for,
+    with_size,
+)
 from .tetrahedra import FemResult, solve_pose_tetrahedra
 
 __all__ = ["FemAnswer", "FemError", "FemOptions", "FemResult", "FemRuntime", "HarmonicResult",

@@ -5,9 +5,10 @@ may import from here; nothing here imports a discretisation.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
 import os
+from dataclasses import dataclass, replace
 
+from common.errors import InputError
 from common.joints import COUPLINGS
 from common.settings import MAX_SOLVED_MODES, check_settings, nested_setting, setting
 from meshing.geometry import MeshSettings
@@ -26,7 +27,7 @@ def legs_for(platform: str | None, legs: str | None) -> str | None:
     return legs
 
 
-class FemError(ValueError):
+class FemError(InputError):
     """Bad input or a failed FEM step; the message is one line naming the offending value."""
 
 

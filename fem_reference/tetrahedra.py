@@ -12,8 +12,8 @@ size (`guard.check_mesh_size`) and dispatches here for legs = "tetrahedra".
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -23,8 +23,13 @@ from meshing.bodies import Assembly, Plate, platform_plate
 from meshing.cache import cached_mesh
 from meshing.geometry import GmshFailure
 
-from .answer import (normalise_signs, section_arms, solve_record, station_fractions,
-                     twist_from_section)
+from .answer import (
+    normalise_signs,
+    section_arms,
+    solve_record,
+    station_fractions,
+    twist_from_section,
+)
 from .assembly import stiffness_and_mass
 from .constraints import ConstraintMap, build_constraints
 from .discretisation import Discretisation, discretise
@@ -154,8 +159,8 @@ def solve_pose_tetrahedra(manipulator, geometry, assembly: Assembly, options: Fe
 
     disc = discretise(solid)
     if disc.n_dofs > runtime.max_dofs:
-        raise FemError(f"mesh_size_mm = {settings.size * 1e3:g}: {disc.n_dofs} dofs, above max_dofs = "
-                       f"{runtime.max_dofs}")
+        raise FemError(f"mesh_size_mm = {settings.size * 1e3:g}: {disc.n_dofs} dofs, above "
+                       f"max_dofs = {runtime.max_dofs}")
     k, m = stiffness_and_mass(disc, manipulator.material)
     try:
         cmap = build_constraints(disc, geometry, assembly, options.coupling, options.platform)
@@ -171,7 +176,8 @@ def solve_pose_tetrahedra(manipulator, geometry, assembly: Assembly, options: Fe
         # in a child process, so Ctrl-C and SIGTERM stop a long factorisation at once
         modes = stoppable(lowest_modes, kq, mq, options.modes, backend=runtime.backend)
     except (EigenError, WorkerDied) as exc:
-        raise FemError(f"mesh_size_mm = {settings.size * 1e3:g}: eigensolver failed ({exc})") from None
+        raise FemError(f"mesh_size_mm = {settings.size * 1e3:g}: eigensolver failed "
+                       f"({exc})") from None
     vq = normalise_signs(modes.vectors)
     v_raw = t_ @ vq
     t_end = time.perf_counter()

@@ -17,16 +17,15 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import replace
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
 from analytical.kinematics import pose_geometry
-
 from common.atomic import write_json_atomic
 from runtime.cache import ResultCache
-from solvers.compare import analytical_case, error_table, fem_case, with_cache_dir
 from scene import load_scene
+from solvers.compare import analytical_case, error_table, fem_case, with_cache_dir
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = ROOT / "tests" / "baselines" / "error_tables.json"

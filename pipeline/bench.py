@@ -32,11 +32,10 @@ from analytical.model import analyse
 from analytical.params import Pose
 from analytical.substructure import assemble
 from analytical.workspace import default_workers, frequency_map
-
 from common.atomic import write_json_atomic
 from common.locations import default_scene
-from solvers.compare import fem_options, fem_runtime
 from scene import load_scene
+from solvers.compare import fem_options, fem_runtime
 from studies.workspace_map import workspace_heights
 
 MAP_GRID = (20, 10, 50)  # heights x rings x azimuths: the 10,000-pose map of issue 12

@@ -9,7 +9,6 @@ content-keyed cache, so a second run with nothing changed takes seconds.
 from __future__ import annotations
 
 import datetime as dt
-from dataclasses import replace
 import hashlib
 import math
 import os
@@ -17,6 +16,7 @@ import platform
 import shutil
 import subprocess
 import sys
+from dataclasses import replace
 from importlib import metadata
 from pathlib import Path
 from typing import Callable

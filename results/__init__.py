@@ -7,9 +7,9 @@ and imports nothing of the project but `common` (README.md).
 """
 from __future__ import annotations
 
+from .case_records import *  # noqa: F401,F403
+from .rules import best_error, mode_ranges, worst_by_mode_range, worst_in_mode_ranges  # noqa: F401
+from .schema import Results, dumps, nesting_depth, read, validated  # noqa: F401
+from .study_records import *  # noqa: F401,F403
 from .types import *  # noqa: F401,F403
 from .types import LOW_MODES, MAX_DEPTH, MAX_FREQUENCY_HZ, SCHEMA_VERSION  # noqa: F401
-from .case_records import *  # noqa: F401,F403
-from .study_records import *  # noqa: F401,F403
-from .schema import Results, dumps, nesting_depth, read, validated  # noqa: F401
-from .rules import best_error, mode_ranges, worst_by_mode_range, worst_in_mode_ranges  # noqa: F401

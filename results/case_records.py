@@ -4,11 +4,10 @@ from __future__ import annotations
 
 from typing import Literal
 
+from pydantic import FiniteFloat, with_config
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
-from pydantic import FiniteFloat, with_config
-
-from .types import STRICT, Frequencies, Frequency, Hz, Motion, CaseName, RelativePath
+from .types import STRICT, CaseName, Frequencies, Frequency, Hz, Motion, RelativePath
 
 
 @with_config(STRICT)

@@ -2,8 +2,8 @@
 judged by, and the paper's two mode ranges."""
 from __future__ import annotations
 
-from .types import LOW_MODES
 from .case_records import Pair
+from .types import LOW_MODES
 
 
 def best_error(pair: Pair) -> float:

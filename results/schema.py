@@ -22,15 +22,14 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
-
 from pydantic import TypeAdapter, ValidationError, with_config
+from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from common.paths import UnsafeName, distinct_stems
 
-from .types import STRICT, MAX_DEPTH, SCHEMA_VERSION
 from .case_records import Case, Environment, SceneSummary
 from .study_records import Fidelity, Studies
+from .types import MAX_DEPTH, SCHEMA_VERSION, STRICT
 
 
 @with_config(STRICT)

@@ -3,9 +3,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
-
 from pydantic import FiniteFloat, with_config
+from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from .types import STRICT, Frequencies, Frequency, Hz
 

@@ -1,8 +1,7 @@
 """A short plain-language verdict per case, written from the numbers in results.json only."""
 from __future__ import annotations
 
-from results import (LOW_MODES, mode_ranges, worst_by_mode_range,
-                              worst_in_mode_ranges)
+from results import LOW_MODES, mode_ranges, worst_by_mode_range, worst_in_mode_ranges
 
 
 def _worst(values) -> float | None:

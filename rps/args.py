@@ -88,6 +88,7 @@ def run_choice(args: argparse.Namespace, scene) -> dict | None:
     if args.from_results is None:
         return None
     import hashlib
+
     from results import read
 
     where = f"--from-results {args.from_results}"

@@ -32,7 +32,7 @@ from common.settings import (
     setting,
 )
 from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
-from meshing.geometry import MIN_MESH_SIZE, MeshSettings
+from meshing.geometry import MIN_MESH_SIZE
 
 from .fidelity import FidelitySettings
 

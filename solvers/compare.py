@@ -9,20 +9,17 @@ from pathlib import Path
 
 import numpy as np
 
+import results
 from analytical.kinematics import PoseGeometry
 from analytical.modal import leg_axis_displacements, leg_axis_twists, platform_motion
 from analytical.model import analyse
 from analytical.params import ModelOptions
 from analytical.substructure import coordinate_count
-
 from common.settings import as_dict
-
 from fem_reference.model import legs_for
-
-import results
 from runtime.cache import ResultCache
-from solvers.pairing import pair_modes
 from scene import Case, Scene
+from solvers.pairing import pair_modes
 
 # Shared points for MAC: eleven stations along every leg axis, joint centres included.
 STATIONS = np.linspace(0.0, 1.0, 11)
@@ -71,7 +68,8 @@ def scene_coordinates(scene: Scene, options: ModelOptions) -> int:
 
 def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
     """Frequencies, platform motion, sampled shapes and wall time of the substructure model."""
-    opts = replace(options, modes=min(options.modes + EXTRA_MODES, scene_coordinates(scene, options)))
+    opts = replace(options,
+                   modes=min(options.modes + EXTRA_MODES, scene_coordinates(scene, options)))
     start = time.perf_counter()
     res = analyse(scene.manipulator, case.pose, opts)
     seconds = time.perf_counter() - start

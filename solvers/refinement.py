@@ -5,7 +5,6 @@ from __future__ import annotations
 import results as schema
 from runtime.cache import ResultCache
 from scene import Scene
-
 from solvers.compare import fem_case
 
 

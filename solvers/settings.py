@@ -6,7 +6,6 @@ from __future__ import annotations
 from dataclasses import replace
 
 from analytical.params import ModelOptions
-
 from scene import Scene
 
 

@@ -13,9 +13,8 @@ from __future__ import annotations
 
 import os
 import platform
-from functools import lru_cache
-
 import time
+from functools import lru_cache
 
 import numpy as np
 

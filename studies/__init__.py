@@ -10,9 +10,20 @@ stage; the report titles its sections from the same list. Adding a study is one 
 """
 from __future__ import annotations
 
-from . import (calibration, conventions, couplings, element_convergence, fem_idealisations,
-               hard_cases, joint_orders, model_variants, reachable, speed_vs_error,
-               workspace_map, workspace_validation)
+from . import (
+    calibration,
+    conventions,
+    couplings,
+    element_convergence,
+    fem_idealisations,
+    hard_cases,
+    joint_orders,
+    model_variants,
+    reachable,
+    speed_vs_error,
+    workspace_map,
+    workspace_validation,
+)
 from .registry import STAGES, CaseContext, Context, Study
 
 STUDIES: tuple[Study, ...] = (

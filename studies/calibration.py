@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from analytical.calibration import calibrate_height
-
 import results
+from analytical.calibration import calibrate_height
 from scene import Case, Scene
 
 from .registry import Context, Study

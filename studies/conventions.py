@@ -7,11 +7,10 @@ from dataclasses import replace
 
 import numpy as np
 
+import results
 from analytical.kinematics import rotation_y
 from analytical.model import natural_frequencies
 from analytical.params import Pose
-
-import results
 from scene import Case, Scene
 
 from .calibration import _hz

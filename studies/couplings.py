@@ -15,16 +15,15 @@ from dataclasses import replace
 
 import numpy as np
 
+import results
 from analytical.kinematics import pose_geometry
 from common.joints import COUPLINGS
-
-import results
 from runtime.cache import ResultCache
-from solvers.compare import analytical_case, error_table, fem_case, model_reading
 from scene import Scene
+from solvers.compare import analytical_case, error_table, fem_case, model_reading
+from solvers.settings import speed_settings
 
 from .registry import Context, Study
-from solvers.settings import speed_settings
 
 MODELS = ("Timoshenko (Hutchinson), s=5", "Timoshenko (Hutchinson) + solid ends, s=5")
 
@@ -45,8 +44,7 @@ def models(scene: Scene, chosen_label: str | None) -> dict:
 def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: str | None,
                    workers: int = 1, scheduler: str | None = None) -> list[dict]:
     """Per case and coupling: the FEM limit and each model's error against it."""
-    from solvers.refinement import fem_refinement
-    from solvers.refinement import prefetch_fem
+    from solvers.refinement import fem_refinement, prefetch_fem
 
     count = scene.analytical.modes
     sizes = tuple(sorted(scene.fem_study.refinement, reverse=True))

@@ -4,14 +4,12 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from analytical.model import natural_frequencies
-
 import results
+from analytical.model import natural_frequencies
 from scene import Case, Scene
 
 from .calibration import _hz
 from .registry import CaseContext, Context, Study
-
 
 ELEMENT_RANGE = tuple(range(1, 11))
 

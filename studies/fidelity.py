@@ -6,24 +6,28 @@ speed-vs-error set (`solvers.settings.speed_settings`) against the FEM limit, ti
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
 import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from analytical.kinematics import pose_geometry
 from analytical.params import Pose
-
+from runtime.cache import ResultCache
+from scene import Scene
+from solvers.compare import analytical_case, error_table, fem_case
+from solvers.refinement import prefetch_fem
 from solvers.settings import model_variants, speed_settings
+from solvers.timing import seconds_per_pose
+from studies.choice import (
+    FEM_ERROR_SHARE,
+    AnalyticalChoice,
+    FemChoice,
+    choose_analytical,
+    choose_fem_size,
+)
 
 from . import workspace_validation as wv
-from runtime.cache import ResultCache
-from solvers.compare import analytical_case, error_table, fem_case
-from studies.choice import (FEM_ERROR_SHARE, AnalyticalChoice, FemChoice, choose_analytical,
-                       choose_fem_size)
-from scene import Scene
-from solvers.refinement import prefetch_fem
-from solvers.timing import seconds_per_pose
 
 SCENE_SETTING = "scene's [analytical]"
 

@@ -10,12 +10,11 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from analytical.kinematics import pose_geometry
-
 import results
+from analytical.kinematics import pose_geometry
 from runtime.cache import ResultCache
-from solvers.compare import analytical_case, error_table, fem_case, model_reading
 from scene import Scene
+from solvers.compare import analytical_case, error_table, fem_case, model_reading
 
 from .registry import Context, Study
 

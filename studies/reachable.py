@@ -14,16 +14,21 @@ import math
 
 import numpy as np
 
-from analytical.kinematics import PoseError, pose_geometry
-from analytical.reach import (LAYER_INSET, LAYER_INSET_SHARE, WorkspaceError, layer_band,
-                              level_band, regular_radii)
-
 import results as schema
+from analytical.kinematics import PoseError, pose_geometry
+from analytical.reach import (
+    LAYER_INSET,
+    LAYER_INSET_SHARE,
+    WorkspaceError,
+    layer_band,
+    level_band,
+    regular_radii,
+)
 from scene import Scene
-
-from .registry import Study
 from studies.workspace_map import MAP_LAYERS, workspace_heights
 from studies.workspace_validation import FULL, SMALL, design_with_dropped
+
+from .registry import Study
 
 MIN_BAND = 1e-3  # m: a level band narrower than this leaves the layered studies nothing to map
 FLAT_TILT = math.radians(0.01)  # a layer whose theta_r is below this cannot tilt every way

@@ -7,9 +7,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from analytical.reach import layer_heights
-
 import results
+from analytical.reach import layer_heights
 from scene import Scene
 
 from .registry import Context, Study

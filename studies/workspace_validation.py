@@ -18,8 +18,8 @@ One pose is one task of a sweep (`runtime.sweep`), cached by content.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.stats import qmc
@@ -29,7 +29,6 @@ from analytical.params import Manipulator, ModelOptions, Pose
 from analytical.reach import layer_band, max_tilts, regular_radii
 from common.settings import as_dict
 from fem_reference.convergence import P_THEORY
-
 from runtime.cache import ResultCache
 from solvers.compare import analytical_case, error_table, fem_case
 

@@ -70,4 +70,5 @@ def test_key_follows_the_code_a_value_is_computed_with(monkeypatch, tmp_path):
 def test_the_model_packages_include_common():
     import runtime.cache as cache
 
-    assert set(cache.CODE_PACKAGES) == {"analytical", "common", "joint_ends", "meshing", "fem_reference"}
+    assert set(cache.CODE_PACKAGES) == {"analytical", "common", "joint_ends", "meshing",
+                                        "fem_reference"}

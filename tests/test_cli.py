@@ -218,8 +218,9 @@ def test_estimate_error_refines_around_a_size_outside_the_scenes_sequence(tmp_pa
 
 def test_developer_commands_refuse_to_run_outside_a_checkout(monkeypatch, capsys):
     import rps.app as cli
+    import rps.args
 
-    monkeypatch.setattr(cli, "checkout_root", lambda: None)
+    monkeypatch.setattr(rps.args, "checkout_root", lambda: None)
     assert cli.main(["scene-docs"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "repository checkout" in err[0]

@@ -7,9 +7,8 @@ complete run (or exactly the previous one), no staging folder anywhere, one line
 """
 from __future__ import annotations
 
-import errno
 import copy
-from dataclasses import replace
+import errno
 import json
 import os
 import shutil
@@ -17,17 +16,18 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
 
-import runtime.outdir as outdir
 import pipeline.run as run
+import runtime.outdir as outdir
 from analytical.kinematics import pose_geometry
+from common.worker import WorkerDied, stoppable
 from fem_reference import resources
 from fem_reference.model import FemError, solve_pose
-from common.worker import WorkerDied, stoppable
 from pipeline.baselines import check_command, load_baseline
 from runtime.cache import ResultCache
 from solvers.compare import fem_case, fem_options, fem_runtime

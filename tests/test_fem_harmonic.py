@@ -8,8 +8,8 @@ far above the modes solved for, and the display VTU a valid solid.
 """
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -109,7 +109,7 @@ def test_the_section_harmonics_left_out_lie_where_the_solver_says(scene, diamete
 
 def test_the_inertia_count_of_section_modes_is_the_eigenvalue_count(scene):
     """Sylvester: the negative pivots of K - mu M count the eigenvalues below mu."""
-    from fem_reference.harmonic import section_blocks, modes_below
+    from fem_reference.harmonic import modes_below, section_blocks
 
     geometry = pose_geometry(scene.manipulator, scene.case("case2").pose)
     k, m = next(section_blocks(scene.manipulator, geometry, 0.032, "rigid", 2))
@@ -148,8 +148,8 @@ def test_the_stated_error_of_harmonic_legs_bounds_their_error(scene, pose_name):
     """The refinement study's stated error (order bounded by the rims' 1.42) is at least the
     error measured against a mesh five times finer (0.003-0.01 % at 0.32 d), on every mode, at
     a CI case and at the most compact pose of the workspace (legs ~2.4 diameters long)."""
-    from fem_reference import refinement_study
     from analytical.reach import layer_band
+    from fem_reference import refinement_study
 
     m = scene.manipulator
     d = m.leg_diameter

@@ -22,7 +22,8 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, event, given, settings, strategies as st
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
 
 from analytical.kinematics import pose_geometry
 from analytical.model import natural_frequencies
@@ -145,11 +146,11 @@ def test_every_study_pose_of_a_checked_machine_is_reachable(raw):
 @_settings(5, 30)
 @given(machines())
 def test_the_fem_solves_and_pairs_every_case_of_a_checked_machine(raw):
+    import tempfile
     from dataclasses import replace
 
-    from solvers.compare import analytical_case, error_table, fem_case
     from runtime.cache import ResultCache
-    import tempfile
+    from solvers.compare import analytical_case, error_table, fem_case
 
     got = checked(raw)
     if got is None:

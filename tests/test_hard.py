@@ -4,24 +4,23 @@ tolerance; the analytical claims are measured by studies.hard_cases (which also 
 report), the FEM ones here. Run alone with `pytest -m hard`."""
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 import scipy.sparse.linalg as sla
 
+import fem_reference.tetrahedra as fem_tetrahedra
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.modal import ModalError
 from analytical.model import analyse, natural_frequencies
 from analytical.params import Material
-from fem_reference import FemOptions, FemRuntime, solve_pose
-from fem_reference import eigen
+from fem_reference import FemOptions, FemRuntime, eigen, solve_pose
 from fem_reference.eigen import EigenError, lowest_modes
-import fem_reference.tetrahedra as fem_tetrahedra
 from meshing.geometry import MeshSettings
-from studies import hard_cases as hc
 from scene import load_scene
+from studies import hard_cases as hc
 from tests.conftest import ROOT
 
 pytestmark = pytest.mark.hard

@@ -15,8 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from common.paths import (MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, file_stem,
-                          inside)
+from common.paths import MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, file_stem, inside
 from pipeline import cli
 from results import MAX_DEPTH, SCHEMA_VERSION
 from results.tables import write_tables

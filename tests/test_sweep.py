@@ -3,7 +3,6 @@ a Dask cluster giving the same results."""
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 
 import pytest
@@ -11,8 +10,8 @@ import pytest
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions, Pose
 from runtime.cache import ResultCache
-from scene import load_scene
 from runtime.sweep import run_sweep
+from scene import load_scene
 from tests.conftest import PAPER_SCENE
 
 

@@ -2,22 +2,21 @@
 (analytical/pose_batch.py, batch_model.py, tracking.py, workspace.py)."""
 from __future__ import annotations
 
-from dataclasses import replace
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from analytical.batch_model import (assemble_batch, batch_frequencies, batch_modes,
-                                    standard_form)
+from analytical.batch_model import assemble_batch, batch_frequencies, batch_modes, standard_form
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.model import natural_frequencies
 from analytical.params import Pose
 from analytical.pose_batch import pose_batch
+from analytical.reach import MAX_TILT, max_tilt, reachable
 from analytical.substructure import assemble
 from analytical.tracking import match_modes, steps_needing_shapes
-from analytical.reach import MAX_TILT, max_tilt, reachable
 from analytical.workspace import frequency_map
 from scene import load_scene
 from tests.conftest import ROOT

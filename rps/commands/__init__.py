@@ -2,8 +2,17 @@
 a `COMMAND` declaration (copy `cache.py`, the smallest) and one line below."""
 from __future__ import annotations
 
-from . import (analytical, cache, check_baselines, fem, readme, scene_docs, update_baselines,
-               validate, workspace)
+from . import (
+               analytical,
+               cache,
+               check_baselines,
+               fem,
+               readme,
+               scene_docs,
+               update_baselines,
+               validate,
+               workspace,
+)
 from .registry import Command
 
 COMMANDS: tuple[Command, ...] = (

@@ -14,13 +14,12 @@ from ..args import emit, named_first, pose_case, pose_payload, run_choice, scene
 from ..options import declared_option, typed
 from .registry import Command
 
-
 CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "elements", "platform_inertia")
 
 
 def cmd_analytical(args: argparse.Namespace) -> dict:
-    from analytical.model import analyse
     from analytical.modal import ModalError
+    from analytical.model import analyse
     from scene import load_scene
 
     scene = load_scene(args.scene)
@@ -90,4 +89,5 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMAND = Command("analytical", "substructure model of one case (Gong & Lou's Eqs. 1-25)", add_arguments, run)
+COMMAND = Command("analytical", "substructure model of one case (Gong & Lou's Eqs. 1-25)",
+                  add_arguments, run)

@@ -9,8 +9,17 @@ from dataclasses import replace
 from meshing.geometry import MeshSettings
 from scene import FidelitySettings
 
-from ..args import (cache_dir, cache_option, emit, fem_choices, named_first, pose_case,
-                    pose_payload, run_choice, scene_args)
+from ..args import (
+    cache_dir,
+    cache_option,
+    emit,
+    fem_choices,
+    named_first,
+    pose_case,
+    pose_payload,
+    run_choice,
+    scene_args,
+)
 from ..options import declared_option, typed
 from .registry import Command
 
@@ -35,8 +44,8 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     from fem_reference.model import FemError, check_mesh_size
     from meshing.bodies import pose_assembly
     from runtime.cache import ResultCache
-    from solvers.compare import fem_options, fem_runtime
     from scene import load_scene
+    from solvers.compare import fem_options, fem_runtime
 
     scene = load_scene(args.scene)
     case, geometry = pose_case(scene, args)

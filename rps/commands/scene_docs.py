@@ -18,4 +18,5 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMAND = Command("scene-docs", "rewrite docs/scenes.md from the scene declarations (checkout only)", add_arguments, run)
+COMMAND = Command("scene-docs", "rewrite docs/scenes.md from the scene declarations (checkout "
+                  "only)", add_arguments, run)

@@ -39,4 +39,5 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMAND = Command("validate", "run the whole validation of a scene: results, tables, report", add_arguments, run)
+COMMAND = Command("validate", "run the whole validation of a scene: results, tables, report",
+                  add_arguments, run)

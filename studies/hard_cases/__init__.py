@@ -15,18 +15,21 @@ from runtime.cache import ResultCache
 from scene import Scene
 
 from ..registry import Context, Study
-
 from .base import SEED, Row, random_rotation, turned, untestable  # noqa: F401
 from .geometry import *  # noqa: F401,F403
-from .geometry import (aluminium_scaling, slender_legs, stocky_legs, thin_plate,
-                       titanium_scaling)
+from .geometry import aluminium_scaling, slender_legs, stocky_legs, thin_plate, titanium_scaling
 from .limits import *  # noqa: F401,F403
 from .limits import LIMITS, boundary_ring, joint_limit
 from .paths import *  # noqa: F401,F403
 from .paths import continuity, near_crossing
 from .spectra import *  # noqa: F401,F403
-from .spectra import (eigen_residuals, mode_count, no_spurious_zero_mode, repeated_pairs,
-                      turned_layout)
+from .spectra import (
+    eigen_residuals,
+    mode_count,
+    no_spurious_zero_mode,
+    repeated_pairs,
+    turned_layout,
+)
 
 CHEAP = (repeated_pairs, turned_layout, eigen_residuals, mode_count, no_spurious_zero_mode,
          continuity, near_crossing, slender_legs, stocky_legs, thin_plate, aluminium_scaling,

@@ -7,8 +7,6 @@ import numpy as np
 
 from analytical.params import Manipulator
 
-
-
 SEED = 20231201
 
 

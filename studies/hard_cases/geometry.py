@@ -1,19 +1,18 @@
 """Hard cases: extreme geometry and materials (slender, stocky, thin, other metals)."""
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 
 from analytical.kinematics import pose_geometry
 from analytical.model import natural_frequencies
 from analytical.params import Material, Pose
-from analytical.reach import (WorkspaceError, layer_heights, sample_poses)
-
+from analytical.reach import WorkspaceError, layer_heights, sample_poses
 from scene import Scene
-from .base import SEED, Row, untestable
 
+from .base import SEED, Row, untestable
 
 # --- geometry --------------------------------------------------------------------------------
 

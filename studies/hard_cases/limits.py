@@ -1,8 +1,8 @@
 """Hard cases: the workspace boundary and the joint limits."""
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -10,11 +10,10 @@ from analytical.kinematics import PoseError
 from analytical.model import analyse, natural_frequencies
 from analytical.params import Manipulator, Pose
 from analytical.pose_batch import pose_batch
-from analytical.reach import (layer_heights, max_tilts, regular_radius)
-
+from analytical.reach import layer_heights, max_tilts, regular_radius
 from scene import Scene
-from .base import Row
 
+from .base import Row
 
 # --- workspace boundary and joint limits ----------------------------------------------------
 

@@ -1,21 +1,19 @@
 """Hard cases: continuity of the frequencies along paths, and tracking through crossings."""
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 
-from analytical.batch_model import (assemble_batch, batch_modes,
-                                    probe_shapes, standard_form)
+from analytical.batch_model import assemble_batch, batch_modes, probe_shapes, standard_form
 from analytical.params import Manipulator, ModelOptions, Pose
 from analytical.pose_batch import pose_batch
+from analytical.reach import layer_heights, regular_radii
 from analytical.tracking import family_values, track_path
-from analytical.reach import (layer_heights, regular_radii)
-
 from scene import Scene
-from .base import Row
 
+from .base import Row
 
 # --- continuity and tracking ----------------------------------------------------------------
 

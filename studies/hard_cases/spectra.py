@@ -1,22 +1,21 @@
 """Hard cases: repeated eigenvalues and checked eigen-solutions."""
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 
-from analytical.batch_model import (assemble_batch, batch_frequencies, standard_form)
+from analytical.batch_model import assemble_batch, batch_frequencies, standard_form
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.model import analyse, natural_frequencies
 from analytical.params import Pose
 from analytical.pose_batch import pose_batch
-from analytical.reach import (layer_heights, sample_poses)
+from analytical.reach import layer_heights, sample_poses
 from common.modes import clusters
-
 from scene import Scene
-from .base import SEED, Row, random_rotation, turned
 
+from .base import SEED, Row, random_rotation, turned
 
 # --- repeated eigenvalues --------------------------------------------------------------------
 
