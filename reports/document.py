@@ -7,6 +7,8 @@ from pathlib import Path
 
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
+from studies import STUDIES
+
 from . import validation, verdict
 from .case_tables import (
     comparison_table,
@@ -72,6 +74,7 @@ def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
               "hard-cases": "Hard cases: numerical stability and physics checks",
               "studies": "Reading the paper: angle conventions and height calibration",
               "other": "Other cases"}
+    titles |= {s.anchor: s.title for s in STUDIES if s.anchor in titles}  # declared once
     kept = [(key, title) for key, title in titles.items() if present.get(key, True)]
     return {key: f"{n} {title}" for n, (key, title) in enumerate(kept, start=1)}
 

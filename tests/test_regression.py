@@ -12,6 +12,8 @@ import pytest
 from pipeline.baselines import compare, compute_tables, load_baseline
 from tests.conftest import ROOT
 
+pytestmark = pytest.mark.slow  # whole validation runs (CI profile): tens of seconds each
+
 
 @pytest.fixture(scope="module")
 def baseline():

@@ -9,6 +9,8 @@ import pytest
 import pipeline.run as run
 from tests.conftest import PAPER_SCENE
 
+pytestmark = pytest.mark.slow  # whole validation runs (CI profile): tens of seconds each
+
 
 def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
     out = tmp_path / "out"
