@@ -30,13 +30,12 @@ def refinement_study(manipulator, geometry, sizes, options: FemOptions,
     """
     from meshing.bodies import pose_assembly
 
-    from .convergence import study_from_results
+    from .convergence import sequence_problem, study_from_results
 
     sizes = [float(s) for s in sizes]
-    if len(sizes) < 3:
-        raise FemError(f"sizes = {sizes!r}: Richardson extrapolation needs at least three sizes")
-    if any(b >= a for a, b in zip(sizes, sizes[1:])):
-        raise FemError(f"sizes = {sizes!r}: sizes must strictly decrease (coarse -> fine)")
+    why = sequence_problem(sizes)
+    if why is not None:
+        raise FemError(f"sizes = {sizes!r}: {why}")
     results = [solve_pose(manipulator, geometry, with_size(options, h), runtime or FemRuntime())
                for h in sizes]
     volume = pose_assembly(manipulator, geometry,

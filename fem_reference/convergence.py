@@ -56,6 +56,20 @@ class ModeConvergence:
     observed_order: float | None = None  # the fitted order before the theory bound
 
 
+MIN_SIZES = 3  # a fitted order and a limit need three sizes at least
+
+
+def sequence_problem(sizes) -> str | None:
+    """Why `sizes` (m) is not a refinement sequence (None when it is): at least MIN_SIZES
+    sizes, strictly decreasing (coarse -> fine). The one rule, for the scene and the FEM."""
+    sizes = [float(s) for s in sizes]
+    if len(sizes) < MIN_SIZES:
+        return f"Richardson extrapolation needs at least {MIN_SIZES} sizes"
+    if any(b >= a for a, b in zip(sizes, sizes[1:])):
+        return "sizes must strictly decrease (coarse -> fine)"
+    return None
+
+
 def sequence_around(size: float, design) -> tuple[float, ...]:
     """A refinement sequence (coarse -> fine, m) that holds `size`, for estimating its error.
 

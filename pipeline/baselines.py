@@ -109,7 +109,26 @@ def update_command(scene_path: str) -> int:
         "cases": tables,
     })
     print(f"wrote {BASELINE.relative_to(ROOT)}")
+    for path in sorted((ROOT / "scenes").glob("*.toml")):
+        print(f"wrote {write_results_golden(path).relative_to(ROOT)}")
     return 0
+
+
+RESULTS_GOLDENS = ROOT / "tests" / "baselines" / "results"
+
+
+def write_results_golden(scene_path: Path) -> Path:
+    """The digest (`pipeline.digest`) of a fresh CI run of one shipped scene, as its golden."""
+    from .digest import digest
+    from .run import validate
+
+    with tempfile.TemporaryDirectory() as tmp:
+        results = validate(str(scene_path), Path(tmp) / "out", Path(tmp) / "cache",
+                           profile="ci")
+    target = RESULTS_GOLDENS / f"{Path(scene_path).stem}.json"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    write_json_atomic(target, digest(results))
+    return target
 
 
 def results_tables(path: str | Path, baseline: dict) -> dict:

@@ -31,6 +31,7 @@ from common.settings import (
     nested,
     setting,
 )
+from fem_reference.convergence import sequence_problem
 from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
 from meshing.geometry import MIN_MESH_SIZE
 
@@ -303,9 +304,6 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         check_manipulator(manipulator)
     except ValueError as exc:
         raise SceneError(f"{where}: {exc}") from None
-    if manipulator.leg_diameter >= manipulator.platform_radius * math.sqrt(3.0):
-        raise SceneError(f"{where}: manipulator.leg_diameter_mm = "
-                         f"{manipulator.leg_diameter / MM:g}: legs would touch at the platform")
 
     fid = top.table("fidelity", {})
     fidelity = fid.settings(FidelitySettings)
@@ -320,10 +318,10 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         given["legs"] = legs
     fem = fem_t.settings(FemOptions, defaults, **given)
     study = fem_t.settings(FemStudy, defaults)
-    refinement = [r / MM for r in study.refinement]
-    if refinement != sorted(refinement, reverse=True) or len(set(refinement)) != len(refinement):
-        raise SceneError(f"{where}.fem.refinement_mm = {refinement!r}: sizes must strictly "
-                         "decrease")
+    why = sequence_problem(study.refinement)
+    if why is not None:
+        raise SceneError(f"{where}.fem.refinement_mm = {[r / MM for r in study.refinement]!r}: "
+                         f"{why}")
     runtime = fem_t.settings(FemRuntime, defaults)
     fem_t.done()
 
