@@ -1,6 +1,7 @@
 # 3-RPS elastodynamics: analytical substructure model validated against a 3D solid FEM.
 #   make          set up (first time) and run the validation of the default scene into out/
 #   make test     set up (first time) and run the test suite
+#   make lint     the linter (ruff) and the type checker (mypy), as CI runs them
 #   make bench    timing benchmarks (medians of repeated runs) into out/bench.json
 #   make report   rebuild out/report.html and out/report.pdf from out/results.json
 #   make clean-cache  empty the result, mesh, timing and figure caches (out/ stays)
@@ -15,7 +16,7 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run setup test bench report readme docs clean clean-cache update-baselines
+.PHONY: run setup test lint bench report readme docs clean clean-cache update-baselines
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -26,10 +27,14 @@ $(STAMP): pyproject.toml
 setup: $(STAMP)
 
 run: $(STAMP)
-	$(PYTHON) -m pipeline validate --scene $(SCENE) --out out
+	$(PYTHON) -m rps validate --scene $(SCENE) --out out
 
 test: $(STAMP)
 	$(PYTHON) -m pytest
+
+lint: $(STAMP)
+	$(PYTHON) -m ruff check .
+	$(PYTHON) -m mypy
 
 bench: $(STAMP)
 	$(PYTHON) -m pipeline.bench --scene $(SCENE) --out out/bench.json
@@ -38,16 +43,16 @@ report: $(STAMP)
 	$(PYTHON) -m reports --results out/results.json --out out
 
 readme: $(STAMP)
-	$(PYTHON) -m pipeline readme --results out/results.json
+	$(PYTHON) -m rps readme --results out/results.json
 
 docs: $(STAMP)
-	$(PYTHON) -m pipeline scene-docs
+	$(PYTHON) -m rps scene-docs
 
 update-baselines: $(STAMP)
-	$(PYTHON) -m pipeline update-baselines --scene $(SCENE)
+	$(PYTHON) -m rps update-baselines --scene $(SCENE)
 
 clean-cache: $(STAMP)
-	$(PYTHON) -m pipeline cache clear
+	$(PYTHON) -m rps cache clear
 
 clean:
 	rm -rf out .out.staging-* .out.previous-* .out.lock out.partial .cache .pytest_cache .hypothesis

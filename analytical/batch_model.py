@@ -23,8 +23,8 @@ the per-pose model.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
@@ -35,7 +35,12 @@ from .modal import ModalError
 from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
 from .pose_batch import PoseBatch
-from .substructure import SingularJointMap, _leg_map, r_joint_direction
+from .substructure import (
+    SingularJointMap,
+    _leg_map,
+    coordinate_count,
+    r_joint_direction,
+)
 
 
 @dataclass(frozen=True)
@@ -73,8 +78,8 @@ def _runs(q_columns: np.ndarray) -> list[tuple[slice, slice]]:
 def leg_map_basis(elements: int, leg: int, base_joint: str, platform_joint: str) -> LegMapBasis:
     """The joint map of leg `leg` probed at zero and unit arms and R-joint directions."""
     def leg_map(arm, direction):
-        joints = tuple(Joint(kind, np.zeros(3), direction if kind == "R" else None, body)
-                       for kind, body in ((base_joint, "base"), (platform_joint, "platform")))
+        joints = (Joint.at(base_joint, np.zeros(3), direction, "base"),
+                  Joint.at(platform_joint, np.zeros(3), direction, "platform"))
         return _leg_map(elements, leg, joints, np.asarray(arm, float), "axis")
 
     zero = np.zeros(3)
@@ -143,7 +148,7 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
     s = segments(options)  # frame elements, and the end zones with solid joint ends
     if plan is None or plan.elements != s:
         plan = assembly_plan(s, poses.base_joint, poses.platform_joint)
-    n, n_q = len(poses), 18 * s
+    n, n_q = len(poses), coordinate_count(s, poses.base_joint, poses.platform_joint)
     matrices = np.zeros((2, n, n_q, n_q))  # K and M
     arms = poses.platform_points - poses.platform_centre[:, None, :]
     parts = leg_segments(manipulator, options, zone_for(manipulator, options),

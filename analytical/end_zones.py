@@ -9,43 +9,30 @@ what a beam cannot: near a joint face the section can neither warp nor contract 
 coupling), which stiffens a leg by about 0.6 % on its first bending modes.
 
 A leg then has s + 2 segments; segment e joins leg nodes e and e + 1, from B_i (node 0) to A_i.
-This module only handles plain arrays: the superelement arrives as an `EndZone`, so the model
-itself needs numpy alone; `solid_end_zone` imports the builder lazily and says in one line what
-is missing when gmsh or scikit-fem are not installed.
+This module only handles plain arrays: the superelement arrives as a `joint_ends.EndZone` (its
+matrices, and their mirror image for the platform end), so the model itself needs numpy alone;
+`solid_end_zone` imports the builder lazily and says in one line what is missing when gmsh or
+scikit-fem are not installed.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+from common.errors import InputError
 
 from .beam import Section, frame_element
 from .params import Manipulator, ModelOptions
 
+if TYPE_CHECKING:  # the zone's type lives with its builder, imported only for solid ends
+    from joint_ends import EndZone
+
 MIN_MIDDLE = 0.1  # the beam middle must be at least this many leg diameters long
 
-# A zone's dofs are [t_J, theta_J, t_I, theta_I] with x from the joint J towards the interface
-# I. The zone at A_i is the mirror image x -> -x of the zone at B_i, with its nodes in leg
-# order [I, J]: translations flip their x, rotations (pseudovectors) their y and z.
-_MIRROR = np.diag([-1.0, 1.0, 1.0, 1.0, -1.0, -1.0])
-_TO_TOP = np.block([[np.zeros((6, 6)), _MIRROR], [_MIRROR, np.zeros((6, 6))]])
 
-
-class JointEndsUnavailable(ValueError):
+class JointEndsUnavailable(InputError):
     """Solid joint ends were asked for but cannot be built here."""
-
-
-@dataclass(frozen=True)
-class EndZone:
-    """A condensed solid end zone in its local frame: joint node first, x towards the middle."""
-
-    length: float  # l_z, m
-    stiffness: np.ndarray  # (12, 12)
-    mass: np.ndarray  # (12, 12)
-
-    def at_platform_end(self) -> tuple[np.ndarray, np.ndarray]:
-        """(K, M) of the zone at A_i in the limb frame, nodes [interface, joint]."""
-        return _TO_TOP.T @ self.stiffness @ _TO_TOP, _TO_TOP.T @ self.mass @ _TO_TOP
 
 
 def segments(options: ModelOptions) -> int:

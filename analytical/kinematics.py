@@ -15,22 +15,27 @@ Two joint orders (the scene's `base_joint` / `platform_joint`):
   inverted (fixed and moving bodies swapped, radii r2 and r1, rotation R^T = Rz(phi) Ry(-theta)
   Rz(-phi), again zero torsion), so Eq. (2) applied in the platform frame with radius r1 and
   tilt -theta gives the base centre's offset, and the pose's height fixes the rest.
+
+Which of the two it is follows from the joints' declaration (`common.joints`): the end whose
+joint has an axis (`Manipulator.axis_end`) carries the axis; `pose_batch` branches the same way.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
-from .params import Manipulator, Pose
+from common.errors import InputError
+from common.joints import JOINTS, JointType
 
+from .params import Manipulator, Pose
 
 _EVEN_SPACING = np.array([0.0, 2 * math.pi / 3, 4 * math.pi / 3])
 
 
-class PoseError(ValueError):
+class PoseError(InputError):
     """The pose cannot be assembled or violates a joint or actuator limit."""
 
 
@@ -75,6 +80,16 @@ class Joint(NamedTuple):
     axis: np.ndarray | None  # (3,) unit axis of an R joint in base coordinates, None for S
     body: str  # "base" (fixed) or "platform" (moving)
 
+    @classmethod
+    def at(cls, kind: str, centre, axis, body: str) -> Joint:
+        """A joint of type `kind` (`common.joints.JOINTS`); `axis` is kept only if it has one."""
+        return cls(kind, np.asarray(centre), axis if JOINTS[kind].has_axis else None, body)
+
+    @property
+    def kind(self) -> JointType:
+        """What the joint leaves free (`common.joints`)."""
+        return JOINTS[self.type]
+
 
 @dataclass(frozen=True)
 class PoseGeometry:
@@ -107,11 +122,9 @@ class PoseGeometry:
 
     def leg_joints(self, leg: int) -> tuple[Joint, Joint]:
         """The chain of leg `leg`: (joint at B_i on the base, joint at A_i on the platform)."""
-        def joint(kind, centre, body):
-            return Joint(kind, np.asarray(centre), self.joint_axes[leg] if kind == "R" else None,
-                         body)
-        return (joint(self.base_joint, self.base_points[leg], "base"),
-                joint(self.platform_joint, self.platform_points[leg], "platform"))
+        axis = self.joint_axes[leg]
+        return (Joint.at(self.base_joint, self.base_points[leg], axis, "base"),
+                Joint.at(self.platform_joint, self.platform_points[leg], axis, "platform"))
 
     def transformed(self, rotation: np.ndarray, translation=(0.0, 0.0, 0.0)) -> "PoseGeometry":
         """The same pose seen after a rigid motion x -> G x + t of the whole manipulator."""
@@ -158,7 +171,7 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
     rot = tilt_torsion_rotation(pose.azimuth, pose.tilt)
     radial = np.stack([np.cos(angles), np.sin(angles), np.zeros(3)], axis=1)
     tangent = np.stack([-np.sin(angles), np.cos(angles), np.zeros(3)], axis=1)
-    if m.base_joint == "R":
+    if m.axis_end == "base":
         xy = parasitic_translation(m.platform_radius, pose.azimuth, pose.tilt, layout_angle)
         centre = np.array([xy[0], xy[1], pose.height])
         axes = tangent  # horizontal, perpendicular to O->B_i
@@ -184,11 +197,12 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
     z_axes = np.cross(x_axes, axes)
     frames = np.stack([x_axes, axes, z_axes], axis=2)
     base_normal, platform_normal = np.array([0.0, 0.0, 1.0]), rot[:, 2]
-    s_normal = platform_normal if m.platform_joint == "S" else base_normal
+    # alpha_i from the normal of the body across the leg from the joint with the axis
+    s_normal = platform_normal if m.axis_end == "base" else base_normal
     s_angles = np.arccos(np.clip(x_axes @ s_normal, -1.0, 1.0))
     # beta_i: signed rotation of the leg about the R axis from the normal of the R joint's
     # body (positive leans outward)
-    if m.base_joint == "R":
+    if m.axis_end == "base":
         outward, upward = np.einsum("ij,ij->i", x_axes, radial), x_axes[:, 2]
     else:
         outward = np.einsum("ij,ij->i", x_axes, radial @ rot.T)

@@ -1,16 +1,18 @@
 """Modal solve of the reduced model, Eqs. (23)-(24), and expansion of the mode shapes."""
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
 
+from common.errors import ComputeError
+
 from .substructure import SubstructureModel
 
 
-class ModalError(RuntimeError):
+class ModalError(ComputeError):
     """The eigenproblem has no physical answer (not positive definite, non-finite)."""
 
 

@@ -1,15 +1,24 @@
 """Physical parameters of a 3-RPS manipulator, a pose, and the analytical model's fidelity.
 
 Everything here is in SI units (m, kg, Pa, rad). Scene files speak millimetres and degrees;
-`pipeline.scene` converts once, at the edge, and hands these plain dataclasses inward.
+`scene` converts once, at the edge, and hands these plain dataclasses inward.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
 import math
+from dataclasses import dataclass, field, replace
 
-from common.settings import (MAX_ANGLE, MAX_LENGTH, MAX_SOLVED_MODES, MIN_PART, check_settings,
-                             declared, nested_setting, setting)
+from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
+from common.settings import (
+    MAX_ANGLE,
+    MAX_LENGTH,
+    MAX_SOLVED_MODES,
+    MIN_PART,
+    check_settings,
+    declared,
+    nested_setting,
+    setting,
+)
 
 from .beam import SHEAR_COEFFICIENTS
 
@@ -18,11 +27,7 @@ PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
 R_JOINT_COORDINATES = ("axis", "paper-eq18")
 JOINT_ENDS = ("beam", "solid")
-JOINT_COUPLINGS = ("rigid", "distributing")
 MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
-
-
-JOINT_TYPES = ("R", "S")
 
 # Plausible materials and proportions (checked at load, `check_manipulator`).
 # Poisson ratio nu = E / (2 G) - 1 in (0, 0.49]: the engineering solids a manipulator is built
@@ -85,7 +90,8 @@ class Manipulator:
                                         **_PART)
     material: Material = nested_setting(Material)
     leg_angles: tuple[float, float, float] = setting(
-        (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3, minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
+        (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3,
+        minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
         doc="polar angles of the three legs from the base x-axis (120 degrees apart; one turn "
         "either way at most)")
     platform_shape: str = setting("disk", kind=str, choices=PLATFORM_SHAPES,
@@ -111,10 +117,18 @@ class Manipulator:
                                   "equations: S)")
 
     def __post_init__(self) -> None:
-        if {self.base_joint, self.platform_joint} != {"R", "S"}:
+        # the kinematics closes on the one joint of a leg with an axis (`axis_end`)
+        kinds = [JOINTS.get(j) for j in (self.base_joint, self.platform_joint)]
+        if None in kinds or sum(k.has_axis for k in kinds) != 1:
             raise ValueError(f"base_joint = {self.base_joint!r}, platform_joint = "
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
+
+    @property
+    def axis_end(self) -> str:
+        """The end of every leg ("base" or "platform") whose joint has an axis (the R joint):
+        where the axis lies, and so the closure of the kinematics, follows that body."""
+        return "base" if JOINTS[self.base_joint].has_axis else "platform"
 
     def scaled(self, length_factor: float) -> "Manipulator":
         """The same manipulator with every length multiplied by `length_factor`."""
@@ -167,7 +181,7 @@ class ModelOptions:
                               doc="leg ends at the joints: beam elements to the joint centre, or "
                               "a solid end zone condensed from a small solid model (captures "
                               "the joint face's restraint of warping and Poisson contraction)")
-    joint_coupling: str = setting("rigid", kind=str, choices=JOINT_COUPLINGS,
+    joint_coupling: str = setting("rigid", kind=str, choices=COUPLINGS,
                                   doc="how a solid end zone's joint face follows the joint "
                                   "centre, as the FEM's coupling (default: the scene's [fem] "
                                   "coupling)")

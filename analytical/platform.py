@@ -9,7 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from common.plate import plate_area as _area, plate_inertia, plate_mass, rigid_mass_matrix
+from common.plate import plate_area as _area
+from common.plate import plate_inertia, plate_mass, rigid_mass_matrix
 
 from .params import Manipulator
 

@@ -9,8 +9,8 @@ error); tests/test_workspace_fast.py checks every field of this twin against it.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
 import math
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -104,7 +104,7 @@ def pose_batch(manipulator: Manipulator, heights, azimuths, tilts) -> PoseBatch:
                                                          (theta, 0.0)))
     rot = _rotation_z(phi) @ _rotation_y(theta) @ _rotation_z(-phi)
     rot_t = np.swapaxes(rot, 1, 2)
-    if m.base_joint == "R":
+    if m.axis_end == "base":
         xy = _parasitic(m.platform_radius, phi, theta, layout_angle)
         centre = np.column_stack([xy, z])
         axes = np.broadcast_to(tangent, (len(z), 3, 3))
@@ -123,10 +123,10 @@ def pose_batch(manipulator: Manipulator, heights, azimuths, tilts) -> PoseBatch:
     z_axes = np.cross(x_axes, axes)
     frames = np.stack([x_axes, axes, z_axes], axis=3)
     platform_normal = rot[:, :, 2]
-    s_normal = (platform_normal if m.platform_joint == "S"
+    s_normal = (platform_normal if m.axis_end == "base"
                 else np.broadcast_to([0.0, 0.0, 1.0], (len(z), 3)))
     s_angles = np.arccos(np.clip(np.einsum("nij,nj->ni", x_axes, s_normal), -1.0, 1.0))
-    if m.base_joint == "R":
+    if m.axis_end == "base":
         outward = np.einsum("nij,ij->ni", x_axes, radial)
         upward = x_axes[:, :, 2]
     else:

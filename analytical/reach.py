@@ -19,10 +19,12 @@ From the rule:
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 
 import numpy as np
+
+from common.errors import InputError
 
 from .kinematics import PoseError, clearances, pose_geometry
 from .params import Manipulator, Pose
@@ -37,7 +39,7 @@ SAMPLE_TILT = 0.6  # rad: random poses draw |tilt| up to this
 SAMPLE_ROUNDS = 200  # rounds of 4 x count draws at most
 
 
-class WorkspaceError(ValueError):
+class WorkspaceError(InputError):
     """The machine's reachable workspace is empty, or too thin for what was asked of it."""
 
 

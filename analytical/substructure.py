@@ -14,16 +14,18 @@ The independent coordinates (Eq. 19), per leg i then for the platform, are
 
     q = [phi_1, u_in,1, Phi_A1, phi_2, u_in,2, Phi_A2, phi_3, u_in,3, Phi_A3, Delta_p, Phi_p]
 
-with 6s - 2 per leg and 6 for the platform: 18 s in all (18 (s + 2) with solid joint ends,
-whose two end zones per leg add two segments: analytical.end_zones). With the joint order of the paper's
-Section 2 text (S at B_i, R at A_i with its axis fixed in the platform) the same count holds:
-per leg [Phi_Bi (3), u_in,i, phi_i (1)], the S joint's leg end fixed in translation with a free
-rotation, the R joint's leg end translating with the platform (Eq. 10) and turning with it
-plus phi_i about the joint axis. Each joint type maps to its block in `_joint_rows`; the
-kinematics hands every leg its chain of joints. Every constrained leg coordinate is a
-linear function of q, U_leg,i = T_i q, which plays the role of the product of the paper's H_i
-(Eq. 12) and Q (Eq. 21); K = sum T_i^T K_i T_i and M = sum T_i^T M_i T_i + T_p^T M_p T_p
-(Eqs. 13 and 22).
+with 6s - 2 per leg and 6 for the platform: 18 s in all (18 (s + 2) with solid joint ends, whose
+two end zones per leg add two segments: analytical.end_zones). With the joint order of the
+paper's Section 2 text (S at B_i, R at A_i with its axis fixed in the platform) the same count
+holds: per leg [Phi_Bi (3), u_in,i, phi_i (1)], the S joint's leg end fixed in translation with
+a free rotation, the R joint's leg end translating with the platform (Eq. 10) and turning with
+it plus phi_i about the joint axis. A joint's coordinates and rows are read from its declaration
+(`common.joints.JOINTS`: how many rotations it leaves free, about which directions, whether the
+rest follow its body), in `leg_coordinates` and `_joint_rows`, for this model and the batched
+one (`batch_model`) alike; the kinematics hands every leg its chain of joints. Every constrained
+leg coordinate is a linear function of q, U_leg,i = T_i q, which plays the role of the product
+of the paper's H_i (Eq. 12) and Q (Eq. 21); K = sum T_i^T K_i T_i and M = sum T_i^T M_i T_i +
+T_p^T M_p T_p (Eqs. 13 and 22).
 
 The paper picks the R-joint coordinate as phi_By with phi_Bx = R_i(1,2)/R_i(2,2) phi_By
 (Eqs. 17-18, 21); that ratio is singular whenever a joint axis is parallel to the base x-axis.
@@ -36,6 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common.errors import InputError
+from common.joints import JOINTS
 from common.rigid_body import skew
 
 from .end_zones import leg_segments, leg_stations, segments, zone_for
@@ -44,7 +48,7 @@ from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
 
 
-class SingularJointMap(ValueError):
+class SingularJointMap(InputError):
     """The chosen independent R-joint coordinate cannot describe the joint's rotation."""
 
 
@@ -78,30 +82,42 @@ def r_joint_direction(axis: np.ndarray, form: str) -> np.ndarray:
     raise ValueError(f"r_joint_coordinate = {form!r}: expected axis or paper-eq18")
 
 
-JOINT_COORDINATES = {"R": 1, "S": 3}  # independent rotations a joint leaves free
+LEGS = 3  # the substructure model is for a three-legged machine
+
+
+def leg_coordinates(s: int, base_joint: str, platform_joint: str) -> int:
+    """Independent coordinates of one leg of s segments: its base joint's free rotations, the
+    six of every interior node, its platform joint's free rotations (6 s - 2 for R and S)."""
+    return JOINTS[base_joint].free + 6 * (s - 1) + JOINTS[platform_joint].free
+
+
+def coordinate_count(s: int, base_joint: str, platform_joint: str) -> int:
+    """Length of q: every leg's coordinates, then the platform's six (18 s for R and S)."""
+    return LEGS * leg_coordinates(s, base_joint, platform_joint) + 6
 
 
 def _joint_rows(joint, first: int, n_q: int, platform: int, arm: np.ndarray,
                 r_form: str) -> np.ndarray:
     """(6, n_q): the six nodal coordinates (translation, rotation) of the leg end at `joint`
-    in terms of q, the joint's own coordinates starting at column `first`.
+    in terms of q, the joint's own coordinates (its `free` rotations, `common.joints`) starting
+    at column `first`.
 
     - body "base": Delta = 0 (Eqs. 14-16); body "platform": Delta = Delta_p + Phi_p x arm
       (Eq. 10), arm = joint centre - o.
-    - "S": the leg end's rotation is free (three coordinates, Eq. 10).
-    - "R": the leg end turns with its body plus one rotation about the joint axis,
-      Phi = Phi_body + axis phi (Eqs. 16-17 on the fixed base, where Phi_body = 0).
+    - rotation: Phi = Phi_body + sum_k f_k psi_k over the joint's free rotations f_k; the body's
+      rotation only where the joint ties some rotation to it (`follows_body`, Phi_body = 0 on
+      the fixed base). S: three free rotations, the body's rotation does not reach the leg end
+      (Eq. 10); R: one, about the joint axis (Eqs. 16-17), scaled as `r_form` says.
     """
+    kind = JOINTS[joint.type]
     rows = np.zeros((6, n_q))
     if joint.body == "platform":
         rows[:3, platform:platform + 3] = np.eye(3)
         rows[:3, platform + 3:platform + 6] = -skew(arm)
-    if joint.type == "S":
-        rows[3:, first:first + 3] = np.eye(3)
-    else:
-        rows[3:, first] = r_joint_direction(joint.axis, r_form)
-        if joint.body == "platform":
-            rows[3:, platform + 3:platform + 6] = np.eye(3)
+    axis = r_joint_direction(joint.axis, r_form) if kind.has_axis else None
+    rows[3:, first:first + kind.free] = kind.free_rotations(axis)
+    if kind.follows_body and joint.body == "platform":
+        rows[3:, platform + 3:platform + 6] = np.eye(3)
     return rows
 
 
@@ -109,17 +125,15 @@ def _leg_map(s: int, leg: int, joints, arm: np.ndarray, r_form: str) -> np.ndarr
     """T_i: leg nodal coordinates (base frame) in terms of q (Eqs. 10, 12, 17, 21).
 
     Per leg, q holds the base joint's free rotations, the interior nodes' six coordinates and
-    the platform joint's free rotations: 6 s - 2 in all for an R and an S joint.
+    the platform joint's free rotations (`leg_coordinates`); every leg has the same joints.
     """
-    n_q = 18 * s
-    per_leg = 6 * s - 2
-    first = leg * per_leg
-    platform = 3 * per_leg
     base, top = joints
-    nb = JOINT_COORDINATES[base.type]
+    per_leg = leg_coordinates(s, base.type, top.type)
+    first = leg * per_leg
+    platform = LEGS * per_leg
+    n_q = platform + 6
+    nb = JOINTS[base.type].free
     inner = 6 * (s - 1)
-    if nb + inner + JOINT_COORDINATES[top.type] != per_leg:
-        raise ValueError(f"joints {base.type}-{top.type}: a leg needs one R and one S joint")
     t = np.zeros((6 * (s + 1), n_q))
     t[0:6] = _joint_rows(base, first, n_q, platform, arm, r_form)
     t[6:6 + inner, first + nb:first + nb + inner] = np.eye(inner)  # interior nodes
@@ -146,10 +160,10 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
     joint nodes exactly as on a beam's end nodes.
     """
     n = segments(options)
-    if geometry.leg_count != 3:
+    if geometry.leg_count != LEGS:
         raise ValueError(f"{geometry.leg_count} legs: the substructure model is for three")
     zone = zone_for(manipulator, options)
-    n_q = 18 * n
+    n_q = coordinate_count(n, geometry.base_joint, geometry.platform_joint)
     k_total = np.zeros((n_q, n_q))
     m_total = np.zeros((n_q, n_q))
     maps = []

@@ -14,22 +14,35 @@ solved as a batch (analytical.batch_model), eigenvalues only except where tracki
 """
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
 import math
 import multiprocessing
 import os
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
 
 import numpy as np
 
-from .batch_model import (assemble_batch, assembly_plan, batch_frequencies, batch_modes,
-                          probe_shapes, standard_form)
+from .batch_model import (
+    assemble_batch,
+    assembly_plan,
+    batch_frequencies,
+    batch_modes,
+    probe_shapes,
+    standard_form,
+)
 from .end_zones import segments, zone_for
 from .params import Manipulator, ModelOptions
 from .pose_batch import pose_batch
 from .reach import regular_radii
-from .tracking import (REPEATED, family_values, follow, match_modes, match_steps,
-                       steps_needing_shapes)
+from .substructure import coordinate_count
+from .tracking import (
+    REPEATED,
+    family_values,
+    follow,
+    match_modes,
+    match_steps,
+    steps_needing_shapes,
+)
 
 GUARD_MODES = 1  # modes followed above the reported ones, so a family leaving is seen
 LOST_MAC = 0.5  # a match below this MAC loses the family (it left the tracked window)
@@ -282,6 +295,13 @@ def _renumbered(crossing: Crossing, relabel: np.ndarray) -> Crossing | None:
                     crossing.frequency_hz, crossing.along)
 
 
+def followed_modes(manipulator, options) -> int:
+    """The most modes a map can follow with these options: one fewer than the model has
+    coordinates (the window of every pose)."""
+    return coordinate_count(segments(options), manipulator.base_joint,
+                            manipulator.platform_joint) - 1
+
+
 def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, rings: int = 6,
                   azimuths: int = 24, workers: int | None = None) -> FrequencyMap:
     """The lowest `options.modes` frequencies on a polar grid of every height layer, sorted
@@ -294,7 +314,7 @@ def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, ring
     phis = np.linspace(0.0, 2 * math.pi, azimuths, endpoint=False)
     fractions = np.linspace(0.0, 1.0, rings)
     modes = options.modes
-    window = min(modes + GUARD_MODES, 18 * segments(options) - 1)
+    window = min(modes + GUARD_MODES, followed_modes(manipulator, options))
     if not len(heights):
         raise ValueError("heights = []: a map needs at least one height")
     radii = regular_radii(manipulator, heights)

@@ -16,11 +16,13 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from .errors import InputError
+
 TABLE = "sha256"
 RECORD = "record"  # the record's own digest in the table (side files are keyed ".ext")
 
 
-class ChecksumError(ValueError):
+class ChecksumError(InputError):
     """A cache entry does not match its checksums (the message says which file)."""
 
 

@@ -26,6 +26,8 @@ import unicodedata
 from collections.abc import Iterable
 from pathlib import Path
 
+from .errors import InputError
+
 MAX_LENGTH = 64  # characters; the longest file name built from one is ~90 bytes
 SAFE_CHARACTERS = "letters, digits, spaces, '.', '_' and '-'"
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]")
@@ -34,11 +36,11 @@ RESERVED = frozenset(["CON", "PRN", "AUX", "NUL", "CONIN$", "CONOUT$"]
                      + [f"{d}{k}" for d in ("COM", "LPT") for k in range(1, 10)])
 
 
-class UnsafeName(ValueError):
+class UnsafeName(InputError):
     """A name that cannot become a file name (one line naming it and why)."""
 
 
-class OutsideTree(ValueError):
+class OutsideTree(InputError):
     """A path that would be written outside its output folder."""
 
 

@@ -3,7 +3,7 @@
 A model's options are frozen dataclasses whose fields are declared with `setting(...)`. The same
 declaration
 - validates a value given from Python (`check_settings` in the dataclass's __post_init__),
-- reads and validates the scene file's key (`pipeline.scene` converts the edge unit to SI once),
+- reads and validates the scene file's key (`scene` converts the edge unit to SI once),
 - documents the key (`docs/scenes.md` is generated from it),
 so a new knob is one field in one dataclass and one key in a scene file.
 
@@ -17,8 +17,8 @@ admit the same values.
 """
 from __future__ import annotations
 
-from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 import math
+from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 from typing import Any
 
 # edge unit -> (scene-key suffix, SI value of one edge unit, SI unit name)
@@ -41,7 +41,7 @@ MIN_PART = 1e-3  # m
 MAX_ANGLE = 2 * math.pi  # rad
 # Modes compared or solved for: the lowest few dozen describe a manipulator's dynamics; the
 # dense and shift-invert solvers are sized for that many (the FEM adds a few beyond the
-# compared ones to pair by shape, pipeline.compare.EXTRA_MODES).
+# compared ones to pair by shape, solvers.compare.EXTRA_MODES).
 MAX_MODES = 60
 MAX_SOLVED_MODES = 100
 

@@ -23,10 +23,12 @@ import pickle
 import signal
 from typing import Any, Callable
 
+from .errors import ComputeError
+
 _PR_SET_PDEATHSIG = 1
 
 
-class WorkerDied(RuntimeError):
+class WorkerDied(ComputeError):
     """The child process ended without a result (killed by a signal, e.g. out of memory)."""
 
 

@@ -7,14 +7,19 @@ and the discretisation error from mesh refinement with Richardson extrapolation.
 """
 from __future__ import annotations
 
-import numpy as np
-
 from .convergence import RefinementStudy, richardson
-from .model import (FemError, FemOptions, FemResult, FemRuntime, estimate_raw_dofs, solve_pose,
-                    with_size)
+from .model import (
+    FemError,
+    FemOptions,
+    FemResult,
+    FemRuntime,
+    estimate_raw_dofs,
+    solve_pose,
+    with_size,
+)
 
-__all__ = ["FemError", "FemOptions", "FemResult", "FemRuntime", "RefinementStudy", "estimate_raw_dofs",
-           "refinement_study", "richardson", "solve_pose"]
+__all__ = ["FemError", "FemOptions", "FemResult", "FemRuntime", "RefinementStudy",
+           "estimate_raw_dofs", "refinement_study", "richardson", "solve_pose"]
 
 
 def refinement_study(manipulator, geometry, sizes, options: FemOptions,
@@ -23,14 +28,14 @@ def refinement_study(manipulator, geometry, sizes, options: FemOptions,
 
     Raises FemError for fewer than three sizes or sizes that do not strictly decrease.
     """
-    from .convergence import study_from_results
     from meshing.bodies import pose_assembly
 
+    from .convergence import sequence_problem, study_from_results
+
     sizes = [float(s) for s in sizes]
-    if len(sizes) < 3:
-        raise FemError(f"sizes = {sizes!r}: Richardson extrapolation needs at least three sizes")
-    if any(b >= a for a, b in zip(sizes, sizes[1:])):
-        raise FemError(f"sizes = {sizes!r}: sizes must strictly decrease (coarse -> fine)")
+    why = sequence_problem(sizes)
+    if why is not None:
+        raise FemError(f"sizes = {sizes!r}: {why}")
     results = [solve_pose(manipulator, geometry, with_size(options, h), runtime or FemRuntime())
                for h in sizes]
     volume = pose_assembly(manipulator, geometry,

@@ -11,10 +11,10 @@ basis-function pairs of `asm` (same integrals, ~20x faster here), and summed int
 """
 from __future__ import annotations
 
+from typing import Protocol
+
 import numpy as np
 import scipy.sparse as sp
-
-from typing import Protocol
 
 from .discretisation import Discretisation
 

@@ -49,12 +49,10 @@ import scipy.sparse as sp
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
+from common.joints import COUPLINGS, JOINTS  # COUPLINGS: also read from here (the CLI)
 from common.rigid_body import rigid_body_mass, skew
 
 from .discretisation import Discretisation
-
-COUPLINGS = ("rigid", "distributing")
-
 
 # ---------------------------------------------------------------- face averages (RBE3 weights)
 
@@ -126,8 +124,14 @@ class ConstraintMap:
         return p.matrix @ u[dofs]
 
 
-class _Builder:
-    """Collects T in COO form: rows are raw dofs, columns free coordinates."""
+class ConstraintBuilder:
+    """Collects T (u = T q) in COO form: rows are raw dofs, columns free coordinates.
+
+    A raw dof marked in `dependent` is eliminated; every other one is kept as its own
+    coordinate. Named extra coordinates (the joints' rotations, the rigid platform's six) are
+    added with `add_extra`; `entries` records T[rows, cols]; `finish` numbers the columns
+    (kept raw dofs first, then the extras) and returns (T, kept dofs, extra columns by name).
+    Shared by the tetrahedral legs (`build_constraints`) and the harmonic ones."""
 
     def __init__(self, n_raw: int):
         self.n_raw = n_raw
@@ -172,7 +176,7 @@ class _Builder:
         return t, retained, columns
 
 
-def _rigid_face(builder: _Builder, nodes: np.ndarray, xyz: np.ndarray, ref: np.ndarray,
+def _rigid_face(builder: ConstraintBuilder, nodes: np.ndarray, xyz: np.ndarray, ref: np.ndarray,
                 translation_cols: np.ndarray | None, translation_vals: np.ndarray | None,
                 translation_extra: bool, rotation_cols: np.ndarray, rotation_map: np.ndarray):
     """Face nodes follow the reference point rigidly: u_k = t + theta x r_k (RBE2).
@@ -195,7 +199,7 @@ def _rigid_face(builder: _Builder, nodes: np.ndarray, xyz: np.ndarray, ref: np.n
                         extra=translation_extra)
 
 
-def _eliminate(builder: _Builder, face_dofs: np.ndarray, c: np.ndarray,
+def _eliminate(builder: ConstraintBuilder, face_dofs: np.ndarray, c: np.ndarray,
                rhs_cols: np.ndarray | None, rhs: np.ndarray | None, rhs_extra: bool,
                candidates: np.ndarray | None = None):
     """Solve C u_face = D q for len(C) face dofs chosen by pivoted QR (among the columns
@@ -220,33 +224,38 @@ def _eliminate(builder: _Builder, face_dofs: np.ndarray, c: np.ndarray,
 def rigid_rotation(joint, leg: int, phi: np.ndarray, psi: np.ndarray, plat: np.ndarray | None
                    ) -> tuple[np.ndarray, np.ndarray]:
     """(columns, map): the rotation of a rigidly coupled face's reference point as
-    map @ q[columns]. S joint, Eq. (10): free, psi_i; R joint, Eqs. (16)-(17): the body's
-    rotation (the platform's, on the platform) plus phi_i about the joint axis."""
-    if joint.type == "S":
-        return psi[leg], np.eye(3)
-    cols, rot = phi[leg:leg + 1], np.asarray(joint.axis, float)[:, None]
-    if joint.body == "platform":
+    map @ q[columns], read from the joint's declaration (`common.joints.JOINTS`): its free
+    rotations, `free_rotations(axis)`, on the leg's coordinates of that many rotations (phi_i,
+    one per leg, or psi_i, three per leg), plus the body's rotation when the joint ties some
+    rotations to its body and the body is the platform (the base does not turn). S, Eq. (10):
+    psi_i, free; R, Eqs. (16)-(17): phi_i about the joint axis plus the platform's rotation."""
+    kind = JOINTS[joint.type]
+    coordinates = {1: phi[leg:leg + 1], 3: psi[leg]}
+    if kind.free not in coordinates:
+        raise ValueError(f"joint {joint.type!r}: {kind.free} free rotations, and the rigid "
+                         "coupling has coordinates for 1 or 3")
+    cols, rot = coordinates[kind.free], kind.free_rotations(joint.axis)
+    if kind.follows_body and joint.body == "platform":
         cols, rot = np.concatenate([cols, plat[3:]]), np.hstack([rot, np.eye(3)])
     return cols, rot
 
 
-def distributing_joint(bld: _Builder, face_dofs: np.ndarray, projection: np.ndarray, joint,
-                       t_cols, t_vals, t_extra: bool, plat: np.ndarray | None,
+def distributing_joint(bld: ConstraintBuilder, face_dofs: np.ndarray, projection: np.ndarray,
+                       joint, t_cols, t_vals, t_extra: bool, plat: np.ndarray | None,
                        candidates: np.ndarray | None = None) -> None:
     """The joint on a distributing face, whose rigid-motion projection a = projection @ u_face
-    (6 x n, global) is constrained: S, its translation is the body's at the joint centre
-    (t_vals @ q[t_cols], none on the base); R, also its rotation normal to the joint axis is
-    the body's. Eliminated for as many face dofs as equations (`_eliminate`)."""
-    if joint.type == "S":
-        _eliminate(bld, face_dofs, projection[:3], t_cols, t_vals, t_extra, candidates)
-        return
-    normal_rot = la.null_space(np.asarray(joint.axis, float)[None, :]).T  # (2, 3)
-    c = np.vstack([projection[:3], normal_rot @ projection[3:]])
-    if joint.body != "platform":
-        _eliminate(bld, face_dofs, c, None, None, False, candidates)
-    else:
-        rhs = np.vstack([t_vals, np.hstack([np.zeros((2, 3)), normal_rot])])
+    (6 x n, global) is constrained: its translation is the body's at the joint centre
+    (t_vals @ q[t_cols], none on the base), and so are the rotations the joint ties to its
+    body, `tied_rotations(axis)` of its declaration (`common.joints.JOINTS`; none for S, the
+    two normal to the axis for R). Eliminated for as many face dofs as equations
+    (`_eliminate`)."""
+    tied = JOINTS[joint.type].tied_rotations(joint.axis)  # (k, 3)
+    c = np.vstack([projection[:3], tied @ projection[3:]])
+    if len(tied) and joint.body == "platform":  # the platform's rotation reaches the tied ones
+        rhs = np.vstack([t_vals, np.hstack([np.zeros((len(tied), 3)), tied])])
         _eliminate(bld, face_dofs, c, plat, rhs, True, candidates)
+    else:
+        _eliminate(bld, face_dofs, c, t_cols, t_vals, t_extra, candidates)
 
 
 def patch_weights(disc: Discretisation, body: str, centre: np.ndarray, radius: float):
@@ -278,16 +287,17 @@ def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = 
     if coupling not in COUPLINGS:
         raise ValueError(f"coupling = {coupling!r}: expected one of {', '.join(COUPLINGS)}")
     n_raw = disc.n_dofs
-    bld = _Builder(n_raw)
+    bld = ConstraintBuilder(n_raw)
     xyz = disc.node_xyz
     o = np.asarray(geometry.platform_centre, float)
     projections, references = {}, {}
     legs = assembly.cylinders
     if len(legs) != geometry.leg_count:
         raise ValueError(f"{len(legs)} meshed legs for a pose of {geometry.leg_count}")
-    if platform != "rigid" and "R" == geometry.platform_joint:
-        raise ValueError("platform = 'elastic' with R joints on the platform: the rotation of "
-                         "an elastic plate at a joint is not defined here (use a rigid platform)")
+    if platform != "rigid" and JOINTS[geometry.platform_joint].follows_body:
+        raise ValueError(f"platform = 'elastic' with {geometry.platform_joint} joints on the "
+                         "platform: the rotation of an elastic plate at a joint is not defined "
+                         "here (use a rigid platform)")
     if coupling == "rigid":
         phi = bld.add_extra("phi", len(legs))  # one rotation per R joint
         psi = bld.add_extra("psi", 3 * len(legs)).reshape(len(legs), 3)  # three per S joint

@@ -34,8 +34,8 @@ sequence converging at P_THEORY, |largest change| / ((h_{n-1} / h_n)^P_THEORY - 
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq
@@ -54,6 +54,20 @@ class ModeConvergence:
     status: str  # "ok", "non-monotone", "order out of range", "converged"
     orders_by_triplet: list[float | None] = field(default_factory=list)
     observed_order: float | None = None  # the fitted order before the theory bound
+
+
+MIN_SIZES = 3  # a fitted order and a limit need three sizes at least
+
+
+def sequence_problem(sizes) -> str | None:
+    """Why `sizes` (m) is not a refinement sequence (None when it is): at least MIN_SIZES
+    sizes, strictly decreasing (coarse -> fine). The one rule, for the scene and the FEM."""
+    sizes = [float(s) for s in sizes]
+    if len(sizes) < MIN_SIZES:
+        return f"Richardson extrapolation needs at least {MIN_SIZES} sizes"
+    if any(b >= a for a, b in zip(sizes, sizes[1:])):
+        return "sizes must strictly decrease (coarse -> fine)"
+    return None
 
 
 def sequence_around(size: float, design) -> tuple[float, ...]:

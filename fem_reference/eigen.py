@@ -19,12 +19,14 @@
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
 import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
+
+from common.errors import ComputeError
 
 SHIFT_HZ = 10.0
 V0_SEED = 20230723
@@ -35,7 +37,7 @@ ARPACK_TOL = 1e-10  # relative Ritz-value accuracy; frequencies to ~1e-10
 BACKENDS = ("splu", "splu-colamd")
 
 
-class EigenError(RuntimeError):
+class EigenError(ComputeError):
     """The eigensolver did not converge or returned inaccurate pairs."""
 
 

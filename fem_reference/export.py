@@ -139,7 +139,7 @@ def write_modes_vtu(path: str | os.PathLike, disc: Discretisation, modes: np.nda
                     frequencies_hz: np.ndarray, plate=None,
                     platform_motion: np.ndarray | None = None) -> Path:
     path = Path(path)
-    _write_vtu(path, modes_to_meshio(disc, modes, frequencies_hz, plate, platform_motion))
+    write_mesh_vtu(path, modes_to_meshio(disc, modes, frequencies_hz, plate, platform_motion))
     return path
 
 
@@ -158,7 +158,7 @@ def write_mode_collection(vtu: str | os.PathLike) -> Path:
     datasets = []
     for k, name in arrays:
         piece = pieces / f"mode_{k:0{max(2, len(str(len(arrays))))}d}.vtu"
-        _write_vtu(piece, meshio.Mesh(
+        write_mesh_vtu(piece, meshio.Mesh(
             mesh.points, mesh.cells, point_data={"displacement": mesh.point_data[name]},
             cell_data=mesh.cell_data,
             field_data={"mode": np.array([k]), "frequency_hz": frequencies[k - 1:k],
@@ -176,7 +176,11 @@ def write_mode_collection(vtu: str | os.PathLike) -> Path:
     return pvd
 
 
-def _write_vtu(path: Path, mesh: meshio.Mesh) -> None:
+def write_mesh_vtu(path: str | os.PathLike, mesh: meshio.Mesh) -> None:
+    """Write a meshio mesh as a compressed binary VTU, atomically, its field_data (the modes'
+    frequencies) inserted as a VTK FieldData block; the file behind `write_modes_vtu` and the
+    harmonic legs' display mesh (`HarmonicResult.write_vtu`)."""
+    path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
 
     def write(tmp):

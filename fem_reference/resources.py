@@ -75,6 +75,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from common.errors import InputError
+
 BASE_BYTES = 200e6  # the interpreter with numpy, scipy, gmsh, scikit-fem: 100-200 MB
 BYTES_PER_DOF = 7.8e3
 FILL_PER_SECTION = 23.0  # stored LU entries per dof and per (d / h)^2 ...
@@ -84,7 +86,7 @@ MEMORY_FRACTION = 0.5  # half of the memory available (see above)
 HARMONIC_BYTES_PER_DOF = 3e3  # per estimated raw dof of the harmonic legs (see above)
 
 
-class MemoryLimitError(ValueError):
+class MemoryLimitError(InputError):
     """The solve would need more memory than the limit (one line: size, estimate, limit)."""
 
 

@@ -1,26 +1,30 @@
 """Solid end zones of the legs, condensed to superelements for the analytical model.
 
     from joint_ends import end_zone
-    zone = end_zone(diameter, length, E, G, rho, coupling)   # analytical.end_zones.EndZone
+    zone = end_zone(diameter, length, E, G, rho, coupling)   # joint_ends.EndZone
 
 The zone is built by `joint_ends.zone` (gmsh + scikit-fem, the FEM reference's machinery), once
 per content: the matrices are cached on disk (`joint_ends.cache`, in `joint_ends/` under the
-cache directory given, the run's `--cache`) and in this process.
+cache directory given, the run's `--cache`) and in this process. The package builds on common,
+meshing and fem_reference and imports nothing of the analytical model, which takes the zone as
+plain arrays (`EndZone`, `joint_ends.superelement`: numpy only).
 """
 from __future__ import annotations
 
 from functools import lru_cache
 
+from .superelement import EndZone
 from .zone import COUPLINGS, ZoneMesh
 
-__all__ = ["COUPLINGS", "ZoneMesh", "end_zone"]
+__all__ = ["COUPLINGS", "EndZone", "ZoneMesh", "end_zone"]
 
 
 def end_zone(diameter: float, length: float, youngs_modulus: float, shear_modulus: float,
-             density: float, coupling: str, mesh: ZoneMesh = ZoneMesh(), cache_dir=None):
-    """The condensed end zone (`analytical.end_zones.EndZone`) of a leg of this diameter and
-    material, `length` long, its joint face coupled as `coupling`; SI units. `cache_dir`: the
-    cache directory (the zones go to its `joint_ends/`); None: the default one."""
+             density: float, coupling: str, mesh: ZoneMesh = ZoneMesh(),
+             cache_dir=None) -> EndZone:
+    """The condensed end zone (`EndZone`) of a leg of this diameter and material, `length`
+    long, its joint face coupled as `coupling`; SI units. `cache_dir`: the cache directory (the
+    zones go to its `joint_ends/`); None: the default one."""
     return _memo(float(diameter), float(length), float(youngs_modulus), float(shear_modulus),
                  float(density), str(coupling), mesh, None if cache_dir is None
                  else str(cache_dir))
@@ -28,8 +32,6 @@ def end_zone(diameter: float, length: float, youngs_modulus: float, shear_modulu
 
 @lru_cache(maxsize=16)
 def _memo(diameter, length, youngs_modulus, shear_modulus, density, coupling, mesh, cache_dir):
-    from analytical.end_zones import EndZone
-
     from .cache import cached_zone, default_dir
 
     model = cached_zone(diameter, length, youngs_modulus, shear_modulus, density, coupling,

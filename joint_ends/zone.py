@@ -27,16 +27,17 @@ makes the superelement exactly independent of how the leg is turned about its ax
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from common.joints import COUPLINGS
 from common.rigid_body import skew
 from common.settings import check_settings, setting
 
-COUPLINGS = ("rigid", "distributing")
 JOINT_FACE, INTERFACE = "zone_base", "zone_top"
 
 
@@ -55,6 +56,15 @@ class ZoneMesh:
 
     def __post_init__(self):
         check_settings(self)
+
+
+class Solid(NamedTuple):
+    """The zone's isotropic material as the FEM assembly reads it
+    (`fem_reference.assembly.Material`), SI."""
+
+    youngs_modulus: float  # Pa
+    shear_modulus: float  # Pa
+    density: float  # kg/m^3
 
 
 @dataclass(frozen=True)
@@ -156,7 +166,6 @@ def build_zone(diameter: float, length: float, youngs_modulus: float, shear_modu
 
     `coupling` ties the joint face to the joint point, `interface` the interface section to
     the beam node ("distributing"; "rigid" only to measure what a rigid section would add)."""
-    from analytical.params import Material
     from fem_reference.assembly import stiffness_and_mass
     from fem_reference.discretisation import discretise
 
@@ -164,7 +173,7 @@ def build_zone(diameter: float, length: float, youngs_modulus: float, shear_modu
         if value not in COUPLINGS:
             raise ValueError(f"{name} = {value!r}: expected one of {', '.join(COUPLINGS)}")
     disc = discretise(cylinder_mesh(diameter, length, mesh))
-    k, m = stiffness_and_mass(disc, Material(youngs_modulus, shear_modulus, density))
+    k, m = stiffness_and_mass(disc, Solid(youngs_modulus, shear_modulus, density))
     ends = ((JOINT_FACE, np.zeros(3), coupling), (INTERFACE, np.array([length, 0.0, 0.0]),
                                                    interface))
     transform, b, dofs = _couplings(disc, ends)

@@ -9,13 +9,15 @@ constraints. SI units throughout.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
+from common.errors import InputError
 
-class GeometryError(ValueError):
+
+class GeometryError(InputError):
     """The bodies cannot be built: degenerate, touching or intersecting legs, bad numbers."""
 
 

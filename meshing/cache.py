@@ -22,12 +22,18 @@ from pathlib import Path
 import meshio
 
 from common.atomic import atomic_write
-from common.locations import cache_root
 from common.checksum import ChecksumError, report_dropped, seal, verify
+from common.locations import cache_root
 
 from .bodies import Assembly
-from .geometry import (MIN_QUALITY, PINNED_OPTIONS, REPAIR_OPTIONS, MeshSettings, build_mesh,
-                       gmsh_version)
+from .geometry import (
+    MIN_QUALITY,
+    PINNED_OPTIONS,
+    REPAIR_OPTIONS,
+    MeshSettings,
+    build_mesh,
+    gmsh_version,
+)
 from .mesh import MeshFormatError, SolidMesh
 
 FORMAT_VERSION = 1

@@ -18,13 +18,14 @@ lock, and gmsh is always finalised, also on error.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import contextlib
 import signal
 import threading
+from dataclasses import dataclass
 
 import numpy as np
 
+from common.errors import ComputeError
 from common.settings import MAX_LENGTH, MIN_PART, as_dict, check_settings, setting
 
 from .bodies import Assembly, Cylinder, Plate
@@ -34,7 +35,7 @@ MIN_MESH_SIZE = MIN_PART / 100  # m: a hundredth of the smallest machine part (c
 MIN_RIM_FACTOR = 0.005  # the deepest rim grading measured (fem_reference.harmonic's references)
 
 
-class GmshFailure(RuntimeError):
+class GmshFailure(ComputeError):
     """gmsh could not build a valid mesh for these bodies and settings."""
 
 

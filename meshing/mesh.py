@@ -6,14 +6,16 @@ faces (physical surfaces) are kept as triangle6 connectivity by name, e.g. "leg1
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import hashlib
+from dataclasses import dataclass, field
 
 import meshio
 import numpy as np
 
+from common.errors import InputError
 
-class MeshFormatError(ValueError):
+
+class MeshFormatError(InputError):
     """A stored mesh is incomplete or inconsistent."""
 
 

@@ -17,16 +17,15 @@ from __future__ import annotations
 
 import json
 import sys
-from dataclasses import replace
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
 from analytical.kinematics import pose_geometry
-
 from common.atomic import write_json_atomic
-from .cache import ResultCache
-from .compare import analytical_case, error_table, fem_case, with_cache_dir
-from .scene import load_scene
+from runtime.cache import ResultCache
+from scene import load_scene
+from solvers.compare import analytical_case, error_table, fem_case, with_cache_dir
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = ROOT / "tests" / "baselines" / "error_tables.json"
@@ -110,14 +109,33 @@ def update_command(scene_path: str) -> int:
         "cases": tables,
     })
     print(f"wrote {BASELINE.relative_to(ROOT)}")
+    for path in sorted((ROOT / "scenes").glob("*.toml")):
+        print(f"wrote {write_results_golden(path).relative_to(ROOT)}")
     return 0
+
+
+RESULTS_GOLDENS = ROOT / "tests" / "baselines" / "results"
+
+
+def write_results_golden(scene_path: Path) -> Path:
+    """The digest (`pipeline.digest`) of a fresh CI run of one shipped scene, as its golden."""
+    from .digest import digest
+    from .run import validate
+
+    with tempfile.TemporaryDirectory() as tmp:
+        results = validate(str(scene_path), Path(tmp) / "out", Path(tmp) / "cache",
+                           profile="ci")
+    target = RESULTS_GOLDENS / f"{Path(scene_path).stem}.json"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    write_json_atomic(target, digest(results))
+    return target
 
 
 def results_tables(path: str | Path, baseline: dict) -> dict:
     """The error tables of the baseline's cases as a results file holds them (`validate`'s
     results.json); ValueError naming the file when it is unreadable, lacks a case, or was
     computed at another FEM mesh size or with other analytical settings than the baseline."""
-    from reports.results import load_results
+    from results import read as load_results
 
     results = load_results(path)
     tables = {}

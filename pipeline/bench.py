@@ -32,12 +32,11 @@ from analytical.model import analyse
 from analytical.params import Pose
 from analytical.substructure import assemble
 from analytical.workspace import default_workers, frequency_map
-
 from common.atomic import write_json_atomic
 from common.locations import default_scene
-from .compare import fem_options, fem_runtime
-from .scene import load_scene
-from .studies import workspace_heights
+from scene import load_scene
+from solvers.compare import fem_options, fem_runtime
+from studies.workspace_map import workspace_heights
 
 MAP_GRID = (20, 10, 50)  # heights x rings x azimuths: the 10,000-pose map of issue 12
 
@@ -159,9 +158,9 @@ def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> dict:
     from an empty cache (meshes included), alternating the worker counts run by run."""
     import tempfile
 
-    from .cache import ResultCache
-    from .studies import speed_settings
-    from .workspace_validation import SMALL, coarse_size, run_study
+    from runtime.cache import ResultCache
+    from solvers.settings import speed_settings
+    from studies.workspace_validation import SMALL, coarse_size, run_study
 
     models = speed_settings(scene)
     samples: dict[int, list[float]] = {w: [] for w in workers}
@@ -252,7 +251,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def _estimated_errors(results_path: Path, case_name: str) -> dict | None:
     """The refinement study's estimated error per size, if a validation run left one."""
-    from .results import read
+    from results import read
 
     try:
         results = read(results_path)

@@ -1,7 +1,7 @@
 """The validation run behind `make`: every case of a scene, both models, studies, into out/.
 
 Outputs are built in a staging directory beside `out/` and swapped in whole only when
-everything has been computed (`pipeline.outdir`: one run per out/ at a time, one atomic swap),
+everything has been computed (`runtime.outdir`: one run per out/ at a time, one atomic swap),
 so an interrupted or failed run leaves the previous outputs intact and nothing half-written,
 and no file of an earlier run survives a successful one. Expensive results come from a
 content-keyed cache, so a second run with nothing changed takes seconds.
@@ -9,7 +9,6 @@ content-keyed cache, so a second run with nothing changed takes seconds.
 from __future__ import annotations
 
 import datetime as dt
-from dataclasses import replace
 import hashlib
 import math
 import os
@@ -17,31 +16,30 @@ import platform
 import shutil
 import subprocess
 import sys
+from dataclasses import replace
 from importlib import metadata
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
+import results as schema
+import studies
 from analytical.kinematics import pose_geometry
 from common.paths import distinct_stems, inside
-from common.settings import as_dict
 from fem_reference.export import write_mode_collection
-from reports.tables import write_tables
-
-from . import results as schema
-from . import envelope, hard_cases, studies
-from .cache import ROOT, ResultCache
-from .couplings import coupling_study
-from .joint_orders import joint_order_study
-from .selection import prefetch_fem, validate_fidelity
-from .outdir import staged_output
-from .compare import (STATIONS, Solve, analytical_case, error_table, fem_case,
-                      with_cache_dir)
-from .pairing import mac_matrix
-from .scene import Case, Scene, load_scene
-from .timing import seconds_per_pose
+from results.tables import write_tables
+from runtime.cache import ROOT, ResultCache
+from runtime.outdir import staged_output
+from scene import Case, Scene, load_scene
+from solvers.compare import STATIONS, analytical_case, error_table, fem_case, with_cache_dir
+from solvers.pairing import mac_matrix
+from solvers.refinement import fem_refinement, prefetch_fem
+from studies.fem_idealisations import FEM_VARIANTS
+from studies.fidelity import validate_fidelity
+from studies.reachable import check as check_workspace
 
 PROJECT = "rps-elastodynamics"
 
@@ -160,10 +158,12 @@ def paper_rows(case: Case) -> dict | None:
                             "frequencies: " + "; ".join(notes) + ".") if notes else None)
 
 
-def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
-             refinement: tuple[float, ...] | None, variants: bool, progress=None
-             ) -> tuple[dict, Path | None]:
-    """Everything the report needs about one case (a results.Case), and the FEM's mode file."""
+def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | None,
+             profile: str, progress=None) -> tuple[dict, Path | None]:
+    """Everything the report needs about one case (a results.Case), and the FEM's mode file:
+    both models at the case's pose, the FEM's refinement study (when `refinement` sizes are
+    given), and the registered case studies of `profile`."""
+    scene, cache, mesh_size = ctx.scene, ctx.cache, ctx.scene.fem.mesh_size
     count = scene.analytical.modes
     geometry = pose_geometry(scene.manipulator, case.pose)
     step = (lambda text: progress(f"{case.name}: {text}")) if progress else (lambda text: None)
@@ -203,123 +203,25 @@ def run_case(scene: Scene, case: Case, cache: ResultCache, mesh_size: float,
         models=None, element_convergence=None, fem_variants=None, fem_variant_errors=None,
         speed_vs_error=None,
     )
-    if variants:
-        entry.update(variant_studies(scene, case, geometry, cache, mesh_size, fem, fem_error,
-                                     reference, refinement_study, step))
+    given = studies.CaseContext(case, geometry, fem, fem_error, reference, refinement_study, step)
+    for study in studies.at("case", profile):
+        entry.update(study.run(ctx, given))
     return entry, fem.vtu
 
 
-FEM_VARIANTS = {"elastic platform": {"platform": "elastic", "legs": "tetrahedra"},
-                "distributing coupling": {"coupling": "distributing"},
-                "tetrahedral legs": {"legs": "tetrahedra"}}
-
-
-def variant_studies(scene: Scene, case: Case, geometry, cache: ResultCache, mesh_size: float,
-                    fem: Solve, fem_error, reference, refinement_study, step) -> dict:
-    """Model variants, element convergence, FEM idealisations, speed vs error of one case."""
-    count = scene.analytical.modes
-    entry: dict = {}
-    step("model variants")
-    entry["models"] = {}
-    for label, opts in studies.model_variants(scene).items():
-        a = analytical_case(scene, case, opts)
-        entry["models"][label] = schema.ModelVariant(
-            **a.reported(count), median_seconds=seconds_per_pose(scene, case, opts, cache),
-            pairs=error_table(a, fem, count, fem_error, reference))
-    step("element convergence")
-    entry["element_convergence"] = {
-        beam: studies.element_convergence(scene, case, beam)
-        for beam in ("euler-bernoulli", "timoshenko")}
-    step("FEM joint and platform idealisations")
-    entry["fem_variants"], entry["fem_variant_errors"] = {}, {}
-    for label, kwargs in FEM_VARIANTS.items():
-        try:
-            v = fem_case(scene, geometry, cache, mesh_size, **kwargs)
-        except (ValueError, RuntimeError) as exc:
-            entry["fem_variant_errors"][label] = " ".join(str(exc).split())
-            continue
-        # paired by shape with the default FEM: an elastic plate adds modes of its own
-        shifted = error_table(v, fem, count)
-        entry["fem_variants"][label] = schema.FemVariant(
-            **v.reported(count), pairs=shifted,
-            shift_percent=[r["error_percent"] for r in shifted])
-    step("speed vs error")
-    entry["speed_vs_error"] = speed_vs_error(scene, case, fem, reference, refinement_study,
-                                             cache)
-    return entry
-
-
-def hard_case_rows(scene: Scene, cache: ResultCache, workers: int = 1) -> list[dict]:
-    """The analytical hard cases of the scene's machine, cases and chosen setting
-    (`hard_cases.evaluate`), through the result cache: recomputed when any of them or the
-    code changes."""
-    payload = {"manipulator": as_dict(scene.manipulator), "analytical": as_dict(scene.analytical),
-               "poses": [as_dict(c.pose) for c in scene.cases.values()]}
-    value, _, _ = cache.get_or_compute(
-        "hard-cases", payload, lambda: ({"rows": hard_cases.evaluate(scene, workers)}, {}),
-        required=("rows",), modules=("pipeline.hard_cases",))
-    return value["rows"]
-
-
-def fem_refinement(scene: Scene, geometry, cache: ResultCache,
-                   sizes: tuple[float, ...]) -> dict:
-    """Solve at every size (each through the cache) and extrapolate every frequency
-    (Richardson with the observed order, fem_reference.convergence): a results.Refinement."""
-    from fem_reference.convergence import study_from_values
-    from meshing.bodies import pose_assembly
-
-    solves = [fem_case(scene, geometry, cache, size).record for size in sizes]
-    count = scene.analytical.modes
-    volume = pose_assembly(scene.manipulator, geometry,
-                           elastic_platform=scene.fem.platform == "elastic").volume
-    study = study_from_values(sizes, [s["frequencies_hz"][:count] for s in solves],
-                              [s["dofs"] for s in solves], [s["raw_dofs"] for s in solves],
-                              [s["timings"] for s in solves], volume)
-    return schema.Refinement(
-        sizes_m=study.sizes, effective_sizes_m=study.effective_sizes,
-        frequencies_hz=study.frequencies_hz, dofs=study.dofs, raw_dofs=study.raw_dofs,
-        timings=study.timings,
-        seconds=[t.get("total", sum(t.values())) for t in study.timings],
-        mesh_cache_hit=[s["mesh_cache_hit"] for s in solves],
-        observed_order=study.orders,
-        orders_by_triplet=[m.orders_by_triplet for m in study.modes],
-        status=[m.status for m in study.modes],
-        extrapolated_hz=study.extrapolated_hz,
-        estimated_error_percent=(100 * study.relative_errors).tolist(),
-        estimated_error_percent_max=[100 * study.max_error(k) for k in range(len(sizes))])
-
-
-def speed_vs_error(scene: Scene, case: Case, fem: Solve, reference, refinement,
-                   cache: ResultCache | None = None) -> list[dict]:
-    """Wall time per pose against the worst |error| of f1..f6, for every setting (times
-    through the cache: `timing.seconds_per_pose`)."""
-    count = scene.analytical.modes
-    ref = np.asarray(reference if reference is not None else fem.record["frequencies_hz"][:count])
-    out = []
-    for label, opts in studies.speed_settings(scene).items():
-        rows = error_table(analytical_case(scene, case, opts), fem, count, None, ref)
-        out.append(schema.SpeedPoint(
-            model="analytical", setting=label, seconds=seconds_per_pose(scene, case, opts, cache),
-            worst_error_percent=max(abs(schema.best_error(r)) for r in rows),
-            single_run=False, mesh_from_cache=None))
-    if refinement:
-        for size, secs, err, cached in zip(refinement["sizes_m"], refinement["seconds"],
-                                           refinement["estimated_error_percent_max"],
-                                           refinement["mesh_cache_hit"]):
-            # one run, as computed when the result cache was filled (medians: make bench)
-            out.append(schema.SpeedPoint(
-                model="fem", setting=f"h = {size * 1e3:g} mm", seconds=secs,
-                worst_error_percent=err, single_run=True, mesh_from_cache=cached))
-    return out
+Report = Callable[[Path, Path, Path, int], object]  # (results.json, folder, cache dir, workers)
 
 
 def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
-             build_report: bool = True, workers: int | None = None,
+             report: Report | None = None, workers: int | None = None,
              scheduler: str | None = None) -> dict:
+    """Validate a scene into `out` (swapped in whole). `report`, when given, renders the report
+    into the staging folder before the swap (the command line passes
+    `reports.build.render_report`: the run itself never imports the report)."""
     scene = load_scene(scene_path)
     case_names = list(scene.cases) if profile == "full" else list(scene.ci_cases)
     # every case and the workspace the studies take their poses from, before any expensive work
-    reachable_workspace = envelope.check(scene, profile)
+    reachable_workspace = check_workspace(scene, profile)
     cache = ResultCache(cache_dir)
     scene = with_cache_dir(scene, cache.directory)  # solid end zones beside the other entries
     workers = workers or min(os.cpu_count() or 1, 8)
@@ -348,43 +250,32 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             results["fidelity"] = fidelity.summary()
             results["studies"]["workspace_validation"] = workspace
             bar.advance(task)
-            if profile == "full":  # the FEM idealisations of every case, on the workers
+            if any(s.key == "fem_variants" for s in studies.at("case", profile)):
+                # the FEM idealisations of every case, on the workers
                 geometries = [pose_geometry(scene.manipulator, scene.case(n).pose)
                               for n in case_names]
                 for idealisation in FEM_VARIANTS.values():
                     prefetch_fem(replace(scene, fem=replace(scene.fem, **idealisation)),
                                  geometries, (scene.fem.mesh_size,), cache, workers, scheduler)
+            ctx = studies.Context(scene, cache, workers, scheduler,
+                                  results["fidelity"]["analytical"]["setting"])
             for name in case_names:
-                case = scene.case(name)
                 entry, mode_files[name] = run_case(
-                    scene, case, cache, scene.fem.mesh_size,
-                    scene.fem_study.refinement if profile == "full" else None,
-                    variants=profile == "full",
+                    ctx, scene.case(name),
+                    scene.fem_study.refinement if profile == "full" else None, profile,
                     progress=lambda text: bar.update(task, description=text))
                 results["cases"].append(entry)
                 bar.advance(task)
-        calibrated = studies.calibration_case(scene)
-        if calibrated is not None:
-            results["studies"]["height_calibration"] = studies.height_calibration(
-                scene, calibrated)
-        results["studies"]["angle_conventions"] = [
-            studies.angle_conventions(scene, c) for c in studies.convention_cases(scene)]
-        if profile == "full":
-            results["studies"]["workspace"] = studies.workspace_map(scene)
-            results["studies"]["joint_orders"] = joint_order_study(scene, scene.ci_cases, cache)
-            results["studies"]["joint_couplings"] = coupling_study(
-                scene, scene.ci_cases, cache, results["fidelity"]["analytical"]["setting"],
-                workers, scheduler)
-            results["studies"]["hard_cases"] = hard_case_rows(scene, cache, workers)
+        for study in studies.at("scene", profile):
+            results["studies"][study.key] = study.run(ctx)
         results = _write_outputs(results, mode_files, stage)
-        if build_report:
+        if report is not None:
             from common.worker import stoppable
-            from reports.build import render_report
-            stoppable(render_report, stage / "results.json", stage,  # stops at once on a
-                      cache.directory, workers)                       # signal
+            stoppable(report, stage / "results.json", stage,  # stops at once on a signal
+                      cache.directory, workers)
     console.print(f"fidelity: {results['fidelity']['reason']}", soft_wrap=True)
     console.print(f"wrote {out}/results.json" + (", report.html, report.pdf"
-                                                  if build_report else ""), soft_wrap=True)
+                                                  if report else ""), soft_wrap=True)
     return results
 
 

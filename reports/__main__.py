@@ -14,7 +14,6 @@ from pathlib import Path
 from common.messages import EXIT_BAD_INPUT, failed
 
 
-
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # noqa: D401 - argparse hook: one line, exit 2
         self.exit(EXIT_BAD_INPUT, f"error: {self.prog}: {message}\n")

@@ -1,7 +1,7 @@
 """The report's entry point: results.json -> figures, report.html, report.pdf.
 
 Everything is rendered into a staging directory beside the output directory, which is swapped
-in whole only when the HTML and the PDF both exist (pipeline.outdir), so a failed or killed
+in whole only when the HTML and the PDF both exist (runtime.outdir), so a failed or killed
 render leaves the previous outputs (or nothing) and never a half-written report. Every number
 printed in a table is looked up in results.json by a JSON pointer, which the table cell carries
 as `data-src` (tests check them).
@@ -13,7 +13,7 @@ from pathlib import Path
 
 from common.paths import inside
 from common.worker import stoppable
-from pipeline.outdir import staged_output
+from runtime.outdir import staged_output
 
 from .document import context, render_html, render_pdf
 from .figure_set import ReportError, make_figures
@@ -30,7 +30,7 @@ def build_report(results_json_path, out_dir, cache_dir: Path | None = None,
     """Write out_dir/report.html, out_dir/report.pdf and out_dir/figures/ from a results file.
 
     The new out_dir is built whole beside it (its other files copied, then the report
-    rendered) and swapped in as one step (pipeline.outdir): never a temporary folder inside
+    rendered) and swapped in as one step (runtime.outdir): never a temporary folder inside
     out_dir, never a report of one run beside the figures of another. ValueError (naming the
     path) for a missing, malformed or outdated results file, ReportError when a picture or the
     PDF cannot be rendered; either way out_dir is left as it was. Figures are drawn on

@@ -7,16 +7,28 @@ from pathlib import Path
 
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
+from studies import STUDIES
+
 from . import validation, verdict
-from .case_tables import (comparison_table, fem_variants_table, refinement_table,
-                          repeated_limit_notes, variants_table)
+from .case_tables import (
+    comparison_table,
+    fem_variants_table,
+    refinement_table,
+    repeated_limit_notes,
+    variants_table,
+)
 from .cells import Cells, align, tables_in
 from .figure_set import has_paper, main_cases
 from .figures import PAPER_SECONDS
 from .setup_tables import setup_tables
-from .study_tables import (calibration_table, convention_tables, coupling_tables,
-                           hard_cases_table,
-                           joint_order_tables, speed_table)
+from .study_tables import (
+    calibration_table,
+    convention_tables,
+    coupling_tables,
+    hard_cases_table,
+    joint_order_tables,
+    speed_table,
+)
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
@@ -62,6 +74,7 @@ def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
               "hard-cases": "Hard cases: numerical stability and physics checks",
               "studies": "Reading the paper: angle conventions and height calibration",
               "other": "Other cases"}
+    titles |= {s.anchor: s.title for s in STUDIES if s.anchor in titles}  # declared once
     kept = [(key, title) for key, title in titles.items() if present.get(key, True)]
     return {key: f"{n} {title}" for n, (key, title) in enumerate(kept, start=1)}
 

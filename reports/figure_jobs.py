@@ -7,7 +7,7 @@ A job's cache key is what the picture shows: the function's name, its inputs (an
 such as a FEM mode file, by the SHA-256 of its contents; arrays by their bytes), the source of
 this package and the versions of the drawing libraries. A warm run of an unchanged scene draws
 nothing; a changed number redraws exactly the figures that show it. Entries are checksummed
-(`pipeline.cache.ResultCache`): a damaged picture is dropped and drawn again.
+(`runtime.cache.ResultCache`): a damaged picture is dropped and drawn again.
 
 A job that fails with an expected error (ValueError, or the `errors` it names) does not stop
 the others; `Outcome.error` carries it for the caller, which decides (a note, or a failure).
@@ -83,9 +83,9 @@ def _canonical(value, digest, outputs: dict) -> None:
 
 
 def _code() -> bytes:
-    """The source this package draws with (`pipeline.cache.code_fingerprint` of its modules)
+    """The source this package draws with (`runtime.cache.code_fingerprint` of its modules)
     and the versions of the drawing libraries."""
-    from pipeline.cache import ROOT, code_fingerprint
+    from runtime.cache import ROOT, code_fingerprint
 
     modules = tuple(".".join(p.relative_to(ROOT).with_suffix("").parts)
                     for p in sorted(PACKAGE.rglob("*.py")))
@@ -119,7 +119,7 @@ def _run(job: Job) -> Outcome:
 
 def draw(jobs: list[Job], cache_dir: Path | None = None, workers: int = 1) -> list[Outcome]:
     """Every job's outcome, in order; its files written (drawn, or copied from the cache)."""
-    from pipeline.cache import ResultCache
+    from runtime.cache import ResultCache
 
     cache = ResultCache(cache_dir) if cache_dir is not None else None
     code = _code()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from common.errors import ComputeError
 from common.paths import distinct_stems, file_stem, inside
 
 from . import figures, validation, workspace_figures
@@ -12,7 +13,7 @@ from .figure_jobs import Job, draw
 from .results import joint_points, leg_axis_shapes, platform_centre, platform_motion
 
 
-class ReportError(RuntimeError):
+class ReportError(ComputeError):
     """The report could not be rendered (one-line message)."""
 
 

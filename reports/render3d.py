@@ -15,12 +15,14 @@ from typing import NamedTuple
 
 import numpy as np
 
+from common.errors import ComputeError
+
 VIEW = (22.0, -60.0)  # elevation, azimuth (deg): the same view as the beam pictures
 WINDOW = (620, 560)
 _MODE_NAME = re.compile(r"mode\D{0,3}(\d+)", re.I)
 
 
-class RenderError(RuntimeError):
+class RenderError(ComputeError):
     """A mode-shape picture could not be made (message is one line)."""
 
 

@@ -1,4 +1,4 @@
-"""Reading results.json: one load checked against the schema (pipeline.results), values by
+"""Reading results.json: one load checked against the schema (results.schema), values by
 JSON pointer, and the pose and mode-shape arrays the pictures draw.
 
 Nothing here computes physics: joint centres, leg-axis shapes and platform motions are read as
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pipeline.results import Case, Results, read
+from results import Case, Results, read
 
 
 def load_results(path) -> Results:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .cells import Cells, cell, head, missing
+from .cells import Cells, cell, head
 from .figures import WIDTH, plt, save
 from .results import escape
 

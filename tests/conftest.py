@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from pipeline.scene import load_scene
+from scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_SCENE = ROOT / "scenes" / "paper.toml"

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 
-from pipeline.cache import ResultCache, content_key
+from runtime.cache import ResultCache, content_key
 
 
 def test_same_inputs_same_key_and_different_inputs_different_key():
@@ -45,7 +45,7 @@ def test_hit_after_compute_and_recompute_after_corruption(tmp_path):
 def test_key_follows_the_code_a_value_is_computed_with(monkeypatch, tmp_path):
     """A sweep task that pairs modes in pipeline/ is keyed on that code too: editing the
     pairing (or the model packages, common/ included) makes every such entry stale."""
-    import pipeline.cache as cache
+    import runtime.cache as cache
 
     (tmp_path / "common").mkdir()
     (tmp_path / "common" / "a.py").write_text("x = 1\n")
@@ -68,6 +68,7 @@ def test_key_follows_the_code_a_value_is_computed_with(monkeypatch, tmp_path):
 
 
 def test_the_model_packages_include_common():
-    import pipeline.cache as cache
+    import runtime.cache as cache
 
-    assert set(cache.CODE_PACKAGES) == {"analytical", "common", "joint_ends", "meshing", "fem_reference"}
+    assert set(cache.CODE_PACKAGES) == {"analytical", "common", "joint_ends", "meshing",
+                                        "fem_reference"}

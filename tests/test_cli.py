@@ -15,7 +15,7 @@ from tests.conftest import PAPER_SCENE, ROOT
 
 def run(*args, cwd=ROOT):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([sys.executable, "-m", "pipeline", *args], cwd=cwd, env=env,
+    return subprocess.run([sys.executable, "-m", "rps", *args], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=300)
 
 
@@ -139,7 +139,7 @@ def test_version_names_the_project_and_its_commit():
 
 
 def test_help_lists_every_command_and_every_option_default_and_unit():
-    from pipeline.cli import _Help, build_parser
+    from rps.app import _Help, build_parser
 
     parser = build_parser()
     commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
@@ -175,7 +175,7 @@ def test_human_output_is_rounded_and_json_is_exact():
 
 
 def test_cache_info_and_clear_touch_only_cache_entries(tmp_path):
-    from pipeline.cache import ResultCache
+    from runtime.cache import ResultCache
 
     cache = tmp_path / "cache"
     ResultCache(cache).put("fem", "0123456789abcdef01234567", {"x": 1})
@@ -217,9 +217,10 @@ def test_estimate_error_refines_around_a_size_outside_the_scenes_sequence(tmp_pa
 
 
 def test_developer_commands_refuse_to_run_outside_a_checkout(monkeypatch, capsys):
-    import pipeline.cli as cli
+    import rps.app as cli
+    import rps.args
 
-    monkeypatch.setattr(cli, "checkout_root", lambda: None)
+    monkeypatch.setattr(rps.args, "checkout_root", lambda: None)
     assert cli.main(["scene-docs"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "repository checkout" in err[0]

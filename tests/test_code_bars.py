@@ -6,7 +6,8 @@ import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("analytical", "meshing", "fem_reference", "pipeline", "reports")
+PACKAGES = ("analytical", "meshing", "fem_reference", "joint_ends", "scene", "results", "runtime",
+            "solvers", "studies", "pipeline", "reports", "rps")
 
 
 def test_no_case_name_is_written_in_code():

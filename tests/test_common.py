@@ -1,8 +1,8 @@
 """Helpers below both models: rigid-body kinematics, plate inertia, settings declarations."""
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
 import math
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 import pytest
@@ -13,8 +13,8 @@ from common.rigid_body import rigid_fit, skew
 from common.settings import as_dict, setting
 from fem_reference.model import FemOptions
 from meshing.geometry import MeshSettings
-from pipeline.compare import fem_cache_payload
-from pipeline.cache import content_key
+from runtime.cache import content_key
+from solvers.compare import fem_cache_payload
 
 
 def test_skew_is_the_cross_product():

@@ -7,9 +7,8 @@ complete run (or exactly the previous one), no staging folder anywhere, one line
 """
 from __future__ import annotations
 
-import errno
 import copy
-from dataclasses import replace
+import errno
 import json
 import os
 import shutil
@@ -17,20 +16,21 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
 
-import pipeline.outdir as outdir
 import pipeline.run as run
+import runtime.outdir as outdir
 from analytical.kinematics import pose_geometry
+from common.worker import WorkerDied, stoppable
 from fem_reference import resources
 from fem_reference.model import FemError, solve_pose
-from common.worker import WorkerDied, stoppable
 from pipeline.baselines import check_command, load_baseline
-from pipeline.cache import ResultCache
-from pipeline.compare import fem_case, fem_options, fem_runtime
+from runtime.cache import ResultCache
+from solvers.compare import fem_case, fem_options, fem_runtime
 from tests.conftest import PAPER_SCENE, ROOT
 
 FIXTURES = ROOT / "tests" / "fixtures"
@@ -72,8 +72,7 @@ def scene_copy(tmp_path: Path, name: str, ci_cases: list[str]) -> Path:
 def warm(tmp_path_factory):
     """A CI-profile run of the paper's scene and the cache it filled."""
     base = tmp_path_factory.mktemp("warm")
-    results = run.validate(str(PAPER_SCENE), base / "out", base / "cache", profile="ci",
-                           build_report=False)
+    results = run.validate(str(PAPER_SCENE), base / "out", base / "cache", profile="ci")
     return SimpleNamespace(out=base / "out", cache=base / "cache", results=results)
 
 
@@ -88,7 +87,7 @@ def test_two_runs_at_once_both_succeed_and_out_is_one_complete_run(warm, tmp_pat
     cache, out = copy_of(warm.cache, tmp_path / "cache"), tmp_path / "out"
     logs = [tmp_path / f"run{i}.err" for i in range(2)]
     with outdir.output_lock(out):  # both start while out/ is busy: both must wait, then run
-        procs = [command("pipeline", "validate", "--scene", PAPER_SCENE, "--profile", "ci",
+        procs = [command("rps", "validate", "--scene", PAPER_SCENE, "--profile", "ci",
                          "--no-report", "--out", out, "--cache", cache,
                          stdout=subprocess.DEVNULL, stderr=log.open("w")) for log in logs]
         deadline = time.monotonic() + 120
@@ -109,12 +108,10 @@ def test_two_runs_at_once_both_succeed_and_out_is_one_complete_run(warm, tmp_pat
 
 def test_a_run_replaces_out_whole(warm, tmp_path):
     out = tmp_path / "out"
-    run.validate(str(scene_copy(tmp_path, "first", ["case1"])), out, warm.cache, profile="ci",
-                 build_report=False)
+    run.validate(str(scene_copy(tmp_path, "first", ["case1"])), out, warm.cache, profile="ci")
     first = set(tree(out))
     assert "modes/case1_fem.vtu" in first and "tables/case1.csv" in first
-    run.validate(str(scene_copy(tmp_path, "second", ["case2"])), out, warm.cache, profile="ci",
-                 build_report=False)
+    run.validate(str(scene_copy(tmp_path, "second", ["case2"])), out, warm.cache, profile="ci")
     second = tree(out)
     assert not [name for name in second if "case1" in name]  # nothing of the first run left
     assert json.loads(second["results.json"])["scene"]["name"] == "second"
@@ -135,7 +132,7 @@ def test_a_failure_inside_the_swap_leaves_out_exactly_as_it_was(warm, tmp_path, 
     monkeypatch.setattr(outdir, "exchange", refused)
     with pytest.raises(outdir.OutputError, match=f"cannot replace {out}: Operation not "
                                                  "permitted; it was left as it was"):
-        run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci", build_report=False)
+        run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci")
     assert tree(out) == before and leftovers(out) == []
 
 
@@ -158,10 +155,10 @@ def test_without_renameat2_the_fallback_swap_restores_out_when_it_fails(warm, tm
 
     monkeypatch.setattr(outdir.os, "rename", rename)
     with pytest.raises(outdir.OutputError, match="Input/output error; it was left as it was"):
-        run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci", build_report=False)
+        run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci")
     assert tree(out) == before and leftovers(out) == []
     monkeypatch.setattr(outdir.os, "rename", real_rename)  # the fallback itself works
-    run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci", build_report=False)
+    run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci")
     assert "from-an-earlier-run.txt" not in tree(out) and leftovers(out) == []
 
 
@@ -205,7 +202,7 @@ def test_an_immutable_out_gives_exit_2_and_is_exactly_the_previous_run(warm, tmp
     if not _chattr("+i", out):
         pytest.skip("chattr +i needs root and a file system with attributes")
     try:
-        proc = finished("pipeline", "validate", "--scene", PAPER_SCENE, "--profile", "ci",
+        proc = finished("rps", "validate", "--scene", PAPER_SCENE, "--profile", "ci",
                         "--no-report", "--out", out, "--cache", cache)
     finally:
         _chattr("-i", out)
@@ -221,7 +218,7 @@ def test_out_must_be_a_directory_of_its_own(tmp_path):
     for out, needle in ((".", "--out .: each run replaces the output directory whole, so it "
                               "cannot be the current directory"),
                         ("work", "--out work: holds notes.txt but no results.json or report")):
-        proc = finished("pipeline", "validate", "--scene", PAPER_SCENE, "--profile", "ci",
+        proc = finished("rps", "validate", "--scene", PAPER_SCENE, "--profile", "ci",
                         "--no-report", "--out", out, "--cache", tmp_path / "cache", cwd=tmp_path)
         assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1, proc.stderr
         assert needle in proc.stderr
@@ -245,7 +242,7 @@ def test_a_full_disk_names_the_path_in_out(warm, tmp_path, monkeypatch, where):
         monkeypatch.setattr(run, "write_tables", write_tables)
         expected = f"cannot write {out}: No space left on device"
     with pytest.raises(outdir.OutputError) as info:
-        run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci", build_report=False)
+        run.validate(str(PAPER_SCENE), out, warm.cache, profile="ci")
     assert str(info.value) == expected
     assert tree(out) == before and leftovers(out) == []
 
@@ -313,7 +310,7 @@ def test_a_corrupt_mode_file_never_reaches_out(warm, tmp_path, capsys):
     (entry,) = [p for p in (cache / "fem").glob("*.vtu") if p.read_bytes() == good]
     _damage(entry, "edit")
     out = tmp_path / "out"
-    results = run.validate(str(PAPER_SCENE), out, cache, profile="ci", build_report=False)
+    results = run.validate(str(PAPER_SCENE), out, cache, profile="ci")
     assert "failed its check" in capsys.readouterr().err
     assert (out / "modes" / "case1_fem.vtu").read_bytes() == good
     assert [c["fem"]["frequencies_hz"] for c in results["cases"]] == \
@@ -361,12 +358,12 @@ def test_a_killed_report_leaves_out_as_it_was_and_nothing_behind(report_out, how
 
 # ---------------------------------------------------------------- one line, exit 2
 @pytest.mark.parametrize("module, args, needle", [
-    ("pipeline", ["fem", "--scene", PAPER_SCENE, "--size", "1e-110"], "--size 1e-110 mm: must"),
-    ("pipeline", ["fem", "--scene", PAPER_SCENE, "--size", "0.02"], "max_dofs"),
-    ("pipeline", ["readme", "--results", "{}"], "schema None"),
-    ("pipeline", ["analytical", "--scene", "density_kg_m3 = 1e-300"],
+    ("rps", ["fem", "--scene", PAPER_SCENE, "--size", "1e-110"], "--size 1e-110 mm: must"),
+    ("rps", ["fem", "--scene", PAPER_SCENE, "--size", "0.02"], "max_dofs"),
+    ("rps", ["readme", "--results", "{}"], "schema None"),
+    ("rps", ["analytical", "--scene", "density_kg_m3 = 1e-300"],
      "density_kg_m3 = 1e-300: must be >= 500 and <= 25000 kg/m3"),
-    ("pipeline", ["check-baselines", "--results", "truncated"], "not valid JSON"),
+    ("rps", ["check-baselines", "--results", "truncated"], "not valid JSON"),
     ("reports", ["--results", "{}", "--out", "out"], "schema None"),
     ("reports", ["--results", "truncated", "--out", "out"], "not valid JSON"),
 ])
@@ -431,7 +428,7 @@ def test_size_9_mm_is_refused_before_meshing_on_this_machine(manipulator, scene,
     def no_meshing(*args, **kwargs):
         raise AssertionError("meshed before the memory check")
 
-    monkeypatch.setattr("fem_reference.model.cached_mesh", no_meshing)
+    monkeypatch.setattr("fem_reference.tetrahedra.cached_mesh", no_meshing)
     available = resources.available_bytes()
     if available is not None and resources.MEMORY_FRACTION * available > 20.7e9:
         pytest.skip(f"this machine has {available / 1e9:.0f} GB available: 9 mm would fit")
@@ -442,7 +439,7 @@ def test_size_9_mm_is_refused_before_meshing_on_this_machine(manipulator, scene,
 
 def test_a_solve_stays_under_the_memory_it_states(tmp_path, manipulator):
     """A real solve (20 mm, in a fresh process with its worker) peaks below its estimate."""
-    code = ("import resource, sys; from pipeline.cli import main; main(sys.argv[1:]); "
+    code = ("import resource, sys; from rps.app import main; main(sys.argv[1:]); "
             "print(max(resource.getrusage(w).ru_maxrss for w in (resource.RUSAGE_SELF, "
             "resource.RUSAGE_CHILDREN)) * 1024)")
     proc = subprocess.run([sys.executable, "-c", code, "fem", "--scene", str(PAPER_SCENE),
@@ -476,7 +473,7 @@ def test_a_signal_stops_a_long_solve_within_2_seconds(tmp_path, how):
     # 16 mm: the factorisation alone takes ~7 s in C, where no Python handler can run
     # as from a terminal: a test runner started in the background (`cmd &` in a script) has
     # SIGINT ignored, which its children inherit and Python then keeps ignoring
-    proc = command("pipeline", "fem", "--scene", PAPER_SCENE, "--size", "16", "--legs",
+    proc = command("rps", "fem", "--scene", PAPER_SCENE, "--size", "16", "--legs",
                    "tetrahedra", cwd=tmp_path,
                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                    preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))

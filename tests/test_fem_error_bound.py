@@ -27,9 +27,9 @@ import pytest
 
 from analytical.kinematics import pose_geometry
 from analytical.params import Pose
+from analytical.reach import layer_band
 from fem_reference import FemRuntime, refinement_study, solve_pose
 from fem_reference.convergence import P_THEORY
-from analytical.reach import layer_band
 
 STUDY = (0.50, 0.40, 0.32)  # x leg diameter, coarse -> fine
 FINE = STUDY[-1] / 2

@@ -8,8 +8,8 @@ far above the modes solved for, and the display VTU a valid solid.
 """
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -85,7 +85,7 @@ def test_the_section_harmonics_left_out_lie_where_the_solver_says(scene, diamete
     """Harmonics n >= 2 never couple to a joint; the solver leaves n = 2 out after an inertia
     count says none of its modes lies below LOWEST_EXCLUDED_MARGIN x the highest mode solved.
     An independent eigen solve of every leg's n = 2 block holds it to that."""
-    from fem_reference.harmonic import LOWEST_EXCLUDED_MARGIN, _leg_data
+    from fem_reference.harmonic import LOWEST_EXCLUDED_MARGIN, leg_data
 
     m = replace(scene.manipulator, leg_diameter=diameter)
     geometry = pose_geometry(m, scene.case("case2").pose)
@@ -95,7 +95,7 @@ def test_the_section_harmonics_left_out_lie_where_the_solver_says(scene, diamete
     assert result.excluded_above_hz == pytest.approx(
         LOWEST_EXCLUDED_MARGIN * result.frequencies_hz[-1])
     lowest = []  # every leg, not only the one the solver checks for rigid faces
-    for leg, _ in _leg_data(m, geometry, size, (2,)):
+    for leg, _ in leg_data(m, geometry, size, (2,)):
         k, mass = leg.stiffness[2], leg.mass
         held = [leg.axis_nodes] + (list(leg.face_nodes) if coupling == "rigid" else [])
         free = np.setdiff1d(np.arange(k.shape[0]),
@@ -109,10 +109,10 @@ def test_the_section_harmonics_left_out_lie_where_the_solver_says(scene, diamete
 
 def test_the_inertia_count_of_section_modes_is_the_eigenvalue_count(scene):
     """Sylvester: the negative pivots of K - mu M count the eigenvalues below mu."""
-    from fem_reference.harmonic import _section_blocks, modes_below
+    from fem_reference.harmonic import modes_below, section_blocks
 
     geometry = pose_geometry(scene.manipulator, scene.case("case2").pose)
-    k, m = next(_section_blocks(scene.manipulator, geometry, 0.032, "rigid", 2))
+    k, m = next(section_blocks(scene.manipulator, geometry, 0.032, "rigid", 2))
     w = lowest_modes(k, m, 4, extra=1).eigenvalues
     f = np.sqrt(w) / (2 * math.pi)
     assert modes_below(k, m, 0.5 * f[0]) == 0
@@ -148,8 +148,8 @@ def test_the_stated_error_of_harmonic_legs_bounds_their_error(scene, pose_name):
     """The refinement study's stated error (order bounded by the rims' 1.42) is at least the
     error measured against a mesh five times finer (0.003-0.01 % at 0.32 d), on every mode, at
     a CI case and at the most compact pose of the workspace (legs ~2.4 diameters long)."""
-    from fem_reference import refinement_study
     from analytical.reach import layer_band
+    from fem_reference import refinement_study
 
     m = scene.manipulator
     d = m.leg_diameter
@@ -173,3 +173,29 @@ def test_the_dof_guard_refuses_a_harmonic_model_too_large(scene):
     with pytest.raises(FemError,
                        match=r"about \d+ harmonic dofs expected, above max_dofs = 1000$"):
         solve_pose(scene.manipulator, geometry, _options(scene), FemRuntime(max_dofs=1000))
+
+
+def test_both_discretisations_answer_the_same_interface(scene, tmp_path):
+    """`HarmonicResult` and the tetrahedra's `FemResult` are both `FemAnswer`s: what the
+    pipeline reads of a solve (frequencies, sizes, timings, the leg-axis and platform motions,
+    the record) has the same form whichever the legs."""
+    from fem_reference import FemRuntime
+    from fem_reference.answer import FemAnswer
+
+    geometry = pose_geometry(scene.manipulator, scene.case("case1").pose)
+    answers = [solve_pose(scene.manipulator, geometry,
+                          replace(_options(scene), legs=legs).with_size(0.06),
+                          FemRuntime(cache_dir=tmp_path))
+               for legs in ("harmonic", "tetrahedra")]
+    assert [type(a).__name__ for a in answers] == ["HarmonicResult", "FemResult"]
+    stations = [0.0, 0.3, 1.0]
+    shapes = []
+    for answer in answers:
+        assert isinstance(answer, FemAnswer)
+        n = len(answer.frequencies_hz)
+        shapes.append((answer.leg_axis_displacements(stations).shape,
+                       answer.leg_axis_twists(stations).shape, answer.platform_motion.shape))
+        assert shapes[-1] == ((3, 3, 3, n), (3, 3, n), (6, n))
+        assert {"frequencies_hz", "dofs", "raw_dofs", "mesh_size_m", "timings",
+                "legs"} <= set(answer.to_dict())
+    np.testing.assert_allclose(answers[1].frequencies_hz, answers[0].frequencies_hz, rtol=0.02)

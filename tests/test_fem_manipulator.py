@@ -2,18 +2,18 @@
 results API, VTU export, refinement study, and clear FemError on bad input."""
 from __future__ import annotations
 
-from dataclasses import replace
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
+import fem_reference.tetrahedra as fem_tetrahedra
 from analytical.kinematics import pose_geometry
 from fem_reference import FemError, FemOptions, FemRuntime, refinement_study, solve_pose
 from fem_reference.convergence import P_THEORY
-from meshing.geometry import MeshSettings
-import fem_reference.model as fem_model
 from fem_reference.eigen import EigenError
+from meshing.geometry import MeshSettings
 
 SIZE = 0.04  # coarse: ~7000 dofs, ~0.5 s a pose
 
@@ -49,6 +49,7 @@ def test_case1_frequencies_near_the_beam_model(scene, case1_result):
     mesh's ~0.2 % and catches any real modelling error of the size of Euler-Bernoulli's
     4 % on modes 4-6."""
     from dataclasses import replace
+
     from analytical.model import natural_frequencies
     f = case1_result.frequencies_hz
     assert f.shape == (6,) and np.all(np.diff(f) >= 0)
@@ -237,7 +238,7 @@ def test_bad_sizes_and_geometry_raise_fem_error(manipulator, case1, cache):
 def test_eigensolver_failure_is_a_fem_error(manipulator, case1, cache, monkeypatch):
     def fail(*args, **kwargs):
         raise EigenError("ARPACK did not converge: 3 of 8 eigenpairs found")
-    monkeypatch.setattr(fem_model, "lowest_modes", fail)
+    monkeypatch.setattr(fem_tetrahedra, "lowest_modes", fail)
     with pytest.raises(FemError, match="eigensolver failed .ARPACK did not converge"):
         solve_pose(manipulator, case1, options(SIZE), runtime(cache))
 
@@ -264,12 +265,11 @@ def test_a_mesh_below_the_quality_threshold_is_repaired_or_refused(scene, monkey
     """Below MIN_QUALITY the mesh is rebuilt once with the high-order optimiser; kept if that
     clears the threshold, else refused with the value named."""
     from analytical.kinematics import pose_geometry
-    from meshing import geometry
-    from meshing.bodies import pose_assembly
-    from common.worker import stoppable
-
     from analytical.params import Pose
     from analytical.reach import layer_band
+    from common.worker import stoppable
+    from meshing import geometry
+    from meshing.bodies import pose_assembly
 
     # the lowest level pose of the workspace at 45 mm: Netgen leaves a worst curved element of
     # 0.23, the high-order optimiser 0.76 (measured)

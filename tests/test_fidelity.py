@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from pipeline.fidelity import FEM_ERROR_SHARE, FidelitySettings, choose_analytical, choose_fem_size
+from studies.choice import FEM_ERROR_SHARE, FidelitySettings, choose_analytical, choose_fem_size
 
 SIZES = [0.04, 0.032, 0.025, 0.02]
 

@@ -5,7 +5,7 @@ base radius 150-600 mm; platform radius 0.3-1.2 times the base's; legs 2-40 diam
 mid stroke; plate 0.1-3 leg diameters thick (at least 1 mm); actuator stroke L_min / L_max
 0.25-0.8 with L_max 1.2-4 base radii; joint limits 20-80 degrees; both joint orders. Each scene
 has a level case and a slightly tilted one where the machine reaches them (elsewhere a random
-height: the up-front check must refuse it). A draw either passes `pipeline.envelope.check`
+height: the up-front check must refuse it). A draw either passes `studies.reachable.check`
 (plus the scene's own load) or is refused there by ValueError in one line; after that check,
 nothing may fail on a pose the pipeline chose itself.
 
@@ -22,16 +22,17 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, event, given, settings, strategies as st
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
 
 from analytical.kinematics import pose_geometry
 from analytical.model import natural_frequencies
 from analytical.params import Pose
 from analytical.reach import WorkspaceError, level_band, sample_poses
 from pipeline import envelope, hard_cases
-from pipeline.scene import parse_scene
-from pipeline.studies import MAP_LAYERS, workspace_heights
-from pipeline.workspace_validation import FULL, design
+from scene import parse_scene
+from studies.workspace_map import MAP_LAYERS, workspace_heights
+from studies.workspace_validation import FULL, design
 
 SLOW = os.environ.get("RPS_FUZZ") == "slow"
 MATERIALS = {  # E (GPa), G (GPa), rho (kg/m3)
@@ -145,11 +146,11 @@ def test_every_study_pose_of_a_checked_machine_is_reachable(raw):
 @_settings(5, 30)
 @given(machines())
 def test_the_fem_solves_and_pairs_every_case_of_a_checked_machine(raw):
+    import tempfile
     from dataclasses import replace
 
-    from pipeline.compare import analytical_case, error_table, fem_case
-    from pipeline.cache import ResultCache
-    import tempfile
+    from runtime.cache import ResultCache
+    from solvers.compare import analytical_case, error_table, fem_case
 
     got = checked(raw)
     if got is None:
@@ -187,6 +188,7 @@ def test_a_checked_machine_validates(raw, tmp_path_factory):
     import tomllib  # noqa: F401 (the scene goes through a file, as a user's does)
 
     from pipeline.run import validate
+    from reports.build import render_report
 
     got = checked(raw)
     if got is None:
@@ -195,7 +197,8 @@ def test_a_checked_machine_validates(raw, tmp_path_factory):
     path = tmp / "scene.toml"
     path.write_text(_toml(raw), encoding="utf-8")
     results = validate(str(path), tmp / "out", tmp / "cache",
-                       profile="full" if SLOW else "ci", build_report=SLOW)
+                       profile="full" if SLOW else "ci",
+                       report=render_report if SLOW else None)
     assert results["studies"]["workspace_validation"]["failed"] == 0
     assert results["studies"]["reachable_workspace"]["validation_poses"] >= 1
 

@@ -1,27 +1,26 @@
 """Hard cases (issue 12): geometry at the edges, repeated and near-repeated eigenvalues,
 eigen-solutions checked rather than trusted, continuity. Each test is one claim with its
-tolerance; the analytical claims are measured by pipeline.hard_cases (which also feeds the
+tolerance; the analytical claims are measured by studies.hard_cases (which also feeds the
 report), the FEM ones here. Run alone with `pytest -m hard`."""
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 import scipy.sparse.linalg as sla
 
+import fem_reference.tetrahedra as fem_tetrahedra
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.modal import ModalError
 from analytical.model import analyse, natural_frequencies
 from analytical.params import Material
-from fem_reference import FemOptions, FemRuntime, solve_pose
-from fem_reference import eigen
+from fem_reference import FemOptions, FemRuntime, eigen, solve_pose
 from fem_reference.eigen import EigenError, lowest_modes
-import fem_reference.model as fem_model
 from meshing.geometry import MeshSettings
-from pipeline import hard_cases as hc
-from pipeline.scene import load_scene
+from scene import load_scene
+from studies import hard_cases as hc
 from tests.conftest import ROOT
 
 pytestmark = pytest.mark.hard
@@ -188,9 +187,9 @@ def fem_level_solves(scene, tmp_path_factory):
 
     out = []
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(fem_model, "lowest_modes", spy)
+        patch.setattr(fem_tetrahedra, "lowest_modes", spy)
         # in this process, so the spy sees the matrices (solves normally run in a child)
-        patch.setattr(fem_model, "stoppable", lambda fn, *args, **kw: fn(*args, **kw))
+        patch.setattr(fem_tetrahedra, "stoppable", lambda fn, *args, **kw: fn(*args, **kw))
         for size, turn in MESHES:
             machine = hc.turned(scene.manipulator, math.radians(turn))
             geometry = pose_geometry(machine, scene.case("case1").pose)
@@ -328,8 +327,8 @@ def test_the_hard_cases_spread_over_two_workers_give_the_serial_rows(scene):
 
 def test_the_hard_cases_of_a_run_are_computed_once_per_scene_and_code(scene, tmp_path,
                                                                        monkeypatch):
-    from pipeline.cache import ResultCache
-    from pipeline.run import hard_case_rows
+    from runtime.cache import ResultCache
+    from studies.hard_cases import hard_case_rows
 
     calls = []
     monkeypatch.setattr(hc, "evaluate", lambda scene, workers=1: calls.append(1) or

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from pipeline.human import case_summary, number, payload_lines, significant, summary
+from rps.human import case_summary, number, payload_lines, significant, summary
 
 FIXTURE = Path(__file__).resolve().parent / "fixtures" / "report_results.json"
 

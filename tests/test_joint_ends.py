@@ -7,18 +7,19 @@ the default zone mesh against the FEM limits measured once with fine meshes
 """
 from __future__ import annotations
 
-from dataclasses import replace
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 import scipy.linalg as la
 
 from analytical.beam import Section, assemble_beam
-from analytical.end_zones import EndZone, JointEndsUnavailable, leg_segments
+from analytical.end_zones import JointEndsUnavailable, leg_segments
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions
+from joint_ends import EndZone
 from tests.conftest import ROOT
 
 pytest.importorskip("gmsh")
@@ -237,6 +238,7 @@ def test_without_the_solid_builder_solid_ends_fail_in_one_line(scene, monkeypatc
     """As in a base install (numpy and scipy only): the model asks for a zone it cannot build
     (a zone length never built before, so neither cache can answer)."""
     import sys
+
     import analytical.end_zones as end_zones
 
     monkeypatch.setitem(sys.modules, missing, None)

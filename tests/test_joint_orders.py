@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pipeline.cache import ResultCache
-from pipeline.joint_orders import joint_order_study
+from runtime.cache import ResultCache
+from studies.joint_orders import joint_order_study
 
 
 @pytest.mark.slow

@@ -6,7 +6,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from analytical.kinematics import PoseError, pose_geometry, tilt_torsion_rotation
 from analytical.params import Pose

@@ -8,8 +8,18 @@ import numpy as np
 import pytest
 
 from analytical.kinematics import pose_geometry
-from meshing import (Assembly, Cylinder, GeometryError, MeshCache, MeshSettings, build_mesh,
-                     cache_key, cached_mesh, leg_cylinders, pose_assembly)
+from meshing import (
+    Assembly,
+    Cylinder,
+    GeometryError,
+    MeshCache,
+    MeshSettings,
+    build_mesh,
+    cache_key,
+    cached_mesh,
+    leg_cylinders,
+    pose_assembly,
+)
 
 ROD = Assembly((Cylinder("leg1", (0.0, 0.0, 0.0), (0.1, 0.2, 0.5), 0.05),))
 COARSE = MeshSettings(0.04)

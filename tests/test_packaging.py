@@ -74,7 +74,7 @@ def test_the_base_dependencies_are_numpy_and_scipy_only():
     assert sorted(names) == ["numpy", "scipy"]
     extras = PYPROJECT["project"]["optional-dependencies"]
     assert {"gmsh==4.15.2", "scikit-fem==12.0.2"} <= set(extras["fem"])
-    assert PYPROJECT["project"]["scripts"]["rps"] == "pipeline.cli:main"
+    assert PYPROJECT["project"]["scripts"]["rps"] == "rps.app:main"
 
 
 # import names of the extras' distributions (and of VTK, which pyvista brings)

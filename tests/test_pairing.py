@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pipeline.pairing import clusters, mac_matrix, pair_modes
+from solvers.pairing import clusters, mac_matrix, pair_modes
 
 
 def test_mac_is_one_for_scaled_shapes_and_zero_for_orthogonal():

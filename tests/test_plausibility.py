@@ -18,7 +18,7 @@ import pytest
 from meshing.bodies import Assembly, Cylinder
 from meshing.cache import cached_mesh
 from meshing.geometry import MeshSettings
-from pipeline.scene import SceneError, parse_scene
+from scene import SceneError, parse_scene
 from tests.conftest import PAPER_SCENE
 
 RAW = tomllib.loads(PAPER_SCENE.read_text(encoding="utf-8"))

@@ -92,7 +92,7 @@ def test_a_mesh_beyond_the_machines_memory_is_refused_whatever_max_dofs_says(cap
 def test_the_run_s_chosen_model_is_one_option_away(capsys):
     """The report fixture is a run of scenes/paper.toml: its chosen model (Timoshenko with
     Hutchinson's coefficient) is what --from-results computes."""
-    from pipeline.results import read
+    from results import read
     from tests.conftest import ROOT
 
     fixture = ROOT / "tests" / "fixtures" / "report_results.json"

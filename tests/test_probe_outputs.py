@@ -15,11 +15,10 @@ from pathlib import Path
 
 import pytest
 
-from common.paths import (MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, file_stem,
-                          inside)
+from common.paths import MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, file_stem, inside
 from pipeline import cli
-from pipeline.results import MAX_DEPTH, SCHEMA_VERSION
-from reports.tables import write_tables
+from results import MAX_DEPTH, SCHEMA_VERSION
+from results.tables import write_tables
 from tests.conftest import PAPER_SCENE, ROOT
 
 RESULTS = ROOT / "tests" / "fixtures" / "report_results.json"
@@ -199,7 +198,7 @@ def test_joint_end_zones_land_under_the_cache_directory_of_the_run(tmp_path, mon
                                                                     scene):
     import joint_ends.cache
     from analytical.model import natural_frequencies
-    from pipeline.compare import with_cache_dir
+    from solvers.compare import with_cache_dir
 
     default = tmp_path / "default-cache"  # where zones went whatever --cache said (issue 20)
     monkeypatch.setattr(joint_ends.cache, "cache_root", lambda: default)

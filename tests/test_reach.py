@@ -3,8 +3,8 @@
 where one limit binds; a bounded sampler."""
 from __future__ import annotations
 
-from dataclasses import replace
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -12,7 +12,7 @@ import pytest
 from analytical.kinematics import PoseError, _segment_distance, clearances, pose_geometry
 from analytical.params import Pose
 from analytical.pose_batch import pose_batch
-from analytical.reach import (LAYER_INSET, layer_band, level_band, max_tilts, sample_poses)
+from analytical.reach import LAYER_INSET, layer_band, level_band, max_tilts, sample_poses
 
 
 def test_segment_distance_matches_a_dense_sampling_of_both_segments():

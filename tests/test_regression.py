@@ -12,6 +12,8 @@ import pytest
 from pipeline.baselines import compare, compute_tables, load_baseline
 from tests.conftest import ROOT
 
+pytestmark = pytest.mark.slow  # whole validation runs (CI profile): tens of seconds each
+
 
 @pytest.fixture(scope="module")
 def baseline():
@@ -52,7 +54,7 @@ def test_best_model_is_within_one_percent_of_the_fem_on_all_six_modes(baseline, 
     cases within 1 % of the FEM. The scene's default 32 mm FEM has an estimated error of at most
     0.16 % on f1..f6 (refinement study, `make`), so 0.84 % against it bounds 1 % against the
     converged reference."""
-    from pipeline.scene import load_scene
+    from scene import load_scene
     default_size = load_scene(ROOT / baseline["scene"]).fem.mesh_size
     tables = compute_tables(ROOT / baseline["scene"], default_size,
                             tmp_path_factory.mktemp("cache"), beam="timoshenko",

@@ -23,9 +23,9 @@ from pathlib import Path
 
 import pytest
 
-from pipeline.results import SCHEMA_VERSION
 from reports.build import ReportError, build_report
 from reports.results import resolve
+from results import SCHEMA_VERSION
 
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 RESULTS = FIXTURES / "report_results.json"
@@ -216,7 +216,7 @@ def test_ci_profile_results_build(tmp_path):
     assert "names no FEM mode file" in page
     headings = _parse(page).headings
     for absent in ("Convergence", "Speed vs error", "Workspace maps", "Both joint orders",
-                   "Joint faces", "Reading the paper"):  # sections without data are omitted, not empty
+                   "Joint faces", "Reading the paper"):  # sections without data: omitted
         assert not any(absent in h for h in headings), absent
     assert ("Not in these results (profile ci): convergence studies, speed vs error, "
             "workspace maps, workspace validation, both joint orders, both joint-face couplings, "
@@ -243,7 +243,8 @@ def _assert_untouched(out: Path, before: dict[str, bytes]) -> None:
 @pytest.mark.parametrize("content, message", [
     (None, "results file not found"),
     ("{ not json", "not valid JSON"),
-    ('{"schema": 99, "cases": []}', f"results schema 99, this version reads schema {SCHEMA_VERSION}"),
+    ('{"schema": 99, "cases": []}',
+     f"results schema 99, this version reads schema {SCHEMA_VERSION}"),
     ('{"schema": 2, "cases": []}',
      f"results schema 2, this version reads schema {SCHEMA_VERSION}: rerun `make`"),
     ('{"cases": []}', "results schema None"),
@@ -394,7 +395,7 @@ def test_results_without_paper_rows_show_nothing_of_the_paper(tmp_path):
 
 
 def test_tables_drop_the_paper_columns_without_paper_rows():
-    from reports.tables import case_csv, case_markdown
+    from results.tables import case_csv, case_markdown
 
     case = json.loads(RESULTS.read_text())["cases"][0]
     assert case_csv(case).startswith("mode,paper_fea_hz,paper_theory_hz,paper_error_percent,")

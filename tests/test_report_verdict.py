@@ -4,7 +4,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from reports.verdict import case_verdict, headline
+from results.verdict import case_verdict, headline
 
 RESULTS = json.loads((Path(__file__).resolve().parent / "fixtures" /
                       "report_results.json").read_text())
@@ -38,7 +38,7 @@ def test_verdict_grades_follow_the_numbers():
 
 
 def test_best_model_sentence_names_the_most_accurate_variant():
-    from reports.verdict import best_model
+    from results.verdict import best_model
     pair = lambda mode, err: {"fem_mode": mode, "error_percent": 9.0,  # noqa: E731
                               "error_vs_reference_percent": err}
     case = {"models": {

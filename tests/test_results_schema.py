@@ -1,4 +1,4 @@
-"""The results schema (pipeline/results.py): what the pipeline writes is what the reports read;
+"""The results schema (results/schema.py): what the pipeline writes is what the reports read;
 a file of another schema version, a wrong type or an unknown field is refused in one line."""
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipeline import results as schema
+import results as schema
 
 FIXTURE = Path(__file__).resolve().parent / "fixtures" / "report_results.json"
 

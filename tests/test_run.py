@@ -9,6 +9,8 @@ import pytest
 import pipeline.run as run
 from tests.conftest import PAPER_SCENE
 
+pytestmark = pytest.mark.slow  # whole validation runs (CI profile): tens of seconds each
+
 
 def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
     out = tmp_path / "out"
@@ -25,7 +27,7 @@ def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
 
     monkeypatch.setattr(run, "run_case", interrupt_on_second)
     with pytest.raises(KeyboardInterrupt):
-        run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci", build_report=False)
+        run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci")
     assert json.loads((out / "results.json").read_text()) == {"previous": True}
     assert sorted(p.name for p in tmp_path.iterdir()) == ["cache", "out"]  # no staging left
     assert sorted(p.name for p in out.iterdir()) == ["results.json"]
@@ -37,8 +39,7 @@ def test_ci_profile_run_writes_the_contract(tmp_path, monkeypatch):
     default = tmp_path / "default-cache"  # the solid end zones went here whatever --cache was
     monkeypatch.setattr(joint_ends.cache, "cache_root", lambda: default)
     out = tmp_path / "out"
-    results = run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci",
-                           build_report=False)
+    results = run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci")
     # every cache under the run's cache directory: the fidelity step assembles solid end zones
     assert list((tmp_path / "cache" / "joint_ends").glob("*.npz")) and not default.exists()
     on_disk = json.loads((out / "results.json").read_text())
@@ -68,8 +69,7 @@ def test_ci_profile_run_writes_the_contract(tmp_path, monkeypatch):
 def test_exported_platform_motion_moves_the_platform_joints_as_the_legs_end(tmp_path):
     """Each model's platform motion per mode (translation of o, rotation) carries the S joints
     of the platform exactly where the beam model's leg axes end: u(A_i) = t + w x (A_i - o)."""
-    run.validate(str(PAPER_SCENE), tmp_path / "out", tmp_path / "cache", profile="ci",
-                 build_report=False)
+    run.validate(str(PAPER_SCENE), tmp_path / "out", tmp_path / "cache", profile="ci")
     results = json.loads((tmp_path / "out" / "results.json").read_text())
     for case in results["cases"]:
         a = case["analytical"]
@@ -91,7 +91,6 @@ def test_the_ci_profile_checks_every_case_of_the_scene_before_any_work(tmp_path)
     scene = tmp_path / "scene.toml"
     scene.write_text(text, encoding="utf-8")
     with pytest.raises(ValueError) as info:
-        run.validate(str(scene), tmp_path / "out", tmp_path / "cache", profile="ci",
-                     build_report=False)
+        run.validate(str(scene), tmp_path / "out", tmp_path / "cache", profile="ci")
     assert str(info.value).startswith("case unreachable:") and "\n" not in str(info.value)
     assert not (tmp_path / "out").exists() and not (tmp_path / "cache").exists()

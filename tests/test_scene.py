@@ -7,7 +7,7 @@ import tomllib
 
 import pytest
 
-from pipeline.scene import SceneError, load_scene, parse_scene
+from scene import SceneError, load_scene, parse_scene
 from tests.conftest import PAPER_SCENE
 
 RAW = tomllib.loads(PAPER_SCENE.read_text())

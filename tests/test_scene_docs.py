@@ -4,13 +4,13 @@ from __future__ import annotations
 import tomllib
 
 from common.settings import declared
-from pipeline.scene_docs import DOC, TABLES, render
+from scene.docs import DOC, TABLES, render
 from tests.conftest import PAPER_SCENE
 
 
 def test_committed_scene_docs_are_current():
     assert DOC.read_text(encoding="utf-8") == render(), (
-        "docs/scenes.md is stale: run `.venv/bin/python -m pipeline scene-docs`")
+        "docs/scenes.md is stale: run `.venv/bin/python -m rps scene-docs`")
 
 
 def test_every_key_of_the_paper_scene_is_documented():

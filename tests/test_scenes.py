@@ -1,11 +1,17 @@
-"""Every scene in scenes/ validates end to end at CI size, and the fidelity step picks an
-analytical model that meets the scene's tolerance against that FEM."""
+"""Every scene in scenes/ validates end to end at CI size, the fidelity step picks an analytical
+model that meets the scene's tolerance against that FEM, and every number the physics decides
+(pipeline.digest: FEM frequencies, every candidate's error, the workspace validation) equals
+the scene's golden in tests/baselines/results/ (`make update-baselines` rewrites them)."""
 from __future__ import annotations
 
 from pathlib import Path
 
 import pytest
 
+import json
+
+from pipeline.baselines import RESULTS_GOLDENS
+from pipeline.digest import differences, digest
 from pipeline.run import validate
 
 SCENES = sorted((Path(__file__).resolve().parents[1] / "scenes").glob("*.toml"))
@@ -14,8 +20,7 @@ SCENES = sorted((Path(__file__).resolve().parents[1] / "scenes").glob("*.toml"))
 @pytest.mark.slow
 @pytest.mark.parametrize("path", SCENES, ids=lambda p: p.stem)
 def test_scene_validates_at_ci_size(path, tmp_path):
-    results = validate(str(path), tmp_path / "out", tmp_path / "cache", profile="ci",
-                       build_report=False)
+    results = validate(str(path), tmp_path / "out", tmp_path / "cache", profile="ci")
     fidelity = results["fidelity"]
     tol = fidelity["tolerance_percent"]
     assert len(results["cases"]) >= 1
@@ -34,3 +39,16 @@ def test_scene_validates_at_ci_size(path, tmp_path):
     study = results["studies"]["workspace_validation"]
     assert len(study["poses"]) >= 10 and study["failed"] == 0
     assert (tmp_path / "out" / "results.json").is_file()
+    golden = json.loads((RESULTS_GOLDENS / f"{path.stem}.json").read_text(encoding="utf-8"))
+    moved = differences(golden, json.loads(json.dumps(digest(results))))
+    assert not moved, f"{path.stem}: the run's numbers moved:\n" + "\n".join(moved[:20])
+
+
+def test_a_moved_number_is_named():
+    """The golden comparison is not vacuous: one frequency moved by 1e-5 is reported where."""
+    golden = {"cases": [{"fem_hz": [114.0, 196.5]}], "candidates": {"EB, s=3": 0.5}}
+    moved = json.loads(json.dumps(golden))
+    moved["cases"][0]["fem_hz"][1] *= 1 + 1e-5
+    assert differences(golden, moved) == ["/cases/0/fem_hz/1: 196.5, now 196.501965"]
+    assert differences(golden, golden) == []
+    assert differences(golden, {"cases": []}) == [": keys ['candidates']"]

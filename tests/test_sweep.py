@@ -3,16 +3,15 @@ a Dask cluster giving the same results."""
 from __future__ import annotations
 
 import math
-import os
 from pathlib import Path
 
 import pytest
 
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions, Pose
-from pipeline.cache import ResultCache
-from pipeline.scene import load_scene
-from pipeline.sweep import run_sweep
+from runtime.cache import ResultCache
+from runtime.sweep import run_sweep
+from scene import load_scene
 from tests.conftest import PAPER_SCENE
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from pipeline import studies, timing
-from pipeline.cache import ResultCache
+from runtime.cache import ResultCache
 
 
 @pytest.fixture

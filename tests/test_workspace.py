@@ -43,7 +43,8 @@ def test_unreachable_height_has_an_empty_layer(scene):
     assert regular_radius(scene.manipulator, 1.5) == 0.0
 
 
-from hypothesis import given, settings, strategies as st  # noqa: E402
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st
 
 from analytical.kinematics import PoseError  # noqa: E402
 

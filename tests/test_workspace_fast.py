@@ -2,24 +2,23 @@
 (analytical/pose_batch.py, batch_model.py, tracking.py, workspace.py)."""
 from __future__ import annotations
 
-from dataclasses import replace
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from analytical.batch_model import (assemble_batch, batch_frequencies, batch_modes,
-                                    standard_form)
+from analytical.batch_model import assemble_batch, batch_frequencies, batch_modes, standard_form
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.model import natural_frequencies
 from analytical.params import Pose
 from analytical.pose_batch import pose_batch
+from analytical.reach import MAX_TILT, max_tilt, reachable
 from analytical.substructure import assemble
 from analytical.tracking import match_modes, steps_needing_shapes
-from analytical.reach import MAX_TILT, max_tilt, reachable
 from analytical.workspace import frequency_map
-from pipeline.scene import load_scene
+from scene import load_scene
 from tests.conftest import ROOT
 
 FIELDS = ("rotation", "platform_centre", "base_points", "platform_points", "joint_axes",
@@ -191,7 +190,7 @@ def test_only_steps_that_can_hide_a_crossing_need_shapes():
 
 
 def test_workspace_map_results_name_families_and_crossings(scene):
-    from pipeline.studies import workspace_map
+    from studies.workspace_map import workspace_map
 
     result = workspace_map(scene, layers=3, rings=3, azimuths=12, modes=3)
     json.dumps(result, allow_nan=False)

@@ -1,0 +1,291 @@
+"""One leg of the harmonic model: its 2D meridian mesh and the matrices of its harmonics.
+
+The meridian rectangle [0, R] x [0, L] of a solid cylinder (gmsh, linear triangles graded
+toward the two rim corners, P2 on them), K_n and M of harmonic n on it, and the layout of a
+leg's raw dofs: blocks (n, family), n = 0 once and n >= 1 twice (c, s), each 3 s + c with
+c = (r, t, z). The equations are in `harmonic.py`'s docstring. Everything here is remembered
+per process (same leg, same mesh). Also the estimate of a leg's raw dofs before meshing, the
+DOF guard's number (`guard.check_mesh_size`).
+"""
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import Basis, ElementTriP2, FacetBasis, LinearForm, MeshTri
+
+from common.errors import InputError
+from meshing.geometry import GmshFailure, gmsh_session
+
+from .assembly import lame
+
+AXIS_TOL = 1e-12  # relative to R: a node on the axis
+FACE_TOL = 1e-12  # relative to L: a node on an end face
+
+
+class HarmonicError(InputError):
+    """Bad input or a failed step of the harmonic model; one line naming the value."""
+
+
+# The meridian's grading toward each rim corner: size h (distance / (CORNER_ZONE R)), at least
+# CORNER_FACTOR h. Measured on paper.toml case 2 (both couplings alike), max error over f1-f6
+# against a 0.15 R mesh graded to 0.005: at h = 0.8 R (40 mm) 0.006 % with 7.8k dofs (0.4 h
+# within 0.3 R, the tetrahedra's rim grading: 0.05 %; 0.01 within R: 0.005 % with 11k dofs);
+# at h = 0.5 R 0.002 %. In 2D deep grading costs little: a point, not an edge, is refined.
+CORNER_FACTOR = 0.05
+CORNER_ZONE = 1.0  # leg radii
+
+
+# ---------------------------------------------------------------- meridian mesh (gmsh, 2D)
+
+@functools.lru_cache(maxsize=64)
+def meridian_mesh(radius: float, length: float, size: float) -> MeshTri:
+    """Linear triangles of the rectangle [0, R] x [0, L] (x = r, y = z), graded toward the rim
+    corners (R, 0) and (R, L); the P2 basis adds the mid-edge nodes (straight edges: the
+    geometry is exact). Read-only, remembered per process (same leg, same mesh)."""
+    h = float(size)
+    h_min = h * CORNER_FACTOR
+    zone = CORNER_ZONE * radius
+    try:
+        with gmsh_session({"Mesh.ElementOrder": 1, "Mesh.MeshSizeMax": h,
+                           "Mesh.MeshSizeMin": h_min}) as gmsh:
+            model = gmsh.model
+            model.add("meridian")
+            geo = model.geo
+            corners = [geo.addPoint(0, 0, 0), geo.addPoint(radius, 0, 0),
+                       geo.addPoint(radius, length, 0), geo.addPoint(0, length, 0)]
+            lines = [geo.addLine(corners[k], corners[(k + 1) % 4]) for k in range(4)]
+            geo.addPlaneSurface([geo.addCurveLoop(lines)])
+            geo.synchronize()
+            dist = model.mesh.field.add("Distance")
+            model.mesh.field.setNumbers(dist, "PointsList", [corners[1], corners[2]])
+            graded = model.mesh.field.add("MathEval")
+            model.mesh.field.setString(
+                graded, "F", f"Max({h_min!r}, Min({h!r}, {h!r} * F{dist} / {zone!r}))")
+            model.mesh.field.setAsBackgroundMesh(graded)
+            model.mesh.generate(2)
+            tags, coords, _ = model.mesh.getNodes()
+            types, _, enodes = model.mesh.getElements(2)
+            tri = np.concatenate([np.asarray(n_, np.int64).reshape(-1, 3)
+                                  for ty, n_ in zip(types, enodes) if ty == 2])
+    except GmshFailure as exc:
+        raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: gmsh "
+                            f"failed ({exc})") from None
+    tags = np.asarray(tags, np.int64)
+    index = np.full(int(tags.max()) + 1, -1, np.int64)
+    index[tags] = np.arange(len(tags))
+    points = np.asarray(coords, float).reshape(-1, 3)[:, :2]
+    used, tri = np.unique(index[tri], return_inverse=True)
+    tri = tri.reshape(-1, 3)
+    p = points[used]
+    # snap the boundary exactly (gmsh's nodes on straight lines are exact to round-off)
+    for col, lo, hi in ((0, 0.0, radius), (1, 0.0, length)):
+        scale = hi - lo
+        p[np.abs(p[:, col] - lo) <= 1e-12 * scale, col] = lo
+        p[np.abs(p[:, col] - hi) <= 1e-12 * scale, col] = hi
+    # counter-clockwise triangles
+    a, b, c = (p[tri[:, k]] for k in range(3))
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    tri[cross < 0] = tri[cross < 0][:, [0, 2, 1]]
+    mesh = MeshTri(np.ascontiguousarray(p.T), np.ascontiguousarray(tri.T))
+    return mesh
+
+
+def clear_caches() -> None:
+    """Forget the per-process meridian meshes and leg matrices (benchmarks time them)."""
+    for cached in (meridian_mesh, meridian, harmonic_stiffness, unit_mass):
+        cached.cache_clear()
+
+
+# ---------------------------------------------------------------- one leg, one harmonic
+
+@dataclass(frozen=True)
+class Meridian:
+    """The P2 discretisation of one leg's meridian: what every harmonic of it shares."""
+
+    radius: float
+    length: float
+    basis: Basis  # scalar P2 on the meridian mesh
+    node_rz: np.ndarray  # (n_scalar, 2) P2 node positions (r, z)
+    axis_nodes: np.ndarray  # scalar nodes at r = 0
+    face_nodes: tuple  # (nodes at z = 0, nodes at z = L)
+    face_weights: tuple  # per face: (W1, W2) = (int phi r dr, int phi r^2 dr) over the face
+
+    @property
+    def n_scalar(self) -> int:
+        return len(self.node_rz)
+
+
+@dataclass(frozen=True)
+class LegHarmonics(Meridian):
+    """A leg's meridian with its matrices (module doc): K_n per harmonic n, dofs 3 s + c,
+    c = (r, t, z), the theta weight included; M for n >= 1 (weight pi), n = 0 twice it."""
+
+    stiffness: dict = field(default_factory=dict)
+    mass: sp.csr_matrix | None = None
+
+
+@functools.lru_cache(maxsize=64)
+def meridian(radius: float, length: float, size: float) -> Meridian:
+    """The leg's meridian (read-only, remembered per process: same leg, same mesh)."""
+    mesh = meridian_mesh(radius, length, size)
+    basis = Basis(mesh, ElementTriP2(), intorder=6)
+    locs = basis.doflocs.T  # (n_s, 2)
+    axis = np.flatnonzero(locs[:, 0] <= AXIS_TOL * radius)
+    faces, weights = [], []
+    for z0 in (0.0, length):
+        facets = mesh.facets_satisfying(lambda x, z0=z0: np.abs(x[1] - z0) <= FACE_TOL * length)
+        fb = FacetBasis(mesh, ElementTriP2(), facets=facets, intorder=6)
+        on = np.flatnonzero(np.abs(locs[:, 1] - z0) <= FACE_TOL * length)
+        faces.append(on)
+        weights.append(tuple(LinearForm(lambda v, p, k=k: v * p.x[0] ** k).assemble(fb)[on]
+                             for k in (1, 2)))
+    if len(axis) < 3 or any(len(f) < 3 for f in faces):
+        raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: "
+                            f"{len(axis)} nodes on the axis, {[len(f) for f in faces]} on the "
+                            "faces (expected the boundary lines meshed)")
+    return Meridian(radius, length, basis, locs, axis, tuple(faces), tuple(weights))
+
+
+def _element_arrays(basis: Basis):
+    values = np.stack([np.asarray(phi[0]) for phi in basis.basis])  # (6, ne, nq)
+    grads = np.stack([phi[0].grad for phi in basis.basis])  # (6, 2, ne, nq)
+    r = np.asarray(basis.global_coordinates())[0]  # (ne, nq)
+    return values, grads, r, r * basis.dx  # the last: r dr dz
+
+
+def _strain_operator(values, grads, r, n: int) -> np.ndarray:
+    """B (ne, nq, 6 strains, 18 = 6 nodes x 3 components), strains (rr, tt, zz, rt, tz, rz),
+    components (r, t, z) node-major."""
+    ne, nq = r.shape
+    nloc = values.shape[0]
+    b = np.zeros((ne, nq, 6, nloc, 3))
+    phi = values.transpose(1, 2, 0)  # (ne, nq, a)
+    dr = grads[:, 0].transpose(1, 2, 0)
+    dz = grads[:, 1].transpose(1, 2, 0)
+    over_r = phi / r[..., None]
+    b[:, :, 0, :, 0] = dr
+    b[:, :, 1, :, 0] = over_r
+    b[:, :, 1, :, 1] = n * over_r
+    b[:, :, 2, :, 2] = dz
+    b[:, :, 3, :, 1] = dr - over_r
+    b[:, :, 3, :, 0] = -n * over_r
+    b[:, :, 4, :, 1] = dz
+    b[:, :, 4, :, 2] = -n * over_r
+    b[:, :, 5, :, 0] = dz
+    b[:, :, 5, :, 2] = dr
+    return b.reshape(ne, nq, 6, 3 * nloc)
+
+
+def _sparse(element_dofs: np.ndarray, blocks: np.ndarray, n: int) -> sp.csr_matrix:
+    """Sum element matrices (ne, d, d) on the element dofs (d, ne) into an n x n CSR."""
+    ed = element_dofs.T
+    rows = np.repeat(ed[:, :, None], ed.shape[1], axis=2)
+    cols = np.repeat(ed[:, None, :], ed.shape[1], axis=1)
+    out = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=(n, n))
+    out.sum_duplicates()
+    out.data.setflags(write=False)
+    return out
+
+
+@functools.lru_cache(maxsize=256)
+def harmonic_stiffness(radius: float, length: float, size: float, lam: float, mu: float,
+                       n: int) -> sp.csr_matrix:
+    """K_n = w_n int B^T D B r dr dz of one leg (read-only, remembered per process)."""
+    m = meridian(radius, length, size)
+    values, grads, r, w = _element_arrays(m.basis)
+    d = np.zeros((6, 6))
+    d[:3, :3] = lam
+    d[[0, 1, 2], [0, 1, 2]] += 2 * mu
+    d[[3, 4, 5], [3, 4, 5]] = mu
+    b = _strain_operator(values, grads, r, n)
+    weight = 2 * math.pi if n == 0 else math.pi
+    ke = weight * np.einsum("eqsa,st,eqtb,eq->eab", b, d, b, w, optimize=True)
+    nodes = m.basis.element_dofs  # (6, ne) scalar nodes -> (18, ne) dofs 3 s + c, node-major
+    dofs = (3 * nodes[:, None, :] + np.arange(3)[None, :, None]).reshape(-1, nodes.shape[1])
+    return _sparse(dofs, ke, 3 * m.n_scalar)
+
+
+@functools.lru_cache(maxsize=64)
+def unit_mass(radius: float, length: float, size: float) -> sp.csr_matrix:
+    """pi int N^T N r dr dz on dofs 3 s + c, density 1 (read-only, remembered per process):
+    the scalar P2 mass times the 3 x 3 identity."""
+    m = meridian(radius, length, size)
+    values, _, _, w = _element_arrays(m.basis)
+    scalar = _sparse(m.basis.element_dofs,
+                     np.einsum("aeq,beq,eq->eab", values, values, w, optimize=True), m.n_scalar)
+    out = math.pi * sp.kron(scalar, sp.identity(3), format="csr")
+    out.data.setflags(write=False)
+    return out
+
+
+def leg_harmonics(radius: float, length: float, lam: float, mu: float, density: float,
+                  size: float, harmonics: tuple) -> LegHarmonics:
+    """One leg's meridian with K_n (n in `harmonics`) and M, from the per-process caches."""
+    m = meridian(radius, length, size)
+    return LegHarmonics(**{f: getattr(m, f) for f in Meridian.__dataclass_fields__},
+                        stiffness={n: harmonic_stiffness(radius, length, size, lam, mu, n)
+                                   for n in harmonics},
+                        mass=density * unit_mass(radius, length, size))
+
+
+def families(harmonics) -> list[tuple[int, str]]:
+    """(n, family) blocks of a leg's raw dofs, in order: n = 0 once, n >= 1 twice (c, s)."""
+    return [(n, f) for n in harmonics for f in (("c",) if n == 0 else ("c", "s"))]
+
+
+def leg_frame(geometry, leg: int) -> np.ndarray:
+    """(3, 3) columns e1, e2, e3: e3 along the leg from B_i to A_i, e1 and e2 the limb frame's
+    other two axes (a right-handed turn of its columns)."""
+    f = np.asarray(geometry.leg_frames[leg], float)
+    return np.column_stack([f[:, 1], f[:, 2], f[:, 0]])
+
+
+def leg_material(manipulator) -> tuple[float, float, float]:
+    """(lambda, mu, density) of the legs' material."""
+    lam, mu = lame(manipulator.material)
+    return float(lam), float(mu), float(manipulator.material.density)
+
+
+def leg_lengths(geometry) -> np.ndarray:
+    """|A_i - B_i|, rounded so that one leg length is one cache key."""
+    return np.round(np.linalg.norm(np.asarray(geometry.platform_points, float)
+                                   - np.asarray(geometry.base_points, float), axis=1), 12)
+
+
+def leg_data(manipulator, geometry, size: float, harmonics,
+             longest_only: bool = False) -> list:
+    """Per leg (or the longest alone): (LegHarmonics, frame)."""
+    radius = 0.5 * float(manipulator.leg_diameter)
+    lam, mu, rho = leg_material(manipulator)
+    lengths = leg_lengths(geometry)
+    legs = [int(np.argmax(lengths))] if longest_only else range(geometry.leg_count)
+    return [(leg_harmonics(radius, float(lengths[i]), lam, mu, rho, float(size),
+                           tuple(harmonics)), leg_frame(geometry, i)) for i in legs]
+
+
+def mesh_quality(mesh: MeshTri) -> float:
+    """Smallest triangle quality 4 sqrt(3) area / sum of squared edges (1: equilateral)."""
+    p = mesh.p[:, mesh.t]  # (2, 3, nt)
+    e = [p[:, (k + 1) % 3] - p[:, k] for k in range(3)]
+    area = 0.5 * np.abs(e[0][0] * e[1][1] - e[0][1] * e[1][0])
+    return float((4 * math.sqrt(3) * area / sum((v ** 2).sum(axis=0) for v in e)).min())
+
+
+# P2 nodes of a leg's graded meridian: NODES_PER_AREA R L / h^2 + NODES_PER_CORNER (R / h)^2
+# + NODES_MIN, fitted on 36 meshes (R 15-75 mm, L 0.3-1 m, h 0.2-1.6 R), then raised by 1.5 so
+# that no mesh has more (actual / estimate 0.37-0.84 on the five scenes' legs, 0.1-0.8 d)
+NODES_PER_AREA, NODES_PER_CORNER, NODES_MIN = 7.8, 70.0, 255.0
+
+
+def estimate_raw_dofs(assembly, size: float, harmonics=(0, 1)) -> int:
+    """Raw harmonic dofs of the legs of `assembly` (meshing.bodies.Assembly), estimated before
+    meshing (the DOF guard's number, guard.check_mesh_size)."""
+    nodes = sum(NODES_PER_AREA * c.radius * c.length / size**2
+                + NODES_PER_CORNER * (c.radius / size) ** 2 + NODES_MIN
+                for c in assembly.cylinders)
+    return int(3 * len(families(harmonics)) * nodes)
+

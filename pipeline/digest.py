@@ -1,0 +1,51 @@
+"""The numbers of a run that no timing can move, for the golden results of the shipped scenes.
+
+A run's chosen analytical model is the fastest candidate within the tolerance, so which one is
+chosen may follow the machine's timings; every candidate's error is measured all the same.
+`digest(results)` keeps what is decided by the physics alone: every case's pose and FEM
+frequencies, every candidate's worst error over the cases and study poses, the workspace
+validation's per-pose errors and the reachable workspace. tests/test_scenes.py compares a CI
+run of each shipped scene with tests/baselines/results/<scene>.json (`make update-baselines`
+rewrites them, with the error tables, on purpose only).
+"""
+from __future__ import annotations
+
+RELATIVE = 1e-6  # round-off of dense and sparse eigen solves on the same meshes: ~1e-9
+
+
+def digest(results: dict) -> dict:
+    studies = results["studies"]
+    validation = studies["workspace_validation"] or {"poses": []}
+    return {
+        "profile": results["profile"],
+        "cases": [{"name": c["name"], "pose": c["pose"],
+                   "fem_hz": c["fem"]["frequencies_hz"], "fem_dofs": c["fem"]["dofs"]}
+                  for c in results["cases"]],
+        "candidates": {c["setting"]: c["worst_error_percent"]
+                       for c in results["fidelity"]["candidates"]},
+        "fem_mesh_size_mm": results["fidelity"]["fem"]["mesh_size_mm"],
+        "validation_poses": [{k: p.get(k) for k in ("height_mm", "azimuth_deg", "tilt_deg",
+                                                     "fem_hz", "models")}
+                             for p in validation["poses"]],
+        "reachable_workspace": studies["reachable_workspace"],
+    }
+
+
+def differences(golden, current, where: str = "", relative: float = RELATIVE) -> list[str]:
+    """Where two digests differ: numbers beyond `relative`, anything else exactly."""
+    if isinstance(golden, dict) and isinstance(current, dict):
+        if golden.keys() != current.keys():
+            return [f"{where}: keys {sorted(set(golden) ^ set(current))}"]
+        return [d for k in golden for d in differences(golden[k], current[k], f"{where}/{k}",
+                                                        relative)]
+    if isinstance(golden, list) and isinstance(current, list):
+        if len(golden) != len(current):
+            return [f"{where}: {len(golden)} items, now {len(current)}"]
+        return [d for k, (a, b) in enumerate(zip(golden, current))
+                for d in differences(a, b, f"{where}/{k}", relative)]
+    if isinstance(golden, (int, float)) and isinstance(current, (int, float)) \
+            and not isinstance(golden, bool):
+        scale = max(abs(golden), abs(current), 1e-12)
+        return [] if abs(golden - current) <= relative * scale + 1e-12 else \
+            [f"{where}: {golden!r}, now {current!r}"]
+    return [] if golden == current else [f"{where}: {golden!r}, now {current!r}"]

@@ -1,0 +1,225 @@
+"""The records of one case: the scene summary, the pose, both models' frequencies and modes, the
+pairs, the FEM refinement and the per-case studies (`results.schema` assembles the file)."""
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import FiniteFloat, with_config
+from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
+
+from .types import STRICT, CaseName, Frequencies, Frequency, Hz, Motion, RelativePath
+
+
+@with_config(STRICT)
+class Manipulator(TypedDict):
+    base_radius_mm: FiniteFloat
+    platform_radius_mm: FiniteFloat
+    leg_diameter_mm: FiniteFloat
+    platform_thickness_mm: FiniteFloat
+    platform_shape: str
+    leg_angles_deg: list[FiniteFloat]
+    actuator_range_mm: list[FiniteFloat]
+    s_joint_max_deg: FiniteFloat
+    r_joint_max_deg: FiniteFloat
+    base_joint: str
+    platform_joint: str
+    youngs_modulus_gpa: FiniteFloat
+    shear_modulus_gpa: FiniteFloat
+    poisson_ratio: FiniteFloat
+    density_kg_m3: FiniteFloat
+
+
+@with_config(STRICT)
+class AnalyticalSettings(TypedDict):
+    elements: int
+    beam: str
+    platform_inertia: str
+    modes: int
+
+
+@with_config(STRICT)
+class FemSettings(TypedDict):
+    mesh_size_mm: FiniteFloat
+    refinement_mm: list[FiniteFloat]
+    rim_factor: FiniteFloat
+    rim_zone_mm: FiniteFloat
+    platform: str
+    coupling: str
+    legs: str  # "harmonic" (Fourier harmonics on a meridian mesh) or "tetrahedra"
+
+
+@with_config(STRICT)
+class Calibrated(TypedDict):
+    name: str
+    value: str
+    reason: str
+
+
+@with_config(STRICT)
+class SceneSummary(TypedDict):
+    name: str
+    path: str
+    sha256: str
+    manipulator: Manipulator
+    analytical: AnalyticalSettings
+    fem: FemSettings
+    calibrated: list[Calibrated]
+
+
+@with_config(STRICT)
+class Environment(TypedDict):
+    project_version: str | None  # the installed package's version
+    git_commit: str | None  # of the source tree, "+ local changes" when it was not clean
+    python: str
+    platform: str
+    machine: str
+    cpu_count: int | None
+    date: str
+    versions: dict[str, str | None]
+
+
+@with_config(STRICT)
+class Pose(TypedDict):
+    height_mm: FiniteFloat
+    height_origin: Literal["calibrated", "scene"]
+    azimuth_deg: FiniteFloat
+    tilt_deg: FiniteFloat
+    centre_mm: list[FiniteFloat]
+    base_points_mm: list[list[FiniteFloat]]  # base joint centres B_i
+    platform_points_mm: list[list[FiniteFloat]]  # platform joint centres A_i
+    leg_lengths_mm: list[FiniteFloat]
+    s_joint_angles_deg: list[FiniteFloat]
+    r_joint_angles_deg: list[FiniteFloat]
+
+
+@with_config(STRICT)
+class Pair(TypedDict):
+    """FEM mode `fem_mode` and the analytical mode of the same shape."""
+    fem_mode: int
+    analytical_mode: int
+    f_fem_hz: Frequency
+    f_analytical_hz: Frequency
+    error_percent: FiniteFloat  # analytical vs this FEM mesh
+    mac: FiniteFloat  # or cos^2 of the largest principal angle of a repeated group
+    repeated: bool
+    group: int
+    fem_estimated_error_percent: FiniteFloat | None  # the FEM's own, from its refinement
+    f_reference_hz: Frequency | None  # the FEM extrapolated to h -> 0
+    error_vs_reference_percent: FiniteFloat | None
+
+
+@with_config(STRICT)
+class AnalyticalRecord(TypedDict):
+    elements: int
+    beam: str
+    shear: str  # Timoshenko shear coefficient: cowper | hutchinson
+    joint_ends: str  # beam | solid (end zones condensed from a solid, joint_ends/)
+    platform_inertia: str
+    frequencies_hz: Hz
+    timings: dict[str, FiniteFloat]  # seconds; "total": one pose
+    dofs: int
+    platform_motion: Motion
+
+
+@with_config(STRICT)
+class FemRecord(TypedDict):
+    frequencies_hz: Hz
+    dofs: int
+    raw_dofs: int
+    mesh_size_m: FiniteFloat
+    platform: str
+    coupling: str
+    timings: dict[str, FiniteFloat]  # seconds: mesh, assemble, solve, total
+    mesh_cache_hit: bool  # then "mesh" timed a cache read
+    cache_hit: bool  # the whole result came from the result cache
+    platform_motion: Motion
+    min_scaled_jacobian: FiniteFloat | None  # worst curved element of the mesh (1 = ideal)
+
+
+@with_config(STRICT)
+class CaseAnalytical(AnalyticalRecord):
+    leg_axis_stations: list[FiniteFloat]  # fractions of B_i -> A_i
+    leg_axis_shapes: list[list[list[list[FiniteFloat]]]]  # [leg][station][xyz][mode], m
+
+
+@with_config(STRICT)
+class CaseFem(FemRecord):
+    vtu: RelativePath  # mode shapes of the solid, relative to results.json
+    pvd: RelativePath  # ParaView collection stepping through the modes, relative
+
+
+@with_config(STRICT)
+class Paper(TypedDict):
+    fea_hz: Frequencies | None
+    theory_hz: Frequencies | None
+    error_percent: list[FiniteFloat] | None  # recomputed: theory / FEA - 1
+    printed_error_percent: list[FiniteFloat] | None
+    printed_error_note: str | None  # where the printed errors do not follow from the rows
+
+
+@with_config(STRICT)
+class Refinement(TypedDict):
+    """The FEM at a sequence of mesh sizes, extrapolated to h -> 0 (Richardson)."""
+    sizes_m: list[FiniteFloat]
+    effective_sizes_m: list[FiniteFloat]
+    frequencies_hz: list[Hz]  # [size][mode]
+    dofs: list[int]
+    raw_dofs: list[int]
+    timings: list[dict[str, FiniteFloat]]
+    seconds: list[FiniteFloat]
+    mesh_cache_hit: list[bool]
+    observed_order: list[FiniteFloat | None]
+    orders_by_triplet: list[list[FiniteFloat | None]]
+    status: list[str]  # ok, order bounded by theory, non-monotone, order out of range, converged
+    extrapolated_hz: Frequencies
+    estimated_error_percent: list[list[FiniteFloat]]  # [size][mode]
+    estimated_error_percent_max: list[FiniteFloat]
+
+
+@with_config(STRICT)
+class ModelVariant(AnalyticalRecord):
+    median_seconds: FiniteFloat
+    pairs: list[Pair]
+
+
+@with_config(STRICT)
+class FemVariant(FemRecord):
+    pairs: list[Pair]  # against the case's FEM: "analytical" here is the variant
+    shift_percent: list[FiniteFloat]
+
+
+@with_config(STRICT)
+class ElementConvergence(TypedDict):
+    elements: list[int]
+    beam: str
+    frequencies_hz: list[Hz]  # [s][mode]
+
+
+@with_config(STRICT)
+class SpeedPoint(TypedDict):
+    model: Literal["analytical", "fem"]
+    setting: str
+    seconds: FiniteFloat  # analytical: median; FEM: one run
+    worst_error_percent: FiniteFloat
+    single_run: bool
+    mesh_from_cache: bool | None
+
+
+@with_config(STRICT)
+class Case(TypedDict):
+    name: CaseName
+    description: str
+    pose: Pose
+    analytical: CaseAnalytical
+    fem: CaseFem
+    pairs: list[Pair]
+    paper: Paper | None
+    mac_matrix: list[list[FiniteFloat]]  # [analytical mode][FEM mode]
+    fem_estimated_error_percent: list[FiniteFloat] | None
+    fem_reference_hz: Frequencies | None
+    fem_refinement: Refinement | None
+    models: dict[str, ModelVariant] | None
+    element_convergence: dict[str, ElementConvergence] | None
+    fem_variants: dict[str, FemVariant] | None
+    fem_variant_errors: dict[str, str] | None  # variants that could not be solved, and why
+    speed_vs_error: list[SpeedPoint] | None

@@ -1,0 +1,227 @@
+"""The records of the studies and the fidelity choice (`results.schema` assembles the file)."""
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import FiniteFloat, with_config
+from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
+
+from .types import STRICT, Frequencies, Frequency, Hz
+
+
+@with_config(STRICT)
+class HeightCalibration(TypedDict):
+    case: str  # the case whose paper row the height is fitted to
+    computed_height_mm: FiniteFloat
+    scene_height_mm: FiniteFloat | None
+    worst_deviation_percent: FiniteFloat
+    deviation_percent: list[FiniteFloat]
+    settings: str
+
+
+@with_config(STRICT)
+class ConventionReading(TypedDict):
+    reading: str
+    azimuth_deg: FiniteFloat
+    tilt_deg: FiniteFloat
+    frequencies_hz: Hz | None  # None: the reading's pose is not reachable
+    deviation_percent: list[FiniteFloat] | None
+    worst_percent: FiniteFloat | None
+    note: str | None
+
+
+@with_config(STRICT)
+class AngleConventions(TypedDict):
+    case: str
+    azimuth_deg: FiniteFloat  # as printed
+    tilt_deg: FiniteFloat
+    readings: list[ConventionReading]
+
+
+@with_config(STRICT)
+class Workspace(TypedDict):
+    heights_mm: list[FiniteFloat]
+    regular_tilt_deg: list[FiniteFloat]
+    tilts_deg: list[list[FiniteFloat]]
+    azimuths_deg: list[FiniteFloat]
+    frequencies_hz: list[list[list[list[Frequency | None] | None]]]  # [z][tilt][azimuth][mode]
+    # per family: mode k followed by its shape (MAC) from pose to pose, so a crossing shows
+    tracked_frequencies_hz: list[list[list[list[Frequency | None] | None]]]
+    crossings: list[dict[str, Any]]  # families, height_mm, tilt_deg, azimuth_deg, frequency_hz
+    tracking: dict[str, Any]  # how the families were followed (steps, lowest MAC, ...)
+    settings: str
+
+
+@with_config(STRICT)
+class JointOrderModel(TypedDict):
+    frequencies_hz: Hz
+    error_percent: list[FiniteFloat]  # vs the FEM of the same joint order
+    mac: list[FiniteFloat]
+
+
+@with_config(STRICT)
+class JointOrderReading(TypedDict):
+    base_joint: str
+    platform_joint: str
+    scene_order: bool
+    error: str | None  # why this order could not be solved
+    fem_hz: Hz | None
+    models: dict[str, JointOrderModel] | None
+
+
+@with_config(STRICT)
+class JointOrderCase(TypedDict):
+    case: str
+    readings: list[JointOrderReading]
+
+
+@with_config(STRICT)
+class CouplingModel(TypedDict):
+    frequencies_hz: Hz
+    error_percent: list[FiniteFloat]  # vs the FEM limit of the same coupling, per FEM mode
+    mac: list[FiniteFloat]
+
+
+@with_config(STRICT)
+class CouplingReading(TypedDict):
+    coupling: str  # "rigid" or "distributing" joint faces, in both models
+    scene_coupling: bool  # the coupling of the scene's FEM
+    error: str | None  # why this coupling could not be solved
+    fem_sizes_mm: list[FiniteFloat]  # the refinement study behind the limit
+    fem_limit_hz: Frequencies | None  # Richardson limit h -> 0
+    fem_finest_error_percent: list[FiniteFloat] | None  # stated error of the finest mesh
+    models: dict[str, CouplingModel] | None
+
+
+@with_config(STRICT)
+class CouplingCase(TypedDict):
+    case: str
+    readings: list[CouplingReading]
+
+
+@with_config(STRICT)
+class ValidationPose(TypedDict):
+    height_mm: FiniteFloat
+    azimuth_deg: FiniteFloat
+    tilt_deg: FiniteFloat
+    kind: str  # which part of the design: layer, boundary ring, joint limit, Sobol interior
+    error: str | None  # why the pose could not be solved (then the rest is null)
+    fem_hz: Hz | None  # the finer of the two meshes
+    fem_limit_hz: Frequencies | None  # Richardson's step between them at order 1.42
+    fem_estimated_error_percent: list[FiniteFloat] | None  # two-mesh estimate, per mode
+    fem_seconds: FiniteFloat | None
+    slenderness: list[FiniteFloat] | None  # shortest and longest leg, in leg diameters
+    models: dict[str, list[FiniteFloat | None]] | None  # error vs the FEM limit per mode, %;
+    # null: unpaired
+
+
+@with_config(STRICT)
+class ModeStatistics(TypedDict):
+    median: list[FiniteFloat | None]  # of |error vs FEM| over the poses, %
+    p95: list[FiniteFloat | None]
+    max: list[FiniteFloat | None]
+    unpaired: list[int]  # poses where the FEM mode had no partner (MAC below 0.5)
+
+
+@with_config(STRICT)
+class WorstPose(TypedDict):
+    height_mm: FiniteFloat
+    azimuth_deg: FiniteFloat
+    tilt_deg: FiniteFloat
+    kind: str
+    slenderness: list[FiniteFloat] | None
+    fem_estimated_error_percent: list[FiniteFloat] | None
+    error_percent: list[FiniteFloat | None]
+    worst_error_percent: FiniteFloat
+
+
+@with_config(STRICT)
+class WorkspaceValidation(TypedDict):
+    poses: list[ValidationPose]
+    per_mode: dict[str, ModeStatistics]  # model label -> statistics
+    models: dict[str, dict[str, Any]]  # model label -> its analytical options
+    default_model: str  # the run's chosen analytical model
+    fem_mesh_size_mm: FiniteFloat
+    fem_coarse_size_mm: FiniteFloat
+    failed: int
+    worst_pose: WorstPose | None
+
+
+@with_config(STRICT)
+class HardCase(TypedDict):
+    """One claim of studies.hard_cases, measured on the scene's machine."""
+    case: str
+    claim: str
+    tolerance: FiniteFloat
+    measured: FiniteFloat
+    unit: str
+    note: str
+    passed: bool
+
+
+@with_config(STRICT)
+class ReachableWorkspace(TypedDict):
+    """The machine's reachable workspace, computed before any expensive work (studies.reachable),
+    and every way a study adapted its poses to it."""
+    level_band_mm: list[FiniteFloat]  # [low, high]: heights whose level pose is reachable
+    bounded_by: list[str]  # the limit binding just below and just above the band
+    layer_band_mm: list[FiniteFloat]  # [low, high]: where the studies' height layers lie
+    regular_tilt_deg: list[FiniteFloat]  # theta_r at the map's layer heights
+    validation_poses: int  # workspace-validation poses kept
+    validation_poses_dropped: int  # designed but unreachable, left out
+    adaptations: list[str]  # what a study changed because the machine could not reach a pose
+
+
+@with_config(STRICT)
+class Studies(TypedDict):
+    reachable_workspace: ReachableWorkspace
+    height_calibration: HeightCalibration | None
+    angle_conventions: list[AngleConventions]
+    workspace: Workspace | None
+    joint_orders: list[JointOrderCase]
+    joint_couplings: list[CouplingCase]  # empty: not run (the CI profile)
+    workspace_validation: WorkspaceValidation | None
+    hard_cases: list[HardCase]  # empty: not run (the CI profile)
+
+
+@with_config(STRICT)
+class AnalyticalChoice(TypedDict):
+    beam: str
+    shear: str
+    joint_ends: str
+    elements: int
+    platform_inertia: str
+    setting: str  # label of the chosen candidate
+    chosen: bool  # false: the scene's own [analytical], checked
+    worst_error_percent: FiniteFloat
+    seconds_per_pose: FiniteFloat
+    met: bool
+
+
+@with_config(STRICT)
+class FemChoice(TypedDict):
+    mesh_size_mm: FiniteFloat
+    chosen: bool  # false: the scene's own mesh_size_mm, checked
+    estimated_error_percent: FiniteFloat | None  # null without a refinement study
+    seconds_per_pose: FiniteFloat | None
+    met: bool
+
+
+@with_config(STRICT)
+class Candidate(TypedDict):
+    setting: str
+    worst_error_percent: FiniteFloat
+    seconds_per_pose: FiniteFloat
+
+
+@with_config(STRICT)
+class Fidelity(TypedDict):
+    """What the scene asked ([fidelity]) and what the run chose to meet it."""
+
+    modes: int
+    tolerance_percent: FiniteFloat
+    met: bool
+    analytical: AnalyticalChoice
+    fem: FemChoice
+    reason: str
+    candidates: list[Candidate]

@@ -1,0 +1,90 @@
+"""Error tables of every case as CSV and Markdown (out/tables/), from results.json only.
+
+The table of a case puts, mode by mode: the paper's FEA and theory (Table I, only where the
+case carries the paper's rows), our FEM with its estimated discretisation error, our analytical
+model, the error and the MAC.
+"""
+from __future__ import annotations
+
+import csv
+import io
+from pathlib import Path
+
+from common.atomic import write_text_atomic
+from common.paths import distinct_stems, inside
+from results import Case, Results
+
+PAPER_COLUMNS = ("paper_fea_hz", "paper_theory_hz", "paper_error_percent")
+COLUMNS = ("mode",) + PAPER_COLUMNS + ("fem_hz", "fem_estimated_error_percent",
+                                       "analytical_hz", "error_percent", "mac")
+HEADINGS = {"mode": "mode", "paper_fea_hz": "paper FEA (Hz)",
+            "paper_theory_hz": "paper theory (Hz)", "paper_error_percent": "paper err (%)",
+            "fem_hz": "our FEM (Hz)", "fem_estimated_error_percent": "FEM est. err (%)",
+            "analytical_hz": "our analytical (Hz)", "error_percent": "err vs FEM (%)",
+            "mac": "MAC"}
+DIGITS = {"fem_estimated_error_percent": 3, "mac": 3}
+
+
+def columns(case: Case) -> tuple[str, ...]:
+    """The columns of a case's table: the paper's only when the case carries its rows."""
+    return COLUMNS if case["paper"] else tuple(c for c in COLUMNS if c not in PAPER_COLUMNS)
+
+
+def case_rows(case: Case) -> list[dict]:
+    paper = case["paper"] or {}
+
+    def paper_value(key: str, k: int):
+        row = paper.get(key) or []
+        return row[k] if k < len(row) else None  # the paper may list fewer modes than we do
+
+    rows = []
+    for pair in sorted(case["pairs"], key=lambda p: p["fem_mode"]):
+        k = pair["fem_mode"] - 1
+        row = {"mode": pair["fem_mode"],
+               "paper_fea_hz": paper_value("fea_hz", k),
+               "paper_theory_hz": paper_value("theory_hz", k),
+               "paper_error_percent": paper_value("error_percent", k),
+               "fem_hz": pair["f_fem_hz"],
+               "fem_estimated_error_percent": pair["fem_estimated_error_percent"],
+               "analytical_hz": pair["f_analytical_hz"],
+               "error_percent": pair["error_percent"],
+               "mac": pair["mac"]}
+        rows.append({c: row[c] for c in columns(case)})
+    return rows
+
+
+def fmt(value, digits: int) -> str:
+    return "–" if value is None else f"{value:.{digits}f}"
+
+
+def case_csv(case: Case) -> str:
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=columns(case), lineterminator="\n")
+    writer.writeheader()
+    for row in case_rows(case):
+        writer.writerow({k: ("" if v is None else v) for k, v in row.items()})
+    return buf.getvalue()
+
+
+def case_markdown(case: Case) -> str:
+    a, pose = case["analytical"], case["pose"]
+    head = (f"**{case['description']}** — z = {pose['height_mm']:.1f} mm, "
+            f"phi = {pose['azimuth_deg']:g}°, theta = {pose['tilt_deg']:g}°; "
+            f"analytical: {a['beam']}, s = {a['elements']}, {a['platform_inertia']} inertia; "
+            f"FEM: h = {case['fem']['mesh_size_m'] * 1e3:g} mm, {case['fem']['dofs']} dofs\n\n")
+    cols = columns(case)
+    lines = ["| " + " | ".join(HEADINGS[c] for c in cols) + " |",
+             "|" + "---:|" * len(cols)]
+    for r in case_rows(case):
+        lines.append("| " + " | ".join(str(r[c]) if c == "mode" else fmt(r[c], DIGITS.get(c, 2))
+                                       for c in cols) + " |")
+    return head + "\n".join(lines) + "\n"
+
+
+def write_tables(results: Results, out: Path) -> None:
+    """tables/<case>.csv and .md of every case under `out` (file names by `common.paths`)."""
+    stems = distinct_stems((case["name"] for case in results["cases"]), "case name")
+    for case in results["cases"]:
+        stem = stems[case["name"]]
+        write_text_atomic(inside(out, "tables", f"{stem}.csv"), case_csv(case))
+        write_text_atomic(inside(out, "tables", f"{stem}.md"), case_markdown(case))

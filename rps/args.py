@@ -1,0 +1,137 @@
+"""What several commands share: the scene, case and pose options, the cache directory, the
+run's choice read from --from-results, and how a command prints its payload."""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import re
+from dataclasses import replace
+from pathlib import Path
+
+from common.locations import DISTRIBUTION, cache_root, checkout_root, default_scene
+
+from . import human
+from .options import declared_option, typed
+
+
+def scene_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scene", metavar="TOML", default=str(default_scene()),
+                   help="scene file: manipulator, poses, fidelity")
+
+
+def scene_args(p: argparse.ArgumentParser) -> None:
+    scene_option(p)
+    p.add_argument("--case", metavar="NAME",
+                   help="case of the scene (default: the scene's first case)")
+    from scene import CaseSettings
+    declared_option(p, "--height", CaseSettings, "height", metavar="MM",
+                    help="platform height z, mm (default: the case's)")
+    declared_option(p, "--azimuth", CaseSettings, "azimuth", metavar="DEG",
+                    help="tilt azimuth phi, degrees (default: the case's)")
+    declared_option(p, "--tilt", CaseSettings, "tilt", metavar="DEG",
+                    help="tilt theta, degrees (default: the case's)")
+    p.add_argument("--from-results", metavar="JSON", type=Path,
+                   help="use the model the validated run chose for this scene, read from "
+                   "the fidelity block of its results.json (e.g. out/results.json, written "
+                   "by `make`); options given beside it still override (default: the scene's "
+                   "own settings)")
+    p.add_argument("--json", action="store_true", help="print one JSON object, exact values")
+
+
+def cache_option(p: argparse.ArgumentParser) -> None:
+    try:
+        where = str(cache_root())
+    except RuntimeError:  # without the [fem] extra there is nothing to cache
+        where = "the user cache directory"
+    p.add_argument("--cache", metavar="DIR", type=Path,
+                   help=f"result and mesh cache (default: {where}; the checkout's .cache/ "
+                        "when run from the repository)")
+
+
+def cache_dir(args: argparse.Namespace) -> Path:
+    return args.cache if args.cache is not None else cache_root()
+
+
+def pose_case(scene, args):
+    """The named case, its pose overridden by --height/--azimuth/--tilt (read in mm and deg,
+    in SI here), and its geometry; an unreachable pose is refused naming what was typed."""
+    from analytical.kinematics import PoseError, pose_geometry
+
+    case = scene.case(args.case if args.case is not None else next(iter(scene.cases)))
+    pose = case.pose
+    for name in ("height", "azimuth", "tilt"):
+        if getattr(args, name) is not None:
+            pose = replace(pose, **{name: getattr(args, name)})
+    try:
+        geometry = pose_geometry(scene.manipulator, pose)
+    except PoseError as exc:
+        what = typed(args, "height", "azimuth", "tilt") or (
+            f"case {case.name} of {args.scene} (height_mm = {pose.height * 1e3:g}, "
+            f"azimuth_deg = {math.degrees(pose.azimuth):g}, tilt_deg = "
+            f"{math.degrees(pose.tilt):g})")
+        raise ValueError(f"{what}: {exc}") from None
+    return replace(case, pose=pose), geometry
+
+
+def named_first(exc: Exception, key: str, what: str) -> Exception:
+    """`key = value: why` as `what: why` when the user typed `what` (e.g. --size 0.5 mm)."""
+    text = str(exc)
+    found = re.match(rf"{re.escape(key)} = [^:]*: ", text)
+    if what and found:
+        return ValueError(f"{what}: {text[found.end():]}")
+    return exc
+
+
+def run_choice(args: argparse.Namespace, scene) -> dict | None:
+    """The fidelity block of --from-results, checked to be a run of this scene file."""
+    if args.from_results is None:
+        return None
+    import hashlib
+
+    from results import read
+
+    where = f"--from-results {args.from_results}"
+    try:
+        results = read(args.from_results)
+    except ValueError as exc:
+        raise ValueError(f"{where}: {exc}") from None
+    digest = hashlib.sha256(Path(args.scene).read_bytes()).hexdigest()
+    if results["scene"]["sha256"] != digest:
+        raise ValueError(f"{where}: a run of scene {results['scene']['path']} "
+                         f"({results['scene']['name']!r}), not of --scene {args.scene} as it "
+                         "is now; run `rps validate --scene` on it first")
+    return results["fidelity"]
+
+
+def pose_payload(pose) -> dict:
+    return {"height_mm": round(pose.height * 1e3, 9),
+            "azimuth_deg": round(math.degrees(pose.azimuth), 9),
+            "tilt_deg": round(math.degrees(pose.tilt), 9)}
+
+
+def emit(payload: dict, as_json: bool) -> None:
+    if as_json:
+        print(json.dumps(payload, indent=None))
+        return
+    print("\n".join(human.payload_lines(payload)))
+
+
+def checkout(command: str) -> Path:
+    """The repository checkout, which the developer commands write into."""
+    root = checkout_root()
+    if root is None:
+        raise ValueError(f"{command}: writes into the repository checkout; run it from a "
+                         f"clone of {DISTRIBUTION} (pip install -e .)")
+    return root
+
+
+def fem_choices() -> tuple[tuple[str, ...] | None, ...]:
+    """The FEM's platform, coupling and leg-discretisation options; Nones without the [fem]
+    extra (then the fem command says which extra to install)."""
+    try:
+        from fem_reference.constraints import COUPLINGS
+        from fem_reference.model import LEG_MODELS, PLATFORMS
+    except ImportError:
+        return None, None, None
+    return PLATFORMS, COUPLINGS, LEG_MODELS

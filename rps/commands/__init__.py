@@ -1,0 +1,30 @@
+"""The commands of `rps`, one module each, registered once: adding a command is one module with
+a `COMMAND` declaration (copy `cache.py`, the smallest) and one line below."""
+from __future__ import annotations
+
+from . import (
+               analytical,
+               cache,
+               check_baselines,
+               fem,
+               readme,
+               scene_docs,
+               update_baselines,
+               validate,
+               workspace,
+)
+from .registry import Command
+
+COMMANDS: tuple[Command, ...] = (
+    analytical.COMMAND,
+    fem.COMMAND,
+    workspace.COMMAND,
+    validate.COMMAND,
+    cache.COMMAND,
+    check_baselines.COMMAND,
+    readme.COMMAND,
+    scene_docs.COMMAND,
+    update_baselines.COMMAND,
+)
+
+__all__ = ["COMMANDS", "Command"]

@@ -1,0 +1,93 @@
+"""`rps analytical`: the substructure model at one case or pose, with the model's settings from
+the scene, the run's choice (--from-results) or the options."""
+from __future__ import annotations
+
+import argparse
+import time
+from dataclasses import replace
+
+from analytical.beam import SHEAR_COEFFICIENTS
+from analytical.params import BEAM_THEORIES, JOINT_ENDS, PLATFORM_INERTIAS, ModelOptions
+from scene import FidelitySettings
+
+from ..args import emit, named_first, pose_case, pose_payload, run_choice, scene_args
+from ..options import declared_option, typed
+from .registry import Command
+
+CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "elements", "platform_inertia")
+
+
+def cmd_analytical(args: argparse.Namespace) -> dict:
+    from analytical.modal import ModalError
+    from analytical.model import analyse
+    from scene import load_scene
+
+    scene = load_scene(args.scene)
+    case, _ = pose_case(scene, args)
+    opts = scene.analytical
+    chosen = run_choice(args, scene)
+    if chosen is not None:
+        opts = replace(opts, **{k: chosen["analytical"][k] for k in CHOSEN_ANALYTICAL})
+        source = f"the run's choice, {chosen['analytical']['setting']} ({args.from_results})"
+    else:
+        source = ("the scene's [analytical]" if scene.analytical_given else
+                  "the scene's defaults, not the model a validated run chooses (that one: "
+                  "--from-results out/results.json)")
+    overrides = {k: getattr(args, k) for k in ("elements", "beam", "shear", "joint_ends",
+                                               "end_zone", "platform_inertia", "modes")
+                 if getattr(args, k) is not None}
+    opts = replace(opts, **overrides)
+    start = time.perf_counter()
+    try:
+        result = analyse(scene.manipulator, case.pose, opts)
+    except ModalError as exc:
+        raise named_first(exc, "modes", typed(args, "modes")) from None
+    except ValueError as exc:  # e.g. end zones longer than the legs: name what was typed
+        what = typed(args, "end_zone", "elements") if "end_zone" in str(exc) else ""
+        raise ValueError(f"{what}: {exc}" if what else str(exc)) from None
+    seconds = time.perf_counter() - start
+    return {
+        "case": case.name,
+        "pose": pose_payload(case.pose),
+        "model": "analytical",
+        "settings_from": source + (" with options" if overrides else ""),
+        "elements": opts.elements,
+        "beam": opts.beam,
+        "shear": opts.shear,
+        "joint_ends": opts.joint_ends,
+        "platform_inertia": opts.platform_inertia,
+        **({"end_zone_diameters": opts.end_zone} if opts.joint_ends == "solid" else {}),
+        "frequencies_hz": [float(x) for x in result.frequencies_hz],
+        "leg_lengths_mm": [float(x) * 1e3 for x in result.geometry.leg_lengths],
+        "dofs": int(result.model.stiffness.shape[0]),
+        "seconds": seconds,
+    }
+
+
+def add_arguments(a: argparse.ArgumentParser) -> None:
+    scene_args(a)
+    declared_option(a, "--elements", ModelOptions, "elements", metavar="N",
+                    help="beam elements per leg s (default: the scene's)")
+    a.add_argument("--beam", choices=BEAM_THEORIES, help="beam theory (default: the scene's)")
+    a.add_argument("--shear", choices=SHEAR_COEFFICIENTS,
+                   help="Timoshenko shear coefficient (default: the scene's)")
+    a.add_argument("--joint-ends", choices=JOINT_ENDS,
+                   help="leg ends: beam elements to the joint centre, or condensed solid end "
+                   "zones (default: the scene's)")
+    declared_option(a, "--end-zone", ModelOptions, "end_zone", metavar="D",
+                    help="length of each solid end zone, in leg diameters (default: the "
+                    "scene's)")
+    a.add_argument("--platform-inertia", choices=PLATFORM_INERTIAS,
+                   help="platform inertia: the plate's own, or Eq. (8)'s m r2^2 "
+                        "(default: the scene's)")
+    declared_option(a, "--modes", FidelitySettings, "modes", metavar="N",
+                    help="number of modes (default: the scene's)")
+
+
+def run(args: argparse.Namespace) -> int:
+    emit(cmd_analytical(args), args.json)
+    return 0
+
+
+COMMAND = Command("analytical", "substructure model of one case (Gong & Lou's Eqs. 1-25)",
+                  add_arguments, run)

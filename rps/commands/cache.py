@@ -1,0 +1,38 @@
+"""`rps cache info|clear`: where the caches are and how big; empty them."""
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..args import cache_dir, cache_option
+from .registry import Command
+
+
+def add_arguments(k: argparse.ArgumentParser) -> None:
+    k.add_argument("action", choices=("info", "clear"),
+                   help="info: directory, entries and size; clear: delete every entry")
+    cache_option(k)
+    k.add_argument("--json", action="store_true", help="print one JSON object (info)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from runtime.cache import cache_info, clear
+
+    directory = cache_dir(args)
+    if args.action == "clear":
+        removed = clear(directory)
+        print(f"cleared {directory}: {removed['entries']} entries, "
+              f"{removed['bytes'] / 1e6:.1f} MB")
+        return 0
+    info = cache_info(directory)
+    if args.json:
+        print(json.dumps(info))
+        return 0
+    print(f"cache: {info['directory']}" + ("" if info["exists"] else " (empty, not created)"))
+    for kind, part in info["kinds"].items():
+        print(f"  {kind:<10} {part['entries']:>6} entries  {part['bytes'] / 1e6:9.1f} MB")
+    print(f"  {'total':<10} {info['entries']:>6} entries  {info['bytes'] / 1e6:9.1f} MB")
+    return 0
+
+
+COMMAND = Command("cache", "where the caches are and how big; clear them", add_arguments, run)

@@ -1,0 +1,138 @@
+"""`rps fem`: the solid FEM reference at one case or pose, its size from the scene, the run's
+choice (--from-results) or --size, optionally with its estimated discretisation error."""
+from __future__ import annotations
+
+import argparse
+import time
+from dataclasses import replace
+
+from meshing.geometry import MeshSettings
+from scene import FidelitySettings
+
+from ..args import (
+    cache_dir,
+    cache_option,
+    emit,
+    fem_choices,
+    named_first,
+    pose_case,
+    pose_payload,
+    run_choice,
+    scene_args,
+)
+from ..options import declared_option, typed
+from .registry import Command
+
+
+def fem_size(args: argparse.Namespace, scene) -> tuple[float, str]:
+    """The element size (m) and where it comes from."""
+    chosen = run_choice(args, scene)
+    if args.size is not None:
+        return args.size, "--size"
+    if chosen is not None:
+        return chosen["fem"]["mesh_size_mm"] * 1e-3, f"the run's choice ({args.from_results})"
+    if scene.fem_size_given:
+        return scene.fem.mesh_size, "the scene's mesh_size_mm"
+    return scene.fem.mesh_size, ("the scene's default, 0.32 leg diameters, not the size a "
+                                 "validated run chooses (that one: --from-results "
+                                 "out/results.json)")
+
+
+def cmd_fem(args: argparse.Namespace) -> dict:
+    from fem_reference import solve_pose
+    from fem_reference.convergence import sequence_around
+    from fem_reference.model import FemError, check_mesh_size
+    from meshing.bodies import pose_assembly
+    from runtime.cache import ResultCache
+    from scene import load_scene
+    from solvers.compare import fem_options, fem_runtime
+
+    scene = load_scene(args.scene)
+    case, geometry = pose_case(scene, args)
+    size, source = fem_size(args, scene)
+    count = args.modes or scene.analytical.modes
+    options = fem_options(scene, size, platform=args.platform, coupling=args.coupling,
+                          modes=count, legs=args.legs)
+    cache = ResultCache(cache_dir(args))
+    runtime = fem_runtime(scene, cache)
+    sizes = sequence_around(size, scene.fem_study.refinement) if args.estimate_error else ()
+    assembly = pose_assembly(scene.manipulator, geometry,
+                             elastic_platform=options.platform == "elastic")
+    what = typed(args, "size")
+    try:  # every size of the study checked up front, the finest first
+        for h in reversed(sorted(set(sizes) | {size})):
+            check_mesh_size(assembly, options.with_size(h), runtime)
+    except FemError as exc:
+        if sizes:  # a size of the study, not necessarily the one typed
+            raise ValueError(f"{what + ' ' if what else ''}--estimate-error: {exc}") from None
+        raise named_first(exc, "mesh_size_mm", what) from None
+    start = time.perf_counter()
+    try:
+        result = solve_pose(scene.manipulator, geometry, options, runtime)
+    except FemError as exc:
+        raise named_first(exc, "mesh_size_mm", what) from None
+    seconds = time.perf_counter() - start
+    if args.vtu:
+        result.write_vtu(args.vtu, pvd=True)
+    payload = {
+        "case": case.name,
+        "pose": pose_payload(case.pose),
+        "model": "fem",
+        "mesh_size_from": source,
+        "platform": options.platform,
+        "coupling": options.coupling,
+        "legs": options.legs,
+        "frequencies_hz": [float(x) for x in result.frequencies_hz[:count]],
+        "dofs": int(result.dofs),
+        "mesh_size_mm": float(result.mesh_size) * 1e3,
+        "min_scaled_jacobian": float(result.min_quality),
+        "timings": {k: float(v) for k, v in result.timings.items()},
+        "seconds": seconds,
+    }
+    if sizes:
+        from solvers.refinement import fem_refinement
+        study = fem_refinement(replace(scene, fem=replace(scene.fem, platform=options.platform,
+                                                          coupling=options.coupling,
+                                                          legs=options.legs)),
+                               geometry, cache, sizes)
+        k = min(range(len(sizes)), key=lambda i: abs(sizes[i] - size))
+        payload["refinement_mm"] = [h * 1e3 for h in sizes]
+        payload["estimated_error_percent"] = study["estimated_error_percent"][k]
+        payload["extrapolated_hz"] = study["extrapolated_hz"]
+        payload["observed_order"] = study["observed_order"]
+    return payload
+
+
+def add_arguments(f: argparse.ArgumentParser) -> None:
+    platforms, couplings, leg_models = fem_choices()
+    scene_args(f)
+    declared_option(f, "--size", MeshSettings, "size", metavar="MM",
+                    help="global element size, mm (default: the scene's mesh_size_mm, or "
+                    "0.32 leg diameters when the scene leaves the size to the run; the size "
+                    "the run chose: --from-results)")
+    f.add_argument("--platform", choices=platforms,
+                   help="rigid platform or elastic plate (default: the scene's)")
+    f.add_argument("--coupling", choices=couplings,
+                   help="joint-face coupling (default: the scene's)")
+    f.add_argument("--legs", choices=leg_models,
+                   help="legs by Fourier harmonics on a meridian mesh, or 3D tetrahedra "
+                   "(default: the scene's; an elastic plate takes tetrahedra)")
+    declared_option(f, "--modes", FidelitySettings, "modes", metavar="N",
+                    help="number of modes (default: the scene's)")
+    f.add_argument("--vtu", metavar="PATH",
+                   help="also write the mode shapes for ParaView: PATH (.vtu, legs and "
+                        "platform) and a .pvd beside it (default: not written)")
+    f.add_argument("--estimate-error", action="store_true",
+                   help="also run a refinement study (cached) and report the estimated "
+                        "discretisation error of this size: the scene's refinement_mm, with "
+                        "the size inserted, or its ratios scaled to the size when the size "
+                        "lies outside it")
+    cache_option(f)
+
+
+def run(args: argparse.Namespace) -> int:
+    emit(cmd_fem(args), args.json)
+    return 0
+
+
+COMMAND = Command("fem", "3D solid FEM reference of one case", add_arguments, run)

@@ -1,0 +1,43 @@
+"""`rps validate`: the whole validation of a scene into out/ (results, tables, mode files and,
+unless --no-report, the report)."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from .. import human
+from ..args import cache_dir, cache_option, scene_option
+from ..options import Workers, declared_option
+from .registry import Command
+
+
+def add_arguments(v: argparse.ArgumentParser) -> None:
+    scene_option(v)
+    v.add_argument("--out", metavar="DIR", type=Path, default=Path("out"),
+                   help="output directory: results.json, tables/, modes/, report.html/.pdf")
+    cache_option(v)
+    v.add_argument("--profile", choices=("full", "ci"), default="full",
+                   help="full: every case and study; ci: the scene's ci_cases only, no "
+                        "refinement study or variants")
+    v.add_argument("--no-report", action="store_true", help="skip the HTML/PDF report")
+    declared_option(v, "--workers", Workers, "workers", default=None, metavar="N",
+                    help="local worker processes of the workspace sweep (default: the number "
+                    "of cores)")
+    v.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="send the sweep's poses to this running dask.distributed scheduler "
+                        "(e.g. tcp://10.0.0.5:8786) instead of local workers (default: none)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from pipeline.run import validate
+    from reports.build import render_report
+
+    results = validate(args.scene, args.out, cache_dir(args), args.profile,
+                       report=None if args.no_report else render_report, workers=args.workers,
+                       scheduler=args.scheduler)
+    print(human.summary(results, args.out, report=not args.no_report))
+    return 0
+
+
+COMMAND = Command("validate", "run the whole validation of a scene: results, tables, report",
+                  add_arguments, run)

@@ -1,0 +1,116 @@
+"""docs/scenes.md, generated from the declarations that validate scene files.
+
+Every key, its type, unit, default, admitted values and meaning come from the `setting(...)`
+declarations of the dataclasses the scene reader fills (`scene.parse_scene`), so the
+page cannot disagree with the reader; `tests/test_scene_docs.py` fails when the committed page
+is stale (`python -m rps scene-docs` rewrites it).
+"""
+from __future__ import annotations
+
+from dataclasses import MISSING
+from pathlib import Path
+
+from analytical.params import Manipulator, Material, ModelOptions
+from common.paths import MAX_LENGTH
+from common.settings import Setting, declared
+from fem_reference.model import FemOptions, FemRuntime
+from meshing.geometry import MeshSettings
+
+from .fidelity import FidelitySettings
+from .load import (
+    GEOMETRY_DEFAULTS_TEXT,
+    CaseSettings,
+    FemStudy,
+    HeightCalibration,
+    ManipulatorNotes,
+    SceneSettings,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+DOC = ROOT / "docs" / "scenes.md"
+
+TABLES = (
+    ("top level", "The scene's own keys.", (SceneSettings,)),
+    ("[manipulator]", "Geometry, joints and limits of the machine (paper Section 2, Eq. 25).",
+     (Manipulator, ManipulatorNotes)),
+    ("[material]", "One isotropic material for legs and platform.", (Material,)),
+    ("[fidelity]", "What accuracy the scene needs, on which modes. Where the scene leaves "
+     "[analytical] out, and mesh_size_mm out of [fem], the run chooses the cheapest models that "
+     "meet it, by measurement (studies/choice.py).", (FidelitySettings,)),
+    ("[analytical]", "Fidelity of the beam model (substructure synthesis, Eqs. 4-24); an "
+     "explicit choice that overrides the automatic one.", (ModelOptions,)),
+    ("[fem]", "Fidelity of the 3D solid reference, its refinement study and its guard; "
+     "mesh_size_mm overrides the automatic choice.",
+     (MeshSettings, FemOptions, FemStudy, FemRuntime)),
+    ("[calibration.height]", "A value the paper prints wrongly, recovered and labelled.",
+     (HeightCalibration,)),
+    ("[cases.NAME]", ("One table per pose; NAME is the case's name, and names its files "
+                      "(tables/NAME.csv, modes/NAME_fem.vtu): a name with a path separator, a "
+                      f"control character, a leading dot, more than {MAX_LENGTH} characters "
+                      "or a device name Windows reserves (CON, NUL, COM1, ...) is refused; "
+                      "any character other than A-Z, a-z, 0-9, '.', '_' and '-' is written "
+                      "as '_' in the file names (common/paths.py), and two names that give "
+                      "one file name (case ignored) are refused."), (CaseSettings,)),
+)
+
+HEADER = """# Scene files
+
+A scene (`scenes/*.toml`) is a manipulator, its poses and the fidelity asked. Lengths in
+millimetres, angles in degrees, moduli in GPa, density in kg/m3 at this edge; the code converts
+once to SI. Run one with `make SCENE=path/to/scene.toml`. Unknown keys are refused (with the
+closest known key named), and every value outside its range gives a one-line error naming the
+key and the value. Defaults written with `d` scale with the leg diameter d.
+
+Generated from the declarations by `python -m rps scene-docs`; do not edit by hand.
+"""
+
+
+def _type(spec: Setting) -> str:
+    if spec.kind is tuple:
+        return "list of names" if spec.item is str else (
+            f"{spec.length} numbers" if spec.length else "list of numbers")
+    return {float: "number", int: "integer", str: "text", bool: "true/false"}[spec.kind]
+
+
+def _edge(spec: Setting, value) -> str:
+    if isinstance(value, tuple):
+        return "[" + ", ".join(_edge(spec, v) for v in value) + "]"
+    if isinstance(value, float):
+        return f"{spec.edge(value):.6g}"
+    return repr(value) if isinstance(value, str) else str(value)
+
+
+def _default(name: str, spec: Setting, default) -> str:
+    if name in GEOMETRY_DEFAULTS_TEXT:
+        return GEOMETRY_DEFAULTS_TEXT[name]
+    if default is MISSING or spec.scene_required:
+        return "required"
+    if default is None:
+        return "—"
+    return _edge(spec, default)
+
+
+def _cell(text: str) -> str:
+    return " ".join(str(text).split()).replace("|", "\\|")
+
+
+def render() -> str:
+    lines = [HEADER]
+    for title, intro, classes in TABLES:
+        lines += [f"## {title}", "", intro, "",
+                  "| key | type | unit | default | allowed | meaning |",
+                  "|---|---|---|---|---|---|"]
+        for cls in classes:
+            for name, spec, default in declared(cls):
+                if not spec.scene:
+                    continue
+                lines.append("| " + " | ".join(_cell(x) for x in (
+                    f"`{spec.scene_key(name)}`", _type(spec), spec.unit or "",
+                    _default(name, spec, default), spec.range_text(), spec.doc)) + " |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def write(path: Path = DOC) -> Path:
+    from common.atomic import write_text_atomic
+    return write_text_atomic(path, render())

@@ -1,0 +1,205 @@
+"""One case, both models: solve, sample shapes on shared points, pair, and tabulate errors."""
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+import results
+from analytical.kinematics import PoseGeometry
+from analytical.modal import leg_axis_displacements, leg_axis_twists, platform_motion
+from analytical.model import analyse
+from analytical.params import ModelOptions
+from analytical.substructure import coordinate_count
+from common.settings import as_dict
+from fem_reference.model import legs_for
+from runtime.cache import ResultCache
+from scene import Case, Scene
+from solvers.pairing import pair_modes
+
+# Shared points for MAC: eleven stations along every leg axis, joint centres included.
+STATIONS = np.linspace(0.0, 1.0, 11)
+# what a station holds for the pairing: the axis translation, and the sections' twist times the
+# leg radius (the wall's displacement by it): a leg's torsion modes move no point of its axis
+STATION_COMPONENTS = ("x", "y", "z", "radius x twist")
+EXTRA_MODES = 4  # asked beyond the reported ones, so a pair split across the cut is found
+
+
+def station_vector(translations: np.ndarray, twists: np.ndarray, radius: float) -> np.ndarray:
+    """(legs * stations * 4, modes) from translations (legs, stations, 3, modes) and twists
+    (legs, stations, modes): the shapes the pairing compares (STATION_COMPONENTS)."""
+    both = np.concatenate([translations, radius * twists[:, :, None, :]], axis=2)
+    return both.reshape(-1, both.shape[-1])
+
+
+@dataclass(frozen=True)
+class Solve:
+    """One model's modes at one pose: its results record (every computed mode) and its shapes
+    sampled at the STATIONS of every leg axis, (legs * stations * 4, modes), for the pairing
+    (`station_vector`)."""
+
+    record: dict  # results.AnalyticalRecord or results.FemRecord
+    station_shapes: np.ndarray
+    vtu: Path | None = None  # the FEM's mode file in the cache
+
+    def reported(self, count: int) -> dict:
+        """The record cut to the first `count` modes."""
+        return self.record | {
+            "frequencies_hz": self.record["frequencies_hz"][:count],
+            "platform_motion": [row[:count] for row in self.record["platform_motion"]]}
+
+    def leg_axis_shapes(self, count: int) -> list:
+        """[leg][station][xyz][mode] of the first `count` modes."""
+        shapes = self.station_shapes[:, :count]
+        return shapes.reshape(-1, len(STATIONS), len(STATION_COMPONENTS),
+                              shapes.shape[-1])[:, :, :3].tolist()
+
+
+def scene_coordinates(scene: Scene, options: ModelOptions) -> int:
+    """The analytical model's coordinates (its number of modes) with these options: the
+    joints' free rotations and six per interior node of every leg, plus the platform's six."""
+    m = scene.manipulator
+    return coordinate_count(options.elements, m.base_joint, m.platform_joint)
+
+
+def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
+    """Frequencies, platform motion, sampled shapes and wall time of the substructure model."""
+    opts = replace(options,
+                   modes=min(options.modes + EXTRA_MODES, scene_coordinates(scene, options)))
+    start = time.perf_counter()
+    res = analyse(scene.manipulator, case.pose, opts)
+    seconds = time.perf_counter() - start
+    shapes = station_vector(
+        leg_axis_displacements(res.model, res.geometry.leg_frames, res.modal.shapes, STATIONS),
+        leg_axis_twists(res.model, res.geometry.leg_frames, res.modal.shapes, STATIONS),
+        0.5 * scene.manipulator.leg_diameter)
+    record = results.AnalyticalRecord(
+        elements=options.elements, beam=options.beam, shear=options.shear,
+        joint_ends=options.joint_ends, platform_inertia=options.platform_inertia,
+        frequencies_hz=[float(f) for f in res.frequencies_hz],
+        timings={"total": seconds}, dofs=int(res.model.stiffness.shape[0]),
+        platform_motion=platform_motion(res.model, res.modal.shapes).tolist())
+    return Solve(record, shapes)
+
+
+def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | None = None,
+                coupling: str | None = None, modes: int | None = None,
+                legs: str | None = None):
+    """The scene's FEM options (built once, at load) at one mesh size, with optional
+    platform/coupling/legs/mode-count overrides; EXTRA_MODES are added for the pairing."""
+    options = scene.fem if mesh_size is None else scene.fem.with_size(mesh_size)
+    legs = legs_for(platform, legs)
+    changes = {k: v for k, v in {"platform": platform, "coupling": coupling,
+                                 "legs": legs}.items() if v is not None}
+    changes["modes"] = (modes if modes is not None else scene.analytical.modes) + EXTRA_MODES
+    return replace(options, **changes)
+
+
+def with_cache_dir(scene: Scene, directory: str | os.PathLike) -> Scene:
+    """The scene whose analytical models keep their solid end zones under the run's cache
+    directory (`ModelOptions.cache_dir`: every setting derived from scene.analytical, in this
+    process and on the workers, carries it), as the FEM keeps its meshes there
+    (`fem_runtime`)."""
+    return replace(scene, analytical=replace(scene.analytical, cache_dir=str(directory)))
+
+
+def fem_runtime(scene: Scene, cache: ResultCache | None = None, use_cache: bool = True):
+    """How the scene's FEM solves run: its DOF guard, the mesh cache beside the result cache."""
+    return replace(scene.fem_runtime, use_cache=use_cache,
+                   cache_dir=None if cache is None else cache.directory / "meshes")
+
+
+def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size: float,
+             platform: str | None = None, coupling: str | None = None,
+             legs: str | None = None) -> Solve:
+    """The FEM reference of one pose at one mesh size, through the result cache.
+
+    The cache key is every input that changes the answer, taken whole: the manipulator, the
+    pose geometry, the complete FEM options (`dataclasses.asdict`, so a new option can never be
+    left out of the key) and the sampling stations.
+    """
+    from fem_reference import solve_pose
+
+    options = fem_options(scene, mesh_size, platform=platform, coupling=coupling, legs=legs)
+    payload = fem_cache_payload(scene.manipulator, geometry, options)
+
+    def compute():
+        result = solve_pose(scene.manipulator, geometry, options, fem_runtime(scene, cache))
+        shapes = station_vector(result.leg_axis_displacements(STATIONS),
+                                result.leg_axis_twists(STATIONS),
+                                0.5 * scene.manipulator.leg_diameter)
+        vtu = cache.directory / "tmp" / f"mode-{os.getpid()}-{time.time_ns()}.vtu"
+        vtu.parent.mkdir(parents=True, exist_ok=True)
+        result.write_vtu(vtu)
+        value = {
+            "frequencies_hz": [float(f) for f in result.frequencies_hz],
+            "dofs": int(result.dofs),
+            "raw_dofs": int(result.raw_dofs),
+            "mesh_size_m": float(result.mesh_size),
+            "platform": options.platform,
+            "coupling": options.coupling,
+            "timings": {k: float(v) for k, v in result.timings.items()},
+            "mesh_cache_hit": bool(result.cache_hit),  # then "mesh" timed a cache read
+            "platform_motion": result.platform_motion.tolist(),
+            "station_shapes": shapes.tolist(),
+            "min_scaled_jacobian": (float(result.min_quality)
+                                    if math.isfinite(result.min_quality) else None),
+        }
+        return value, {".vtu": vtu}
+
+    try:
+        value, key, hit = cache.get_or_compute("fem", payload, compute, required=FEM_CACHED)
+    finally:
+        for leftover in (cache.directory / "tmp").glob(f"mode-{os.getpid()}-*.vtu"):
+            leftover.unlink(missing_ok=True)
+    record = results.FemRecord(**{k: value[k] for k in FEM_CACHED if k != "station_shapes"},
+                               cache_hit=hit)
+    return Solve(record, np.asarray(value["station_shapes"]),
+                 cache.side_file("fem", key, ".vtu"))
+
+
+# what a cached FEM value holds (an entry lacking any of them is recomputed)
+FEM_CACHED = ("frequencies_hz", "dofs", "raw_dofs", "mesh_size_m", "platform", "coupling",
+              "timings", "mesh_cache_hit", "platform_motion", "station_shapes",
+              "min_scaled_jacobian")
+
+
+def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
+    """Everything that determines a FEM result, whole (see `fem_case`)."""
+    return {"manipulator": as_dict(manipulator), "geometry": as_dict(geometry),
+            "options": as_dict(options), "stations": STATIONS.tolist(),
+            "station_components": list(STATION_COMPONENTS)}
+
+
+def model_reading(rows: list[dict], error: str = "error_percent") -> dict:
+    """A model's frequencies, errors (the `error` column of `error_table`) and MACs, in the
+    order of `rows`: the fields of results.JointOrderModel and results.CouplingModel."""
+    return {"frequencies_hz": [r["f_analytical_hz"] for r in rows],
+            "error_percent": [r[error] for r in rows], "mac": [r["mac"] for r in rows]}
+
+
+def error_table(analytical: Solve, fem: Solve, count: int, fem_error_percent=None,
+                reference_hz=None) -> list[dict]:
+    """Rows of the comparison (results.Pair): FEM mode k paired with the analytical mode of the
+    same shape; against the FEM's h -> 0 limit too when `reference_hz` is given."""
+    a_hz = np.asarray(analytical.record["frequencies_hz"])
+    f_hz = np.asarray(fem.record["frequencies_hz"])
+    pairs = pair_modes(analytical.station_shapes, a_hz, fem.station_shapes, f_hz, count)
+    rows = []
+    for p in pairs:
+        k, j = p.reference_mode, p.model_mode
+        rows.append(results.Pair(
+            fem_mode=k + 1, analytical_mode=j + 1,
+            f_fem_hz=float(f_hz[k]), f_analytical_hz=float(a_hz[j]),
+            error_percent=float(p.error_percent(a_hz, f_hz)), mac=float(p.mac),
+            repeated=bool(p.repeated), group=int(p.group),
+            fem_estimated_error_percent=(None if fem_error_percent is None
+                                         else float(fem_error_percent[k])),
+            f_reference_hz=None if reference_hz is None else float(reference_hz[k]),
+            error_vs_reference_percent=(None if reference_hz is None else
+                                        float(100 * (a_hz[j] / reference_hz[k] - 1)))))
+    return rows

@@ -1,0 +1,52 @@
+"""The analytical settings compared throughout a run: the paper's and ours, and the candidates of
+the speed-vs-error plot and the fidelity choice. One constructor, so every study that names a
+setting ("Timoshenko (Hutchinson), s=5") means the same options."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from analytical.params import ModelOptions
+from scene import Scene
+
+
+def _setting(base: ModelOptions, beam: str, elements: int, shear: str = "cowper",
+             joint_ends: str = "beam", platform_inertia: str = "plate") -> ModelOptions:
+    """The scene's analytical options with one compared setting in place."""
+    return replace(base, beam=beam, elements=elements, shear=shear, joint_ends=joint_ends,
+                   platform_inertia=platform_inertia)
+
+
+def model_variants(scene: Scene) -> dict[str, ModelOptions]:
+    """The analytical settings compared throughout: the paper's and ours. Every Timoshenko
+    label names its shear coefficient (analytical.beam: Cowper's or Hutchinson's); "solid
+    ends" are the condensed solid end zones at the joints (analytical.end_zones)."""
+    base = scene.analytical
+    eb, timo = "euler-bernoulli", "timoshenko"
+    return {
+        "paper (EB, s=3, Eq. 8 inertia)": _setting(base, eb, 3, platform_inertia="paper-eq8"),
+        "EB, s=3, plate inertia": _setting(base, eb, 3),
+        "Timoshenko (Cowper), s=3, plate inertia": _setting(base, timo, 3),
+        "Timoshenko (Hutchinson), s=3, plate inertia": _setting(base, timo, 3, "hutchinson"),
+        "Timoshenko (Cowper), s=10, plate inertia": _setting(base, timo, 10),
+        "Timoshenko (Hutchinson), s=5, solid ends, plate inertia": _setting(
+            base, timo, 5, "hutchinson", joint_ends="solid"),
+    }
+
+
+SOLID_END_ELEMENTS = (1, 2, 3, 4, 5)  # s of the beam middle between two solid end zones
+
+
+def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
+    """Every analytical setting whose time and error the speed-vs-error plot shows: beam
+    theories (with their shear coefficient) at s = 1..10, and Timoshenko (Hutchinson) middles
+    between solid end zones."""
+    base, out = scene.analytical, {}
+    for beam, shear, tag in (("euler-bernoulli", "cowper", "EB"),
+                             ("timoshenko", "cowper", "Timoshenko (Cowper)"),
+                             ("timoshenko", "hutchinson", "Timoshenko (Hutchinson)")):
+        for s in (1, 2, 3, 5, 10):
+            out[f"{tag}, s={s}"] = _setting(base, beam, s, shear)
+    for s in SOLID_END_ELEMENTS:
+        out[f"Timoshenko (Hutchinson) + solid ends, s={s}"] = _setting(
+            base, "timoshenko", s, "hutchinson", joint_ends="solid")
+    return out

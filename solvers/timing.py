@@ -1,0 +1,66 @@
+"""Wall time per pose of an analytical setting, measured once and kept with the results.
+
+One pose's time (kinematics, synthesis and eigen solve; `time_model`: the median of
+RUNS repetitions after a warm-up) is asked for by three steps of a run - the fidelity choice,
+the model-variant table and the speed-vs-error chart - for the same settings at the same
+poses. It is measured once per (machine, code, manipulator, pose, setting) and kept in the
+result cache beside the FEM solves, whose times are kept the same way; a warm run reports the
+times measured when the entry was made, on the same machine (the machine's identity is part
+of the key, so a cache moved to another computer measures again). `make bench` re-measures
+everything from scratch and is where timings are compared.
+"""
+from __future__ import annotations
+
+import os
+import platform
+import time
+from functools import lru_cache
+
+import numpy as np
+
+from analytical.model import natural_frequencies
+from analytical.params import ModelOptions
+from common.settings import as_dict
+from runtime.cache import ResultCache
+from scene import Case, Scene
+
+RUNS = 30  # repetitions per measurement (the median is kept)
+KIND = "model-timings"
+
+
+@lru_cache(maxsize=1)
+def machine() -> dict:
+    """What identifies the computer a time was measured on."""
+    cpu = platform.processor()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as info:
+            cpu = next((line.split(":", 1)[1].strip() for line in info
+                        if line.startswith("model name")), cpu)
+    except OSError:
+        pass
+    return {"node": platform.node(), "cpu": cpu, "cores": os.cpu_count(),
+            "python": platform.python_version()}
+
+
+def seconds_per_pose(scene: Scene, case: Case, options, cache: ResultCache | None) -> float:
+    """Median wall time (s) of one pose of `case` with the analytical `options`; from the
+    cache when this machine measured it with this code before (no cache: always measured)."""
+    if cache is None:
+        return time_model(scene, case, options, runs=RUNS)
+    payload = {"manipulator": as_dict(scene.manipulator), "pose": as_dict(case.pose),
+               "options": as_dict(options), "runs": RUNS, "machine": machine()}
+    value, _, _ = cache.get_or_compute(
+        KIND, payload, lambda: ({"seconds": time_model(scene, case, options, runs=RUNS)}, {}),
+        required=("seconds",), modules=("solvers.timing",))
+    return float(value["seconds"])
+
+
+def time_model(scene: Scene, case: Case, options: ModelOptions, runs: int = 30) -> float:
+    """Median wall time (s) of one pose: kinematics, synthesis and eigen solve."""
+    natural_frequencies(scene.manipulator, case.pose, options)
+    samples = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        natural_frequencies(scene.manipulator, case.pose, options)
+        samples.append(time.perf_counter() - start)
+    return float(np.median(samples))

@@ -1,0 +1,33 @@
+"""Case study: frequencies against the elements per leg, s = 1..10, per beam theory (the paper's
+Fig. 3; results.cases[].element_convergence)."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import results
+from analytical.model import natural_frequencies
+from scene import Case, Scene
+
+from .calibration import _hz
+from .registry import CaseContext, Context, Study
+
+ELEMENT_RANGE = tuple(range(1, 11))
+
+
+def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli") -> dict:
+    """Frequencies for s = 1..10 elements per leg, for one beam theory."""
+    rows = []
+    for s in ELEMENT_RANGE:
+        opts = replace(scene.analytical, elements=s, beam=beam)
+        rows.append(_hz(natural_frequencies(scene.manipulator, case.pose, opts)))
+    return results.ElementConvergence(elements=list(ELEMENT_RANGE), beam=beam,
+                                      frequencies_hz=rows)
+
+
+def run(ctx: Context, cc: CaseContext) -> dict:
+    cc.step("element convergence")
+    return {"element_convergence": {beam: element_convergence(ctx.scene, cc.case, beam)
+                                    for beam in ("euler-bernoulli", "timoshenko")}}
+
+
+STUDY = Study("element_convergence", "Convergence", "convergence", "case", run)

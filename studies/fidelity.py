@@ -1,0 +1,259 @@
+"""The run's fidelity step: measure the candidates on the scene's cases, choose, report.
+
+Pure choosing lives in `studies.choice`; this module runs what the choice is made from:
+every case's FEM refinement study (cached solves) and every analytical candidate of the
+speed-vs-error set (`solvers.settings.speed_settings`) against the FEM limit, timed per pose.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from analytical.kinematics import pose_geometry
+from analytical.params import Pose
+from runtime.cache import ResultCache
+from scene import Scene
+from solvers.compare import analytical_case, error_table, fem_case
+from solvers.refinement import prefetch_fem
+from solvers.settings import model_variants, speed_settings
+from solvers.timing import seconds_per_pose
+from studies.choice import (
+    FEM_ERROR_SHARE,
+    AnalyticalChoice,
+    FemChoice,
+    choose_analytical,
+    choose_fem_size,
+)
+
+from . import workspace_validation as wv
+
+SCENE_SETTING = "scene's [analytical]"
+
+
+@dataclass(frozen=True)
+class Fidelity:
+    scene: Scene  # the scene with the chosen analytical options and FEM size
+    fem: FemChoice
+    analytical: AnalyticalChoice
+    candidates: dict  # label -> per case {"case", "seconds", "worst_error_percent"}
+    refinements: dict  # case name -> refinement study (dict), when refined
+
+    @property
+    def met(self) -> bool:
+        return self.fem.met and self.analytical.met
+
+    def summary(self) -> dict:
+        """results.json's top-level `fidelity` object."""
+        opts = self.scene.analytical
+        tol = self.scene.fidelity.tolerance_percent
+        reason = f"{self.analytical.reason}; {self.fem.reason}."
+        if not self.met:
+            reason = ("The scene's tolerance is NOT met: " + reason)
+        return {
+            "modes": self.scene.fidelity.modes,
+            "tolerance_percent": tol,
+            "met": self.met,
+            "analytical": {"beam": opts.beam, "shear": opts.shear,
+                           "joint_ends": opts.joint_ends, "elements": opts.elements,
+                           "platform_inertia": opts.platform_inertia,
+                           "setting": self.analytical.setting,
+                           "chosen": not self.scene.analytical_given,
+                           "worst_error_percent": self.analytical.worst_error_percent,
+                           "seconds_per_pose": self.analytical.seconds_per_pose,
+                           "met": self.analytical.met},
+            "fem": {"mesh_size_mm": self.scene.fem.mesh_size * 1e3,
+                    "chosen": not self.scene.fem_size_given,
+                    "estimated_error_percent": self.fem.worst_error_percent,
+                    "seconds_per_pose": _fem_seconds(self),
+                    "met": self.fem.met},
+            "reason": reason,
+            "candidates": [{"setting": label, "worst_error_percent":
+                            max(r["worst_error_percent"] for r in rows),
+                            "seconds_per_pose": sorted(r["seconds"] for r in rows)[len(rows) // 2]}
+                           for label, rows in self.candidates.items()],
+        }
+
+
+def _fem_seconds(fid: Fidelity) -> float | None:
+    size = fid.scene.fem.mesh_size
+    times = [study["seconds"][study["sizes_m"].index(size)]
+             for study in fid.refinements.values() if size in study["sizes_m"]]
+    return float(np.median(times)) if times else None
+
+
+def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
+               step=lambda text: None, workers: int = 1, scheduler: str | None = None
+               ) -> tuple[Scene, FemChoice, dict]:
+    """The FEM size (chosen, or the scene's checked), the scene at that size, and every
+    case's refinement study (when refined)."""
+    from solvers.refinement import fem_refinement
+
+    tol = scene.fidelity.tolerance_percent
+    refinements = {}
+    if refine:
+        sizes = tuple(sorted(set(scene.fem_study.refinement) | (
+            {scene.fem.mesh_size} if scene.fem_size_given else set()), reverse=True))
+        step("FEM refinement studies")
+        prefetch_fem(scene, [pose_geometry(scene.manipulator, scene.case(n).pose)
+                             for n in case_names], sizes, cache, workers, scheduler)
+        for name in case_names:
+            step(f"{name}: FEM refinement study")
+            case = scene.case(name)
+            refinements[name] = fem_refinement(scene,
+                                               pose_geometry(scene.manipulator, case.pose),
+                                               cache, sizes)
+        errors = [study["estimated_error_percent"] for study in refinements.values()]
+        if scene.fem_size_given:
+            k = sizes.index(scene.fem.mesh_size)
+            worst = max(max(e[k]) for e in errors)
+            fem = FemChoice(scene.fem.mesh_size, worst, worst <= FEM_ERROR_SHARE * tol,
+                            f"h = {scene.fem.mesh_size * 1e3:.3g} mm as the scene asks, "
+                            f"estimated error {worst:.3g} %")
+        else:
+            fem = choose_fem_size(list(sizes), errors, tol)
+    else:
+        size = scene.fem.mesh_size if scene.fem_size_given else scene.fem_study.ci_mesh_size
+        fem = FemChoice(size, None, True,
+                        f"h = {size * 1e3:.3g} mm without a refinement study (CI profile): "
+                        "the FEM's own error is not estimated")
+    return replace(scene, fem=scene.fem.with_size(fem.size)), fem, refinements
+
+
+def candidate_settings(scene: Scene) -> dict:
+    """Every analytical setting the choice is made among (the scene's own first, if given)."""
+    candidates = dict(speed_settings(scene))
+    if scene.analytical_given:
+        candidates = {SCENE_SETTING: scene.analytical} | candidates
+    return candidates
+
+
+def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: ResultCache,
+                 refinements: dict, step=lambda text: None,
+                 extra_rows: dict | None = None) -> Fidelity:
+    """The analytical setting (chosen, or the scene's checked) over every case, plus
+    `extra_rows` (label -> rows, e.g. the workspace study's worst pose)."""
+    tol = scene.fidelity.tolerance_percent
+    count = scene.fidelity.modes
+    candidates = candidate_settings(scene)
+    rows: dict[str, list[dict]] = {label: [] for label in candidates}
+    for name in case_names:
+        step(f"{name}: analytical candidates")
+        case = sized.case(name)
+        fem_result = fem_case(sized, pose_geometry(sized.manipulator, case.pose), cache,
+                              fem.size)
+        reference = (np.asarray(refinements[name]["extrapolated_hz"]) if name in refinements
+                     else np.asarray(fem_result.record["frequencies_hz"][:count]))
+        for label, opts in candidates.items():
+            a = analytical_case(sized, case, opts)
+            table = error_table(a, fem_result, count, None, reference)
+            rows[label].append({
+                "case": name,
+                "seconds": seconds_per_pose(sized, case, opts, cache),
+                "worst_error_percent": max(abs(r["error_vs_reference_percent"])
+                                           for r in table)})
+    for label, extra in (extra_rows or {}).items():
+        if label in rows:
+            seconds = sorted(r["seconds"] for r in rows[label])[len(rows[label]) // 2]
+            rows[label] += [dict(r, seconds=seconds) for r in extra]
+    if scene.analytical_given:
+        mine = rows[SCENE_SETTING]
+        worst = max(r["worst_error_percent"] for r in mine)
+        seconds = sorted(r["seconds"] for r in mine)[len(mine) // 2]
+        analytical = AnalyticalChoice(SCENE_SETTING, worst, seconds, worst <= tol,
+                                      f"the scene's own analytical setting is off by up to "
+                                      f"{worst:.2f} % (tolerance {tol:g} %)")
+        chosen_opts = scene.analytical
+    else:
+        analytical = choose_analytical(rows, tol)
+        chosen_opts = candidates[analytical.setting]
+    chosen = replace(sized, analytical=replace(chosen_opts, modes=count))
+    return Fidelity(chosen, fem, analytical, rows, refinements)
+
+
+def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
+                      workers: int = 2, scheduler: str | None = None, console=None,
+                      step=lambda text: None) -> tuple[Fidelity, dict]:
+    """The fidelity step of a run, with the workspace validation study in between: the FEM
+    size from the cases' refinement studies; then the study over the workspace (every
+    candidate at every pose); then the analytical setting over the cases AND each candidate's
+    worst study pose (beam models are worst at compact poses, which two cases may miss)."""
+
+    sized, fem, refinements = choose_fem(scene, case_names, cache, full, step, workers,
+                                         scheduler)
+    models = candidate_settings(scene) | {
+        wv.PAPER_MODEL: model_variants(scene)[wv.PAPER_MODEL]}
+    coarse = wv.coarse_size(scene, fem.size)
+    seconds = _fem_seconds_of(refinements, fem.size, coarse)
+
+    def announce(plan):
+        if console is not None and plan.to_compute:
+            eta = "" if plan.estimated_seconds is None else \
+                f", about {plan.estimated_seconds:.0f} s on {workers} worker(s)"
+            console.print(f"workspace validation: {plan.to_compute} of {plan.total} poses to "
+                          f"solve ({2 * plan.to_compute} FEM solves{eta})")
+
+    study = wv.run_study(sized, models, cache, coarse, wv.FULL if full else wv.SMALL,
+                         workers=workers, scheduler=scheduler, announce=announce,
+                         progress=lambda done, total: step(f"workspace pose {done}/{total}"),
+                         seconds_per_pose=seconds)
+    extra = worst_pose_rows(scene, sized, study, cache, full, step, workers, scheduler)
+    fidelity = choose_model(scene, sized, fem, case_names, cache, refinements, step, extra)
+    return fidelity, wv.summarise(study, fidelity.analytical.setting)
+
+
+def _fem_seconds_of(refinements: dict, *sizes) -> float | None:
+    total = []
+    for study in refinements.values():
+        try:
+            total.append(sum(study["seconds"][study["sizes_m"].index(h)] for h in sizes))
+        except ValueError:
+            return None
+    return float(np.median(total)) if total else None
+
+
+def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache, full: bool,
+                    step=lambda text: None, workers: int = 1,
+                    scheduler: str | None = None) -> dict:
+    """Every candidate's error at the study's worst pose, against the FEM limit there.
+
+    The worst pose is where the candidate that is best over the study (least largest error)
+    is worst. In a full run the FEM is refined at that pose (the scene's sequence) and the
+    candidates are compared with the extrapolated limit, like the cases; in the CI profile
+    with the FEM of the study. A second row per candidate is its largest error over every
+    study pose, so a candidate cannot be chosen on poses where it happens to be good."""
+    from solvers.refinement import fem_refinement
+
+    labels = list(candidate_settings(scene))
+    ok = [p for p in study["poses"] if p.get("models")]
+    if not ok:
+        return {}
+    best = min(labels, key=lambda lb: max(wv.worst_error(p["models"][lb]) for p in ok))
+    worst = wv.worst_pose(ok, best)
+    pose = Pose(worst["height_mm"] * 1e-3, math.radians(worst["azimuth_deg"]),
+                math.radians(worst["tilt_deg"]))
+    case = wv._PoseCase(pose, "workspace worst pose")
+    count = scene.fidelity.modes
+    geometry = pose_geometry(sized.manipulator, pose)
+    fem_result = fem_case(sized, geometry, cache, sized.fem.mesh_size)
+    reference = np.asarray(fem_result.record["frequencies_hz"][:count])
+    if full:
+        step("workspace worst pose: FEM refinement study")
+        sizes = tuple(sorted(set(scene.fem_study.refinement) | {sized.fem.mesh_size},
+                             reverse=True))
+        prefetch_fem(sized, [geometry], sizes, cache, workers, scheduler)
+        reference = np.asarray(fem_refinement(sized, geometry, cache, sizes)["extrapolated_hz"])
+    where = (f"workspace worst pose (z = {worst['height_mm']:.0f} mm, tilt = "
+             f"{worst['tilt_deg']:.1f} deg, {worst['kind']})")
+    everywhere = f"workspace validation ({len(ok)} poses, each against its FEM limit)"
+    out = {}
+    for label, opts in candidate_settings(scene).items():
+        a = analytical_case(sized, case, opts)
+        table = error_table(a, fem_result, count, None, reference)
+        out[label] = [{"case": where, "worst_error_percent":
+                       max(abs(r["error_vs_reference_percent"]) for r in table)},
+                      # and the candidate's own worst pose, which need not be the best's
+                      {"case": everywhere, "worst_error_percent":
+                       max(wv.worst_error(p["models"][label]) for p in ok)}]
+    return out

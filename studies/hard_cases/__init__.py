@@ -1,0 +1,76 @@
+"""Hard cases of the analytical model: physics and numerics claims, each with its tolerance,
+measured (issue 12: "test numerical stability on hard cases").
+
+Every claim is a function of a scene returning a `Row` (case, claim, tolerance, measured);
+`evaluate(scene)` runs the ones that take seconds, for the report's "Hard cases" section.
+tests/test_hard.py (marker `hard`) asserts every one of them on the paper's machine, and adds
+the FEM's hard cases (repeated pairs over mesh sizes, residuals, retried eigen solves).
+The machines are the scene's, changed with dataclasses.replace (slender or stocky legs, a thin
+plate, other metals, turned layouts, lower joint limits).
+"""
+from __future__ import annotations
+
+from common.settings import as_dict
+from runtime.cache import ResultCache
+from scene import Scene
+
+from ..registry import Context, Study
+from .base import SEED, Row, random_rotation, turned, untestable  # noqa: F401
+from .geometry import *  # noqa: F401,F403
+from .geometry import aluminium_scaling, slender_legs, stocky_legs, thin_plate, titanium_scaling
+from .limits import *  # noqa: F401,F403
+from .limits import LIMITS, boundary_ring, joint_limit
+from .paths import *  # noqa: F401,F403
+from .paths import continuity, near_crossing
+from .spectra import *  # noqa: F401,F403
+from .spectra import (
+    eigen_residuals,
+    mode_count,
+    no_spurious_zero_mode,
+    repeated_pairs,
+    turned_layout,
+)
+
+CHEAP = (repeated_pairs, turned_layout, eigen_residuals, mode_count, no_spurious_zero_mode,
+         continuity, near_crossing, slender_legs, stocky_legs, thin_plate, aluminium_scaling,
+         titanium_scaling, boundary_ring)
+
+
+def _row(task) -> dict:
+    claim, scene, argument = task
+    return (claim(scene) if argument is None else claim(scene, argument)).to_dict()
+
+
+def evaluate(scene: Scene, workers: int = 1) -> list[dict]:
+    """The analytical hard cases of `scene` (about ten seconds of one core): rows for the
+    report, in the order of CHEAP then LIMITS, the claims spread over `workers` processes."""
+    from runtime.sweep import map_tasks
+
+    tasks = [(claim, scene, None) for claim in CHEAP]
+    tasks += [(joint_limit, scene, limit) for limit in LIMITS]
+    rows = map_tasks(_row, tasks, workers)
+    for (claim, _, argument), row in zip(tasks, rows):
+        if "error" in row and "claim" not in row:
+            raise RuntimeError(f"hard case {claim.__name__}"
+                               f"{'' if argument is None else f' ({argument})'}: {row['error']}")
+    return rows
+
+
+def hard_case_rows(scene: Scene, cache: ResultCache, workers: int = 1) -> list[dict]:
+    """The analytical hard cases of the scene's machine, cases and chosen setting
+    (`evaluate`), through the result cache: recomputed when any of them or the
+    code changes."""
+    payload = {"manipulator": as_dict(scene.manipulator), "analytical": as_dict(scene.analytical),
+               "poses": [as_dict(c.pose) for c in scene.cases.values()]}
+    value, _, _ = cache.get_or_compute(
+        "hard-cases", payload, lambda: ({"rows": evaluate(scene, workers)}, {}),
+        required=("rows",), modules=("studies.hard_cases",))
+    return value["rows"]
+
+
+def run(ctx: Context) -> list[dict]:
+    return hard_case_rows(ctx.scene, ctx.cache, ctx.workers)
+
+
+STUDY = Study("hard_cases", "Hard cases: numerical stability and physics checks", "hard-cases",
+              "scene", run)

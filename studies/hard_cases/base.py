@@ -1,0 +1,43 @@
+"""The hard cases' row and the helpers every claim uses."""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+
+import numpy as np
+
+from analytical.params import Manipulator
+
+SEED = 20231201
+
+
+@dataclass(frozen=True)
+class Row:
+    case: str
+    claim: str
+    tolerance: float
+    measured: float
+    unit: str = ""
+    note: str = ""
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.measured <= self.tolerance)
+
+    def to_dict(self) -> dict:
+        return {**asdict(self), "passed": self.passed}
+
+
+def turned(m: Manipulator, angle: float) -> Manipulator:
+    """The same machine with its leg layout turned by `angle` (rad) about z."""
+    return replace(m, leg_angles=tuple(a + angle for a in m.leg_angles))
+
+
+def random_rotation(rng: np.random.Generator) -> np.ndarray:
+    q, r = np.linalg.qr(rng.standard_normal((3, 3)))
+    q = q * np.sign(np.diag(r))
+    return q if np.linalg.det(q) > 0 else -q
+
+def untestable(case: str, tolerance: float, exc: Exception) -> Row:
+    """The row of a claim whose changed machine reaches no pose to test it at."""
+    return Row(case, "nothing to test: the changed machine reaches no pose", tolerance, 0.0,
+               note=str(exc))

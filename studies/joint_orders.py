@@ -1,0 +1,63 @@
+"""Both joint orders of the paper side by side: its equations (R at the base, S at the
+platform, Eqs. 10-17) and its Section 2 text (S at the base, R at the platform).
+
+The same machine and poses are solved in each order by both models (the paper-faithful and the
+best beam model, and the FEM at the scene's mesh size), modes paired by shape. It shows that
+the seam between kinematics and models holds for either order: the two models should agree
+with each other as closely in one order as in the other.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import results
+from analytical.kinematics import pose_geometry
+from runtime.cache import ResultCache
+from scene import Scene
+from solvers.compare import analytical_case, error_table, fem_case, model_reading
+
+from .registry import Context, Study
+
+ORDERS = (("R", "S"), ("S", "R"))
+MODELS = {"EB, s=3": dict(beam="euler-bernoulli", elements=3),
+          "Timoshenko, s=3": dict(beam="timoshenko", elements=3)}
+
+
+def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict]:
+    """Per case and joint order: FEM frequencies and each beam model's error vs the FEM."""
+    count = scene.analytical.modes
+    out = []
+    for name in case_names:
+        case = scene.case(name)
+        readings = []
+        for base, top in ORDERS:
+            m = replace(scene.manipulator, base_joint=base, platform_joint=top)
+            ordered = replace(scene, manipulator=m)
+            entry = results.JointOrderReading(
+                base_joint=base, platform_joint=top,
+                scene_order=(base, top) == (scene.manipulator.base_joint,
+                                            scene.manipulator.platform_joint),
+                error=None, fem_hz=None, models=None)
+            try:
+                geometry = pose_geometry(m, case.pose)
+                fem = fem_case(ordered, geometry, cache, scene.fem.mesh_size)
+            except (ValueError, RuntimeError) as exc:
+                entry["error"] = " ".join(str(exc).split())
+                readings.append(entry)
+                continue
+            entry["fem_hz"] = fem.record["frequencies_hz"][:count]
+            entry["models"] = {}
+            for label, settings in MODELS.items():
+                a = analytical_case(ordered, case, replace(scene.analytical, **settings))
+                rows = error_table(a, fem, count)
+                entry["models"][label] = results.JointOrderModel(**model_reading(rows))
+            readings.append(entry)
+        out.append(results.JointOrderCase(case=name, readings=readings))
+    return out
+
+
+def run(ctx: Context) -> list:
+    return joint_order_study(ctx.scene, ctx.scene.ci_cases, ctx.cache)
+
+
+STUDY = Study("joint_orders", "Both joint orders", "joint-orders", "scene", run)

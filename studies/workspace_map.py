@@ -1,0 +1,73 @@
+"""Study: the first frequencies over the regular workspace, sorted and followed per family
+(the paper's Fig. 6; results.studies.workspace)."""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+import results
+from analytical.reach import layer_heights
+from scene import Scene
+
+from .registry import Context, Study
+
+
+def workspace_heights(scene: Scene, layers: int) -> np.ndarray:
+    """Heights (m) of the map's layers, evenly over the reachable layer band
+    (`analytical.reach.layer_band`)."""
+    return layer_heights(scene.manipulator, layers)
+
+
+MAP_LAYERS = 8  # height layers of the workspace map
+
+
+def workspace_map(scene: Scene, layers: int = MAP_LAYERS, rings: int = 6, azimuths: int = 36,
+                  modes: int = 3) -> dict:
+    """The first `modes` frequencies over the regular workspace (the paper's Fig. 6), sorted
+    and per family: each mode followed by its shape from pose to pose (MAC), so where two
+    families cross the map shows it; the crossings are listed."""
+    from analytical.workspace import frequency_map
+
+    fmap = frequency_map(scene.manipulator, replace(scene.analytical, modes=modes),
+                         workspace_heights(scene, layers), rings, azimuths)
+    tracking = fmap.tracking
+
+    def listed(values):
+        return np.where(np.isnan(values), None, values).tolist()
+
+    return results.Workspace(**{
+        "heights_mm": (fmap.heights * 1e3).tolist(),
+        "regular_tilt_deg": np.degrees(fmap.radii).tolist(),
+        "tilts_deg": np.degrees(fmap.tilts).tolist(),
+        "azimuths_deg": np.degrees(fmap.azimuths).tolist(),
+        "frequencies_hz": listed(fmap.frequencies_hz),
+        "tracked_frequencies_hz": listed(fmap.tracked_hz),
+        "crossings": [{"families": [a + 1, b + 1], "height_mm": c.height * 1e3,
+                       "tilt_deg": math.degrees(c.tilt), "azimuth_deg": math.degrees(c.azimuth),
+                       "frequency_hz": c.frequency_hz, "along": c.along}
+                      for c in fmap.crossings for a, b in [c.families]],
+        "tracking": {
+            "families": "f_k of family k at the level pose of the layer at "
+                        f"{tracking.root_height * 1e3:.1f} mm, followed by MAC of leg and "
+                        "platform shapes",
+            "root_height_mm": tracking.root_height * 1e3,
+            "modes_followed": tracking.window,
+            "steps": tracking.steps,
+            "steps_matched_by_shape": tracking.steps_with_shapes,
+            "poses_with_shapes": tracking.poses_with_shapes,
+            "min_mac": None if math.isnan(tracking.min_mac) else tracking.min_mac,
+            "open_rings": tracking.open_rings,
+            "lost_families": [j + 1 for j in tracking.lost],
+        },
+        "settings": f"{scene.analytical.beam}, s = {scene.analytical.elements}, "
+                    f"{scene.analytical.platform_inertia} inertia",
+    })
+
+
+def run(ctx: Context):
+    return workspace_map(ctx.scene)
+
+
+STUDY = Study("workspace", "Workspace maps", "workspace", "scene", run)

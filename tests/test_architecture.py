@@ -1,0 +1,123 @@
+"""The house: rooms on floors, imports only downwards, no circles, no module too long to read.
+
+FLOORS lists the project's packages from the bottom up (each room's README says the same). A
+module may import its own package and the floors below it, never a floor above: the report
+reads results, the run never imports the report, the FEM never imports the analytical model.
+The graph is read from the source (every import, at the top of a module or inside a function),
+so a lazy import cannot hide an arrow."""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+FLOORS = ("common", "meshing", "fem_reference", "joint_ends", "analytical", "scene", "results",
+          "runtime", "solvers", "studies", "pipeline", "reports", "rps")
+MAX_LINES = 450
+
+
+def modules() -> dict[str, Path]:
+    found = {}
+    for package in FLOORS:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            parts = path.relative_to(ROOT).with_suffix("").parts
+            found[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    return found
+
+
+def imports(name: str, path: Path, known) -> set[str]:
+    """The project modules `name` imports (relative imports resolved)."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")[:len(package.split(".")) - node.level + 1]
+                base = ".".join(parts + ([base] if base else []))
+            targets = [base] + [f"{base}.{a.name}" for a in node.names]
+        else:
+            continue
+        out |= {t for t in targets if t in known and t != name}
+    return out
+
+
+@pytest.fixture(scope="module")
+def graph() -> dict[str, set[str]]:
+    known = modules()
+    return {name: imports(name, path, known) for name, path in known.items()}
+
+
+def floor(module: str) -> int:
+    return FLOORS.index(module.split(".")[0])
+
+
+def test_every_package_is_on_a_floor():
+    packages = {p.parent.name for p in ROOT.glob("*/__init__.py")} - {"tests"}
+    assert packages == set(FLOORS), packages ^ set(FLOORS)
+
+
+def test_imports_only_go_down(graph):
+    up = sorted(f"{m} -> {t}" for m, targets in graph.items() for t in targets
+                if floor(t) > floor(m))
+    assert not up, up
+
+
+def circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan)."""
+    index, low, stack, on, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_import_circles(graph):
+    assert not circles(graph), circles(graph)
+
+
+def test_a_circle_would_be_found():
+    """The check is not vacuous: two modules importing each other are reported, a chain not."""
+    assert circles({"a.x": {"a.y"}, "a.y": {"a.x"}, "a.z": {"a.x"}}) == [["a.x", "a.y"]]
+    assert circles({"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": set()}) == []
+
+
+def test_no_module_is_longer_than_one_idea():
+    long = {name: n for name, path in modules().items()
+            if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_LINES}
+    assert not long, long
+
+
+def test_every_room_says_what_it_holds_and_may_import():
+    missing = [p for p in FLOORS if not (ROOT / p / "README.md").is_file()]
+    assert not missing, missing
+    for package in FLOORS:
+        text = (ROOT / package / "README.md").read_text(encoding="utf-8").lower()
+        assert "import" in text and "copy" in text, f"{package}/README.md: what it may " \
+            "import and the example to copy"
