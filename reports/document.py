@@ -7,9 +7,10 @@ from pathlib import Path
 
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
+from results import verdict
 from studies import STUDIES
 
-from . import validation, verdict
+from . import validation
 from .case_tables import (
     comparison_table,
     fem_variants_table,

@@ -29,8 +29,9 @@ from analytical.kinematics import pose_geometry
 from analytical.model import natural_frequencies
 from analytical.params import Pose
 from analytical.reach import WorkspaceError, level_band, sample_poses
-from pipeline import envelope, hard_cases
 from scene import parse_scene
+from studies import hard_cases
+from studies import reachable as envelope
 from studies.workspace_map import MAP_LAYERS, workspace_heights
 from studies.workspace_validation import FULL, design
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import pytest
 
-from pipeline import cli
+from rps import app as cli
 from tests.conftest import PAPER_SCENE
 
 

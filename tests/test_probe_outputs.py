@@ -16,9 +16,9 @@ from pathlib import Path
 import pytest
 
 from common.paths import MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, file_stem, inside
-from pipeline import cli
 from results import MAX_DEPTH, SCHEMA_VERSION
 from results.tables import write_tables
+from rps import app as cli
 from tests.conftest import PAPER_SCENE, ROOT
 
 RESULTS = ROOT / "tests" / "fixtures" / "report_results.json"

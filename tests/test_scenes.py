@@ -4,11 +4,10 @@ model that meets the scene's tolerance against that FEM, and every number the ph
 the scene's golden in tests/baselines/results/ (`make update-baselines` rewrites them)."""
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
-
-import json
 
 from pipeline.baselines import RESULTS_GOLDENS
 from pipeline.digest import differences, digest

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from pipeline import studies, timing
 from runtime.cache import ResultCache
+from solvers import timing
 
 
 @pytest.fixture
@@ -17,7 +17,7 @@ def counted(monkeypatch):
         calls.append((case.name, options.elements, runs))
         return 1e-3 * len(calls)
 
-    monkeypatch.setattr(studies, "time_model", fake)
+    monkeypatch.setattr(timing, "time_model", fake)
     return calls
 
 
