@@ -54,7 +54,9 @@ class MeshSettings:
                           minimum=MIN_MESH_SIZE, maximum=MAX_LENGTH, scene_name="mesh_size")
     rim_factor: float = setting(
         0.4, doc="smallest element size, at the rims of the joint faces (stress-singular edges "
-        "of rigidly coupled faces), as a fraction of the global size; 1 = no refinement; at "
+        "of rigidly coupled faces), as a fraction of the global size, for tetrahedral legs and "
+        "an elastic plate (harmonic legs grade their meridian's rim corners themselves, "
+        "fem_reference/meridian.py); 1 = no refinement; at "
         "least 0.005, the deepest grading measured (the harmonic legs' reference meshes): the "
         "singular rim limits convergence whatever the grading, so deeper only adds elements",
         minimum=MIN_RIM_FACTOR, maximum=1.0)

@@ -60,8 +60,12 @@ def fidelity_table(results: dict, c: Cells) -> dict:
     rows += [[c.text(literal=f"FEM: refinement size {i + 1} (mm)"),
               c.num(f"/scene/fem/refinement_mm/{i}", 1)]
              for i, _ in enumerate(results["scene"]["fem"]["refinement_mm"])]
-    rows += [[c.text(literal="FEM: rim element size (× h)"), c.num("/scene/fem/rim_factor", 2)],
-             [c.text(literal="FEM: rim zone (mm)"), c.num("/scene/fem/rim_zone_mm", 1)]]
+    tetrahedra = "" if results["scene"]["fem"]["legs"] == "tetrahedra" else \
+        ", tetrahedral legs and plate only"  # the harmonic meridians grade their own corners
+    rows += [[c.text(literal=f"FEM: rim element size (× h{tetrahedra})"),
+              c.num("/scene/fem/rim_factor", 2)],
+             [c.text(literal=f"FEM: rim zone (mm{tetrahedra})"),
+              c.num("/scene/fem/rim_zone_mm", 1)]]
     rows += [[c.text(literal=f"FEM: {label}"), c.text(f"/scene/fem/{key}")]
              for key, label in (("legs", "legs discretised by"), ("platform", "platform"),
                                 ("coupling", "joint coupling"))]
