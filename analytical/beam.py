@@ -25,6 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common.errors import InputError
+
 
 @dataclass(frozen=True)
 class Section:
@@ -58,7 +60,7 @@ def circle_shear_coefficient(poisson_ratio: float, form: str = "cowper") -> floa
         return 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu)
     if form == "hutchinson":
         return 6.0 * (1.0 + nu) ** 2 / (7.0 + 12.0 * nu + 4.0 * nu**2)
-    raise ValueError(f"shear = {form!r}: expected one of {', '.join(SHEAR_COEFFICIENTS)}")
+    raise InputError(f"shear = {form!r}: expected one of {', '.join(SHEAR_COEFFICIENTS)}")
 
 
 def _matrix(rows, shape: tuple) -> np.ndarray:
@@ -141,7 +143,7 @@ def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
     """
     L = float(length) if np.ndim(length) == 0 else np.asarray(length, float)
     if not np.all(np.greater(L, 0.0)):
-        raise ValueError(f"element length = {float(np.min(L))!r} m: must be positive")
+        raise InputError(f"element length = {float(np.min(L))!r} m: must be positive")
     E, G, rho, s = youngs_modulus, shear_modulus, density, section
     # shear parameter of each bending plane: x-y bends on I_z, x-z bends on I_y
     if theory == "euler-bernoulli":
@@ -152,7 +154,7 @@ def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
         phi_xz = 12 * E * s.second_moment_y / (s.shear_coefficient * G * s.area * L**2)
         rotary = True
     else:
-        raise ValueError(f"beam theory = {theory!r}: expected euler-bernoulli or timoshenko")
+        raise InputError(f"beam theory = {theory!r}: expected euler-bernoulli or timoshenko")
 
     k = np.zeros(np.shape(L) + (12, 12))
     m = np.zeros(np.shape(L) + (12, 12))
@@ -181,7 +183,7 @@ def assemble_beam(youngs_modulus: float, shear_modulus: float, density: float,
     array of lengths gives one beam per length, (..., 6(s+1), 6(s+1)).
     """
     if elements < 1:
-        raise ValueError(f"elements = {elements!r}: need at least one")
+        raise InputError(f"elements = {elements!r}: need at least one")
     ke, me = frame_element(youngs_modulus, shear_modulus, density, section,
                            np.divide(length, elements), theory)
     n = 6 * (elements + 1)

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from common.errors import ComputeError
+from common.errors import ComputeError, InputError
 
 from .substructure import SubstructureModel
 
@@ -95,7 +95,7 @@ def leg_axis_displacements(model: SubstructureModel, leg_frames: np.ndarray,
     s = model.elements
     t = np.asarray(fractions, float)
     if np.any((t < 0) | (t > 1)):
-        raise ValueError(f"fractions {t.tolist()}: must lie in [0, 1]")
+        raise InputError(f"fractions {t.tolist()}: must lie in [0, 1]")
     nodal = leg_displacements(model, shapes)  # (3, s+1, 6, n)
     legs = len(model.leg_maps)
     out = np.empty((legs, len(t), 3, shapes.shape[1]))
@@ -131,7 +131,7 @@ def leg_axis_twists(model: SubstructureModel, leg_frames: np.ndarray, shapes: np
     s = model.elements
     t = np.asarray(fractions, float)
     if np.any((t < 0) | (t > 1)):
-        raise ValueError(f"fractions {t.tolist()}: must lie in [0, 1]")
+        raise InputError(f"fractions {t.tolist()}: must lie in [0, 1]")
     nodal = leg_displacements(model, shapes)  # (3, s+1, 6, n)
     out = np.empty((len(model.leg_maps), len(t), shapes.shape[1]))
     for i in range(len(model.leg_maps)):

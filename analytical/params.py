@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
+from common.errors import InputError
 from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
 from common.settings import (
     MAX_ANGLE,
@@ -120,7 +121,7 @@ class Manipulator:
         # the kinematics closes on the one joint of a leg with an axis (`axis_end`)
         kinds = [JOINTS.get(j) for j in (self.base_joint, self.platform_joint)]
         if None in kinds or sum(k.has_axis for k in kinds) != 1:
-            raise ValueError(f"base_joint = {self.base_joint!r}, platform_joint = "
+            raise InputError(f"base_joint = {self.base_joint!r}, platform_joint = "
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
 
@@ -230,25 +231,25 @@ def check_manipulator(m: Manipulator) -> None:
         cls = Material if name in ("youngs_modulus", "shear_modulus", "density") else Manipulator
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             key = next(s for n, s, _ in declared(cls) if n == name).scene_key(name)
-            raise ValueError(f"{key} = {value!r} (SI): must be a finite positive number")
+            raise InputError(f"{key} = {value!r} (SI): must be a finite positive number")
     if m.actuator_min >= m.actuator_max:
-        raise ValueError(
+        raise InputError(
             f"{_named(Manipulator, 'actuator_min', m.actuator_min)} is not below "
             f"{_named(Manipulator, 'actuator_max', m.actuator_max)}"
         )
     mat = m.material
     low, high = YOUNGS_MODULUS_RANGE
     if not low <= mat.youngs_modulus <= high:
-        raise ValueError(f"{_named(Material, 'youngs_modulus', mat.youngs_modulus)}: expected "
+        raise InputError(f"{_named(Material, 'youngs_modulus', mat.youngs_modulus)}: expected "
                          f"{low / 1e9:g} to {high / 1e9:g} GPa (an engineering solid)")
     low, high = DENSITY_RANGE
     if not low <= mat.density <= high:
-        raise ValueError(f"{_named(Material, 'density', mat.density)}: expected {low:g} to "
+        raise InputError(f"{_named(Material, 'density', mat.density)}: expected {low:g} to "
                          f"{high:g} kg/m3 (an engineering solid)")
     nu = mat.poisson_ratio
     low, high = POISSON_RANGE
     if not low < nu <= high:
-        raise ValueError(
+        raise InputError(
             f"{_named(Material, 'shear_modulus', mat.shear_modulus)} with "
             f"{_named(Material, 'youngs_modulus', mat.youngs_modulus)}: Poisson ratio "
             f"E / (2 G) - 1 = {nu:.6g}, expected {low:g} < nu <= {high:g} (G between "
@@ -256,7 +257,7 @@ def check_manipulator(m: Manipulator) -> None:
             f"{mat.youngs_modulus / (2 * (1 + low)) / 1e9:.6g} GPa; nearly incompressible "
             "solids lock the FEM's P2 tetrahedra)")
     if m.platform_shape not in PLATFORM_SHAPES:
-        raise ValueError(
+        raise InputError(
             f"platform_shape = {m.platform_shape!r}: expected one of {', '.join(PLATFORM_SHAPES)}"
         )
     _check_proportions(m)
@@ -266,15 +267,15 @@ def _check_proportions(m: Manipulator) -> None:
     """Bodies that the models take as separate solids meeting only at the joints."""
     d = m.leg_diameter
     if m.actuator_min < d:
-        raise ValueError(f"{_named(Manipulator, 'actuator_min', m.actuator_min)}: the shortest "
+        raise InputError(f"{_named(Manipulator, 'actuator_min', m.actuator_min)}: the shortest "
                          f"leg is shorter than its diameter "
                          f"{_named(Manipulator, 'leg_diameter', d)}; expected at least "
                          f"{d * 1e3:g} mm (a leg, not a disk)")
     if m.platform_thickness < MIN_PLATE_THICKNESS:
-        raise ValueError(f"{_named(Manipulator, 'platform_thickness', m.platform_thickness)}: "
+        raise InputError(f"{_named(Manipulator, 'platform_thickness', m.platform_thickness)}: "
                          f"expected at least {MIN_PLATE_THICKNESS * 1e3:g} mm")
     if m.platform_thickness > m.platform_radius:
-        raise ValueError(f"{_named(Manipulator, 'platform_thickness', m.platform_thickness)}: "
+        raise InputError(f"{_named(Manipulator, 'platform_thickness', m.platform_thickness)}: "
                          f"thicker than the platform radius "
                          f"{_named(Manipulator, 'platform_radius', m.platform_radius)}; "
                          f"expected at most {m.platform_radius * 1e3:g} mm (a plate)")
@@ -285,7 +286,7 @@ def _check_proportions(m: Manipulator) -> None:
             for j in range(i + 1, 3):
                 gap = _distance_on_circle(radius, angles[i], angles[j])
                 if gap <= d:
-                    raise ValueError(
+                    raise InputError(
                         f"{_named(Manipulator, 'leg_diameter', d)}: legs {i + 1} and {j + 1} "
                         f"overlap at their joints {ends}{i + 1}, {ends}{j + 1} "
                         f"({gap * 1e3:.6g} mm apart with {_named(Manipulator, name, radius)} and "

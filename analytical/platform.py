@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from common.errors import InputError
 from common.plate import plate_area as _area
 from common.plate import plate_inertia, plate_mass, rigid_mass_matrix
 
@@ -36,7 +37,7 @@ def platform_inertia_body(manipulator: Manipulator, form: str = "plate") -> np.n
     if form == "paper-eq8":
         return platform_mass(m) * m.platform_radius**2 * np.eye(3)
     if form != "plate":
-        raise ValueError(f"platform_inertia = {form!r}: expected plate or paper-eq8")
+        raise InputError(f"platform_inertia = {form!r}: expected plate or paper-eq8")
     return plate_inertia(m.platform_shape, m.platform_radius, m.platform_thickness,
                          m.material.density)
 

@@ -79,7 +79,7 @@ def r_joint_direction(axis: np.ndarray, form: str) -> np.ndarray:
                 f"R-joint axis {np.round(axis, 12).tolist()} has R_i(2,2) = 0: the paper's "
                 "Eq. (18) coordinate is singular here (use r_joint_coordinate = 'axis')")
         return np.array([axis[0] / axis[1], 1.0, axis[2] / axis[1]])
-    raise ValueError(f"r_joint_coordinate = {form!r}: expected axis or paper-eq18")
+    raise InputError(f"r_joint_coordinate = {form!r}: expected axis or paper-eq18")
 
 
 LEGS = 3  # the substructure model is for a three-legged machine
@@ -161,7 +161,7 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
     """
     n = segments(options)
     if geometry.leg_count != LEGS:
-        raise ValueError(f"{geometry.leg_count} legs: the substructure model is for three")
+        raise InputError(f"{geometry.leg_count} legs: the substructure model is for three")
     zone = zone_for(manipulator, options)
     n_q = coordinate_count(n, geometry.base_joint, geometry.platform_joint)
     k_total = np.zeros((n_q, n_q))

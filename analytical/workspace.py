@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common.errors import InputError
+
 from .batch_model import (
     assemble_batch,
     assembly_plan,
@@ -316,7 +318,7 @@ def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, ring
     modes = options.modes
     window = min(modes + GUARD_MODES, followed_modes(manipulator, options))
     if not len(heights):
-        raise ValueError("heights = []: a map needs at least one height")
+        raise InputError("heights = []: a map needs at least one height")
     radii = regular_radii(manipulator, heights)
     zone_for(manipulator, options)  # build or load solid end zones once, before the workers
     tasks = [(manipulator, options, float(z), float(r), fractions, phis, window)

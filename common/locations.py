@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from .errors import ComputeError
+
 DISTRIBUTION = "rps-elastodynamics"
 PACKAGE_ROOT = Path(__file__).resolve().parents[1]  # the checkout, or site-packages
 
@@ -31,7 +33,7 @@ def cache_root(root: Path = PACKAGE_ROOT) -> Path:
     try:
         from platformdirs import user_cache_path
     except ImportError:
-        raise RuntimeError(f"platformdirs is not installed: install {DISTRIBUTION}[fem] "
+        raise ComputeError(f"platformdirs is not installed: install {DISTRIBUTION}[fem] "
                            "for the FEM and its caches") from None
     return user_cache_path(DISTRIBUTION, appauthor=False)
 

@@ -11,6 +11,8 @@ import math
 
 import numpy as np
 
+from .errors import InputError
+
 PLATE_SHAPES = ("disk", "triangle")
 
 
@@ -20,7 +22,7 @@ def plate_area(shape: str, radius: float) -> float:
     if shape == "triangle":
         side = math.sqrt(3.0) * radius
         return math.sqrt(3.0) / 4.0 * side**2
-    raise ValueError(f"platform_shape = {shape!r}: expected one of {', '.join(PLATE_SHAPES)}")
+    raise InputError(f"platform_shape = {shape!r}: expected one of {', '.join(PLATE_SHAPES)}")
 
 
 def plate_mass(shape: str, radius: float, thickness: float, density: float) -> float:

@@ -21,6 +21,8 @@ import math
 from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 from typing import Any
 
+from .errors import InputError
+
 # edge unit -> (scene-key suffix, SI value of one edge unit, SI unit name)
 UNITS = {
     None: ("", 1.0, ""),
@@ -127,12 +129,12 @@ class Setting:
         try:
             value = int(text) if self.kind is int else float(text)
         except ValueError:
-            raise ValueError(f"{shown}: expected {'an integer' if self.kind is int else 'a number'}"
+            raise InputError(f"{shown}: expected {'an integer' if self.kind is int else 'a number'}"
                              ) from None
         si = value * self.scale if self.kind is float else value
         why = self.problem(si, edge=True)
         if why is not None:
-            raise ValueError(f"{shown}: {why}")
+            raise InputError(f"{shown}: {why}")
         return si
 
     def _out_of_range(self, v: float) -> bool:
@@ -190,7 +192,7 @@ def check_settings(obj) -> None:
             unit = UNITS[spec.unit][2]
             shown = _short(value) + (f" {unit}" if unit and spec.kind is float
                                      and isinstance(value, float) else "")
-            raise ValueError(f"{name} = {shown}: {why}")
+            raise InputError(f"{name} = {shown}: {why}")
 
 
 def short_text(text: str, limit: int = 24) -> str:

@@ -76,7 +76,7 @@ def _send(fd: int, fn, args, kwargs) -> None:
         try:
             payload = pickle.dumps((False, exc), protocol=pickle.HIGHEST_PROTOCOL)
         except Exception:  # noqa: BLE001 - an exception that cannot be pickled
-            payload = pickle.dumps((False, RuntimeError(f"{type(exc).__name__}: {exc}")))
+            payload = pickle.dumps((False, ComputeError(f"{type(exc).__name__}: {exc}")))
     with os.fdopen(fd, "wb") as pipe:
         pipe.write(payload)
 

@@ -49,6 +49,7 @@ import scipy.sparse as sp
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefTri
 
+from common.errors import InputError
 from common.joints import COUPLINGS, JOINTS  # COUPLINGS: also read from here (the CLI)
 from common.rigid_body import rigid_body_mass, skew
 
@@ -232,7 +233,7 @@ def rigid_rotation(joint, leg: int, phi: np.ndarray, psi: np.ndarray, plat: np.n
     kind = JOINTS[joint.type]
     coordinates = {1: phi[leg:leg + 1], 3: psi[leg]}
     if kind.free not in coordinates:
-        raise ValueError(f"joint {joint.type!r}: {kind.free} free rotations, and the rigid "
+        raise InputError(f"joint {joint.type!r}: {kind.free} free rotations, and the rigid "
                          "coupling has coordinates for 1 or 3")
     cols, rot = coordinates[kind.free], kind.free_rotations(joint.axis)
     if kind.follows_body and joint.body == "platform":
@@ -266,7 +267,7 @@ def patch_weights(disc: Discretisation, body: str, centre: np.ndarray, radius: f
     x = disc.node_xyz[b.element_dofs[:4]].mean(axis=0)  # vertex centroids (ne, 3)
     inside = (disc.tet_body == ib) & (np.linalg.norm(x - centre, axis=1) <= radius)
     if not inside.any():
-        raise ValueError(f"no {body} element within {radius:g} m of {np.round(centre, 6)}")
+        raise InputError(f"no {body} element within {radius:g} m of {np.round(centre, 6)}")
     values = np.stack([np.asarray(phi[0]) for phi in b.basis])  # (10, ne, nq)
     local = np.einsum("aeq,eq->ae", values[:, inside], b.dx[inside])
     nodes, inv = np.unique(b.element_dofs[:, inside], return_inverse=True)
@@ -285,7 +286,7 @@ def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = 
     Eq. (7).
     """
     if coupling not in COUPLINGS:
-        raise ValueError(f"coupling = {coupling!r}: expected one of {', '.join(COUPLINGS)}")
+        raise InputError(f"coupling = {coupling!r}: expected one of {', '.join(COUPLINGS)}")
     n_raw = disc.n_dofs
     bld = ConstraintBuilder(n_raw)
     xyz = disc.node_xyz
@@ -293,9 +294,9 @@ def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = 
     projections, references = {}, {}
     legs = assembly.cylinders
     if len(legs) != geometry.leg_count:
-        raise ValueError(f"{len(legs)} meshed legs for a pose of {geometry.leg_count}")
+        raise InputError(f"{len(legs)} meshed legs for a pose of {geometry.leg_count}")
     if platform != "rigid" and JOINTS[geometry.platform_joint].follows_body:
-        raise ValueError(f"platform = 'elastic' with {geometry.platform_joint} joints on the "
+        raise InputError(f"platform = 'elastic' with {geometry.platform_joint} joints on the "
                          "platform: the rotation of an elastic plate at a joint is not defined "
                          "here (use a rigid platform)")
     if coupling == "rigid":

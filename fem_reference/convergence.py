@@ -40,6 +40,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
+from common.errors import InputError
+
 P_MIN = 0.3  # below: no trustworthy order (a widened bound instead)
 P_FIT_MAX = 4.0  # 2 k, the smooth-solution order of P2 eigenvalues: the fit's search range
 WILLIAMS_LAMBDA = 0.712  # bonded 90-degree edge (clamped face meets free wall), nu = 0.3
@@ -81,7 +83,7 @@ def sequence_around(size: float, design) -> tuple[float, ...]:
     """
     design = tuple(float(h) for h in design)
     if not (math.isfinite(size) and size > 0):
-        raise ValueError(f"size = {size!r}: expected a positive mesh size")
+        raise InputError(f"size = {size!r}: expected a positive mesh size")
     if any(math.isclose(size, h, rel_tol=1e-9) for h in design):
         return design
     if size < design[-1]:
@@ -137,7 +139,7 @@ def richardson(h, f, noise: float = 1e-9) -> ModeConvergence:
     h = np.asarray(h, float)
     f = np.asarray(f, float)
     if len(h) < 3:
-        raise ValueError(f"sizes = {h.tolist()}: Richardson extrapolation needs three sizes")
+        raise InputError(f"sizes = {h.tolist()}: Richardson extrapolation needs three sizes")
     triplets = [observed_order(h[k:k + 3], f[k:k + 3]) for k in range(len(h) - 2)]
     finest = f[-1]
     scale = abs(finest)

@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from common.errors import ComputeError
+from common.errors import ComputeError, InputError
 
 SHIFT_HZ = 10.0
 V0_SEED = 20230723
@@ -64,7 +64,7 @@ def factorize(a: sp.spmatrix, backend: str = "splu"):
         return lu.solve
     if backend == "splu-colamd":
         return sla.splu(sp.csc_matrix(a)).solve
-    raise ValueError(f"eigen backend = {backend!r}: expected splu or splu-colamd")
+    raise InputError(f"eigen backend = {backend!r}: expected splu or splu-colamd")
 
 
 def clusters_of(eigenvalues: np.ndarray, tol: float) -> list[list[int]]:

@@ -32,6 +32,7 @@ import meshio
 import numpy as np
 
 from common.atomic import atomic_write, write_text_atomic
+from common.errors import InputError
 
 from .discretisation import Discretisation
 
@@ -61,7 +62,7 @@ def plate_solid(plate, segments: int = DISK_SEGMENTS) -> tuple[np.ndarray, np.nd
         ring = ring - ((ring - o) @ n)[:, None] * n  # on the mid-plane
         ring = ring[np.argsort(np.arctan2((ring - o) @ e2, (ring - o) @ e1))]
     else:
-        raise ValueError(f"platform_shape = {plate.shape!r}: expected disk or triangle")
+        raise InputError(f"platform_shape = {plate.shape!r}: expected disk or triangle")
     half = 0.5 * plate.thickness * n
     mid = np.vstack([o, ring])  # centre first, then the outline counter-clockwise about n
     points = np.vstack([mid - half, mid + half])
@@ -114,7 +115,7 @@ def solid_to_meshio(points: np.ndarray, cells: list, body: list, n_bodies: int, 
     cells, body = list(cells), list(body)
     if plate is not None:
         if platform_motion is None:
-            raise ValueError("platform_motion is required to display a rigid platform")
+            raise InputError("platform_motion is required to display a rigid platform")
         plate_points, wedges = plate_solid(plate)
         cells.append(("wedge", wedges + len(points)))
         body.append(np.full(len(wedges), n_bodies, np.int32))
@@ -151,7 +152,7 @@ def write_mode_collection(vtu: str | os.PathLike) -> Path:
     arrays = sorted((int(m.group(1)), name) for name in mesh.point_data
                     if (m := MODE_ARRAY.match(name)))
     if not arrays:
-        raise ValueError(f"{vtu}: no mode_<k>_<f>Hz point arrays to collect")
+        raise InputError(f"{vtu}: no mode_<k>_<f>Hz point arrays to collect")
     frequencies = np.ravel(mesh.field_data["frequencies_hz"])
     scales = np.ravel(mesh.field_data["mode_scale"])
     pieces = vtu.with_name(vtu.stem + "_modes")

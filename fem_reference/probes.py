@@ -9,6 +9,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from common.errors import InputError
+
 from .discretisation import Discretisation
 
 
@@ -55,7 +57,7 @@ def locate(disc: Discretisation, body: str, points: np.ndarray, candidates: int 
                 break
             k = min(4 * k, len(elems))
         if bary[best].min() < -1e-2:
-            raise ValueError(f"point {np.round(x, 6).tolist()} is not inside {body}")
+            raise InputError(f"point {np.round(x, 6).tolist()} is not inside {body}")
         cells[p], ref[p] = cs[best], lam[best]
     # Newton on the isoparametric map x(X) = sum N_a(X) x_a
     nodes = disc.node_xyz[edofs[cells]]  # (n, 10, 3)

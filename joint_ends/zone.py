@@ -34,6 +34,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from common.errors import InputError
 from common.joints import COUPLINGS
 from common.rigid_body import skew
 from common.settings import check_settings, setting
@@ -171,7 +172,7 @@ def build_zone(diameter: float, length: float, youngs_modulus: float, shear_modu
 
     for name, value in (("coupling", coupling), ("interface", interface)):
         if value not in COUPLINGS:
-            raise ValueError(f"{name} = {value!r}: expected one of {', '.join(COUPLINGS)}")
+            raise InputError(f"{name} = {value!r}: expected one of {', '.join(COUPLINGS)}")
     disc = discretise(cylinder_mesh(diameter, length, mesh))
     k, m = stiffness_and_mass(disc, Solid(youngs_modulus, shear_modulus, density))
     ends = ((JOINT_FACE, np.zeros(3), coupling), (INTERFACE, np.array([length, 0.0, 0.0]),
@@ -218,7 +219,7 @@ def _couplings(disc, ends):
         proj = face_projection(disc, face, ref)
         where = position[_face_dofs(proj.nodes)]
         if np.any(where < 0):
-            raise ValueError("the joint face and the interface section share nodes")
+            raise InputError("the joint face and the interface section share nodes")
         blocks.append(proj.matrix)
         dofs.append(where)
     return transform, la.block_diag(*blocks), np.concatenate(dofs)

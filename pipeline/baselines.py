@@ -23,6 +23,7 @@ from pathlib import Path
 
 from analytical.kinematics import pose_geometry
 from common.atomic import write_json_atomic
+from common.errors import InputError
 from runtime.cache import ResultCache
 from scene import load_scene
 from solvers.compare import analytical_case, error_table, fem_case, with_cache_dir
@@ -63,7 +64,7 @@ def load_baseline(path: Path = BASELINE) -> dict:
     try:
         return json.loads(path.read_text())
     except FileNotFoundError:
-        raise ValueError(f"no baseline at {path}: run `make update-baselines`") from None
+        raise InputError(f"no baseline at {path}: run `make update-baselines`") from None
 
 
 def compare(baseline: dict, current: dict) -> list[str]:
@@ -142,23 +143,23 @@ def results_tables(path: str | Path, baseline: dict) -> dict:
     for name in baseline["cases"]:
         case = next((c for c in results["cases"] if c.get("name") == name), None)
         if case is None:
-            raise ValueError(f"{path}: no case {name!r} (the baselines cover "
+            raise InputError(f"{path}: no case {name!r} (the baselines cover "
                              f"{', '.join(baseline['cases'])})")
         size = case["fem"].get("mesh_size_m")
         if not isinstance(size, (int, float)) or abs(size / baseline["mesh_size_m"] - 1) > 1e-9:
-            raise ValueError(f"{path}: case {name!r} has its FEM at mesh_size_m = {size!r}, the "
+            raise InputError(f"{path}: case {name!r} has its FEM at mesh_size_m = {size!r}, the "
                              f"baselines at {baseline['mesh_size_m']:g}: not comparable")
         analytical = case["analytical"]  # the model of the case's table (the run's choice)
         for key, value in baseline.get("analytical", {}).items():
             if analytical.get(key) != value:
-                raise ValueError(f"{path}: analytical {key} = {analytical.get(key)!r}, the "
+                raise InputError(f"{path}: analytical {key} = {analytical.get(key)!r}, the "
                                  f"baselines' {value!r}: not comparable")
         try:
             tables[name] = [{k: row[k] for k in ("fem_mode", "analytical_mode", "f_fem_hz",
                                                  "f_analytical_hz", "error_percent", "mac")}
                             for row in case["pairs"]]
         except (KeyError, TypeError) as exc:
-            raise ValueError(f"{path}: case {name!r} pairs lack {exc}") from None
+            raise InputError(f"{path}: case {name!r} pairs lack {exc}") from None
     return tables
 
 

@@ -11,6 +11,7 @@ import signal
 import sys
 from pathlib import Path
 
+from common.errors import RpsError
 from common.messages import EXIT_BAD_INPUT, failed
 
 
@@ -31,10 +32,10 @@ def main(argv: list[str] | None = None) -> int:
                         help="directory for report.html, report.pdf and figures/ (default: out)")
     args = parser.parse_args(argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
-    from .build import ReportError, build_report
+    from .build import build_report
     try:
         html, pdf = build_report(args.results, args.out)
-    except (KeyboardInterrupt, ValueError, ReportError, OSError) as exc:
+    except (KeyboardInterrupt, RpsError, OSError) as exc:  # anything else is a bug: traceback
         return failed(exc, interrupted="the output directory was left as it was")
     finally:
         signal.signal(signal.SIGTERM, previous)

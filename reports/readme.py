@@ -7,6 +7,7 @@ import re
 from pathlib import Path
 
 from common.atomic import write_text_atomic
+from common.errors import InputError
 from results import Results, mode_ranges, worst_by_mode_range
 from results.tables import case_markdown, fmt
 
@@ -109,5 +110,5 @@ def update_readme(readme: Path, results: Results) -> None:
     text = readme.read_text(encoding="utf-8")
     pattern = re.compile(re.escape(README_START) + ".*?" + re.escape(README_END), re.S)
     if not pattern.search(text):
-        raise ValueError(f"{readme}: no results block markers to replace")
+        raise InputError(f"{readme}: no results block markers to replace")
     write_text_atomic(readme, pattern.sub(lambda _: readme_block(results), text))

@@ -8,6 +8,8 @@ from pathlib import Path
 import numpy as np
 from matplotlib.colors import Normalize
 
+from common.errors import InputError
+
 from .figures import MODE_COLOURS, WIDTH, plt, save
 
 
@@ -29,7 +31,7 @@ def workspace_polar(ws: dict, path: Path, layers: int = 3, modes: int = 3) -> li
     """
     valid = _valid_layers(ws)
     if not valid:
-        raise ValueError("workspace map has no reachable layer")
+        raise InputError("workspace map has no reachable layer")
     pick = sorted({valid[round(i * (len(valid) - 1) / max(layers - 1, 1))]
                    for i in range(min(layers, len(valid)))})
     phi = np.radians(np.asarray(ws["azimuths_deg"], float))

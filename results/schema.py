@@ -25,6 +25,7 @@ import numpy as np
 from pydantic import TypeAdapter, ValidationError, with_config
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
+from common.errors import InputError
 from common.paths import UnsafeName, distinct_stems
 
 from .case_records import Case, Environment, SceneSummary
@@ -52,7 +53,7 @@ def validated(results: dict, where: str = "results") -> Results:
     offending field (and its value)."""
     version = results.get("schema") if isinstance(results, dict) else None
     if version != SCHEMA_VERSION:
-        raise ValueError(f"{where}: results schema {version!r}, this version reads schema "
+        raise InputError(f"{where}: results schema {version!r}, this version reads schema "
                          f"{SCHEMA_VERSION}: rerun `make` to regenerate it")
     try:
         out = _RESULTS.validate_python(results)
@@ -62,14 +63,14 @@ def validated(results: dict, where: str = "results") -> Results:
         more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
         value = "" if first["type"] == "missing" else f", got {_short(first.get('input'))}"
         message = first["msg"].removeprefix("Value error, ")
-        raise ValueError(f"{where}: {_location(first['loc'])}: {message[:1].lower()}"
+        raise InputError(f"{where}: {_location(first['loc'])}: {message[:1].lower()}"
                          f"{message[1:]}{value}{more}") from None
     if not out["cases"]:
-        raise ValueError(f"{where}: cases: the results hold no case")
+        raise InputError(f"{where}: cases: the results hold no case")
     try:
         distinct_stems((case["name"] for case in out["cases"]), "case name")
     except UnsafeName as exc:
-        raise ValueError(f"{where}: cases: {exc}") from None
+        raise InputError(f"{where}: cases: {exc}") from None
     return out
 
 
@@ -79,23 +80,23 @@ def read(path) -> Results:
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise ValueError(f"{path}: results file not found") from None
+        raise InputError(f"{path}: results file not found") from None
     except OSError as exc:
-        raise ValueError(f"{path}: cannot read results file ({exc.strerror})") from None
+        raise InputError(f"{path}: cannot read results file ({exc.strerror})") from None
     except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not a results file (byte {exc.start} is not UTF-8 text)") \
+        raise InputError(f"{path}: not a results file (byte {exc.start} is not UTF-8 text)") \
             from None
     depth = nesting_depth(text)
     if depth > MAX_DEPTH:
-        raise ValueError(f"{path}: not a results file (JSON nested {depth} deep; a results "
+        raise InputError(f"{path}: not a results file (JSON nested {depth} deep; a results "
                          f"file nests {MAX_DEPTH} at most)")
     try:
         raw = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise ValueError(f"{path}: not valid JSON (line {exc.lineno}, column {exc.colno}: "
+        raise InputError(f"{path}: not valid JSON (line {exc.lineno}, column {exc.colno}: "
                          f"{exc.msg})") from None
     if not isinstance(raw, dict):
-        raise ValueError(f"{path}: expected a JSON object at the top level")
+        raise InputError(f"{path}: expected a JSON object at the top level")
     return validated(raw, str(path))
 
 

@@ -92,5 +92,5 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {exc.name} is not installed; `{prog} {args.command}` needs "
               f"pip install '{DISTRIBUTION}[{extras}]'", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except (KeyboardInterrupt, RpsError, ValueError, RuntimeError, OSError) as exc:
+    except (KeyboardInterrupt, RpsError, OSError) as exc:  # anything else is a bug: traceback
         return failed(exc)

@@ -9,6 +9,7 @@ import re
 from dataclasses import replace
 from pathlib import Path
 
+from common.errors import InputError
 from common.locations import DISTRIBUTION, cache_root, checkout_root, default_scene
 
 from . import human
@@ -70,7 +71,7 @@ def pose_case(scene, args):
             f"case {case.name} of {args.scene} (height_mm = {pose.height * 1e3:g}, "
             f"azimuth_deg = {math.degrees(pose.azimuth):g}, tilt_deg = "
             f"{math.degrees(pose.tilt):g})")
-        raise ValueError(f"{what}: {exc}") from None
+        raise InputError(f"{what}: {exc}") from None
     return replace(case, pose=pose), geometry
 
 
@@ -79,7 +80,7 @@ def named_first(exc: Exception, key: str, what: str) -> Exception:
     text = str(exc)
     found = re.match(rf"{re.escape(key)} = [^:]*: ", text)
     if what and found:
-        return ValueError(f"{what}: {text[found.end():]}")
+        return InputError(f"{what}: {text[found.end():]}")
     return exc
 
 
@@ -95,10 +96,10 @@ def run_choice(args: argparse.Namespace, scene) -> dict | None:
     try:
         results = read(args.from_results)
     except ValueError as exc:
-        raise ValueError(f"{where}: {exc}") from None
+        raise InputError(f"{where}: {exc}") from None
     digest = hashlib.sha256(Path(args.scene).read_bytes()).hexdigest()
     if results["scene"]["sha256"] != digest:
-        raise ValueError(f"{where}: a run of scene {results['scene']['path']} "
+        raise InputError(f"{where}: a run of scene {results['scene']['path']} "
                          f"({results['scene']['name']!r}), not of --scene {args.scene} as it "
                          "is now; run `rps validate --scene` on it first")
     return results["fidelity"]
@@ -121,7 +122,7 @@ def checkout(command: str) -> Path:
     """The repository checkout, which the developer commands write into."""
     root = checkout_root()
     if root is None:
-        raise ValueError(f"{command}: writes into the repository checkout; run it from a "
+        raise InputError(f"{command}: writes into the repository checkout; run it from a "
                          f"clone of {DISTRIBUTION} (pip install -e .)")
     return root
 

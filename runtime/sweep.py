@@ -17,6 +17,8 @@ import os
 from dataclasses import dataclass
 from typing import Any, Callable
 
+from common.errors import ComputeError
+
 from .cache import ResultCache, content_key
 
 TaskFn = Callable[[Any], dict]
@@ -131,11 +133,11 @@ def _run_dask(fn: TaskFn, tasks: list, todo: list[int], address: str, store) -> 
     try:
         from dask.distributed import Client, as_completed
     except ImportError as exc:  # pragma: no cover - dask is a declared dependency
-        raise RuntimeError(f"--scheduler {address}: dask.distributed is not installed") from exc
+        raise ComputeError(f"--scheduler {address}: dask.distributed is not installed") from exc
     try:
         client = Client(address, timeout="10s")
     except (OSError, TimeoutError) as exc:
-        raise RuntimeError(f"--scheduler {address}: cannot reach the Dask scheduler "
+        raise ComputeError(f"--scheduler {address}: cannot reach the Dask scheduler "
                            f"({' '.join(str(exc).split())})") from None
     try:
         futures = [client.submit(_indexed, fn, i, tasks[i], pure=False) for i in todo]

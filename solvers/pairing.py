@@ -15,6 +15,7 @@ import numpy as np
 import scipy.linalg
 from scipy.optimize import linear_sum_assignment
 
+from common.errors import InputError
 from common.modes import clusters, mac_matrix  # noqa: F401  (re-exported)
 
 
@@ -62,7 +63,7 @@ def pair_modes(model_shapes: np.ndarray, model_hz: np.ndarray, reference_shapes:
     groups = [g for g in clusters(reference_hz, repeat_tolerance) if g[0] < n_ref]
     columns = [k for g in groups for k in g]
     if len(columns) > model_shapes.shape[1]:
-        raise ValueError(f"pairing needs {len(columns)} model modes, got "
+        raise InputError(f"pairing needs {len(columns)} model modes, got "
                          f"{model_shapes.shape[1]}")
     mac = mac_matrix(model_shapes, reference_shapes)
     rows, cols = linear_sum_assignment(-_group_scores(model_shapes, reference_shapes, mac,

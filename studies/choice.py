@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from common.errors import InputError
 from scene.fidelity import MIN_TOLERANCE_PERCENT, FidelitySettings  # noqa: F401
 
 FEM_ERROR_SHARE = 0.2  # the reference may use a fifth of the tolerance
@@ -72,7 +73,7 @@ def choose_analytical(candidates: dict[str, list[dict]], tolerance_percent: floa
         seconds = sorted(r["seconds"] for r in per_case)[len(per_case) // 2]
         rows.append((label, worst, seconds))
     if not rows:
-        raise ValueError("no analytical candidate was evaluated")
+        raise InputError("no analytical candidate was evaluated")
     meeting = [r for r in rows if r[1] <= tolerance_percent]
     if meeting:
         fastest = min(r[2] for r in meeting)

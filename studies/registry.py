@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from analytical.kinematics import PoseGeometry
+from common.errors import InputError
 from runtime.cache import ResultCache
 from scene import Case, Scene
 from solvers.compare import Solve
@@ -61,4 +62,4 @@ class Study:
 
     def __post_init__(self):
         if self.stage not in STAGES:
-            raise ValueError(f"study {self.key}: stage {self.stage!r} is not one of {STAGES}")
+            raise InputError(f"study {self.key}: stage {self.stage!r} is not one of {STAGES}")

@@ -8,6 +8,7 @@ from dataclasses import replace
 
 from analytical.beam import SHEAR_COEFFICIENTS
 from analytical.params import BEAM_THEORIES, JOINT_ENDS, PLATFORM_INERTIAS, ModelOptions
+from common.errors import InputError
 from scene import FidelitySettings
 
 from ..args import emit, named_first, pose_case, pose_payload, run_choice, scene_args
@@ -44,7 +45,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
         raise named_first(exc, "modes", typed(args, "modes")) from None
     except ValueError as exc:  # e.g. end zones longer than the legs: name what was typed
         what = typed(args, "end_zone", "elements") if "end_zone" in str(exc) else ""
-        raise ValueError(f"{what}: {exc}" if what else str(exc)) from None
+        raise InputError(f"{what}: {exc}" if what else str(exc)) from None
     seconds = time.perf_counter() - start
     return {
         "case": case.name,

@@ -6,6 +6,7 @@ import argparse
 import time
 from dataclasses import replace
 
+from common.errors import InputError
 from meshing.geometry import MeshSettings
 from scene import FidelitySettings
 
@@ -64,7 +65,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
             check_mesh_size(assembly, options.with_size(h), runtime)
     except FemError as exc:
         if sizes:  # a size of the study, not necessarily the one typed
-            raise ValueError(f"{what + ' ' if what else ''}--estimate-error: {exc}") from None
+            raise InputError(f"{what + ' ' if what else ''}--estimate-error: {exc}") from None
         raise named_first(exc, "mesh_size_mm", what) from None
     start = time.perf_counter()
     try:

@@ -5,6 +5,7 @@ import argparse
 import json
 import time
 
+from common.errors import InputError
 from scene import FidelitySettings
 
 from ..args import scene_option
@@ -22,12 +23,12 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
     scene = load_scene(args.scene)
     poses = args.layers * args.rings * args.azimuths
     if poses > MAX_MAP_POSES:
-        raise ValueError(f"{typed(args, 'layers', 'rings', 'azimuths') or 'the grid'}: "
+        raise InputError(f"{typed(args, 'layers', 'rings', 'azimuths') or 'the grid'}: "
                          f"{poses:,} poses, above the {MAX_MAP_POSES:,} of one map (about a "
                          "minute); use a coarser grid")
     followed = followed_modes(scene.manipulator, scene.analytical)
     if args.modes > followed:
-        raise ValueError(f"{typed(args, 'modes') or f'modes = {args.modes}'}: the map follows "
+        raise InputError(f"{typed(args, 'modes') or f'modes = {args.modes}'}: the map follows "
                          f"at most {followed} modes with this scene's model "
                          f"(s = {scene.analytical.elements} elements per leg)")
     start = time.perf_counter()

@@ -10,6 +10,7 @@ plate, other metals, turned layouts, lower joint limits).
 """
 from __future__ import annotations
 
+from common.errors import ComputeError
 from common.settings import as_dict
 from runtime.cache import ResultCache
 from scene import Scene
@@ -51,7 +52,7 @@ def evaluate(scene: Scene, workers: int = 1) -> list[dict]:
     rows = map_tasks(_row, tasks, workers)
     for (claim, _, argument), row in zip(tasks, rows):
         if "error" in row and "claim" not in row:
-            raise RuntimeError(f"hard case {claim.__name__}"
+            raise ComputeError(f"hard case {claim.__name__}"
                                f"{'' if argument is None else f' ({argument})'}: {row['error']}")
     return rows
 

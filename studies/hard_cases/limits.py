@@ -11,6 +11,7 @@ from analytical.model import analyse, natural_frequencies
 from analytical.params import Manipulator, Pose
 from analytical.pose_batch import pose_batch
 from analytical.reach import layer_heights, max_tilts, regular_radius
+from common.errors import InputError
 from scene import Scene
 
 from .base import Row
@@ -64,7 +65,7 @@ def limit_pose(m: Manipulator, limit: str) -> Pose:
             }
             if min(margins, key=margins.get) == limit:
                 return Pose(float(z), float(phis[k]), float(tilts[k]))
-    raise ValueError(f"no pose of this machine has {limit} binding")
+    raise InputError(f"no pose of this machine has {limit} binding")
 
 
 def joint_limit(scene: Scene, limit: str) -> Row:
