@@ -1,9 +1,10 @@
 """One base for every error the project raises on purpose.
 
-The command line catches `RpsError` alone and prints its one line (exit 2); anything else that
-escapes is a bug and keeps its traceback. Two kinds, so callers that only care about "bad input"
-or "the computation could not be done" can say so; each also derives from the builtin it
-replaced, so `except ValueError` in a caller keeps working:
+The command lines catch `RpsError` (and OSError: a full disk, a denied write) and print its one
+line (exit 2); anything else that escapes is a bug and keeps its traceback. Two kinds, so
+callers that only care about "bad input" or "the computation could not be done" can say so;
+each also derives from the builtin it replaced, so `except ValueError` in a caller keeps
+working:
 
 - `InputError` (a ValueError): what was given is refused: a scene key, an option, a pose the
   machine cannot reach, a mesh too large for this machine, a results file of another schema;

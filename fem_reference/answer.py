@@ -14,8 +14,8 @@ from .options import FemError, FemOptions
 
 @runtime_checkable
 class FemAnswer(Protocol):
-    """A solved pose, as its callers read it (pipeline.compare, pipeline.cli, pipeline.bench,
-    pipeline.hard_cases, convergence.study_from_results, refinement_study)."""
+    """A solved pose, as its callers read it (solvers.compare, rps.commands.fem, pipeline.bench,
+    studies.hard_cases, convergence.study_from_results, refinement_study)."""
 
     frequencies_hz: np.ndarray  # (modes,) ascending
     dofs: int  # free coordinates after the joints are eliminated

@@ -97,6 +97,8 @@ def compare(baseline: dict, current: dict) -> list[str]:
 
 
 def update_command(scene_path: str) -> int:
+    """Rewrite the error tables of `scene_path` and the golden results of every shipped scene
+    (a CI run of each: a few minutes); explicit, never automatic."""
     scene = load_scene(scene_path)
     size = scene.fem_study.ci_mesh_size
     tables = compute_tables(scene_path, size)

@@ -16,7 +16,6 @@ import platform
 import shutil
 import subprocess
 import sys
-from dataclasses import replace
 from importlib import metadata
 from pathlib import Path
 from typing import Callable
@@ -36,8 +35,7 @@ from runtime.outdir import staged_output
 from scene import Case, Scene, load_scene
 from solvers.compare import STATIONS, analytical_case, error_table, fem_case, with_cache_dir
 from solvers.pairing import mac_matrix
-from solvers.refinement import fem_refinement, prefetch_fem
-from studies.fem_idealisations import FEM_VARIANTS
+from solvers.refinement import fem_refinement
 from studies.fidelity import validate_fidelity
 from studies.reachable import check as check_workspace
 
@@ -250,15 +248,13 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
             results["fidelity"] = fidelity.summary()
             results["studies"]["workspace_validation"] = workspace
             bar.advance(task)
-            if any(s.key == "fem_variants" for s in studies.at("case", profile)):
-                # the FEM idealisations of every case, on the workers
-                geometries = [pose_geometry(scene.manipulator, scene.case(n).pose)
-                              for n in case_names]
-                for idealisation in FEM_VARIANTS.values():
-                    prefetch_fem(replace(scene, fem=replace(scene.fem, **idealisation)),
-                                 geometries, (scene.fem.mesh_size,), cache, workers, scheduler)
             ctx = studies.Context(scene, cache, workers, scheduler,
                                   results["fidelity"]["analytical"]["setting"])
+            geometries = [pose_geometry(scene.manipulator, scene.case(n).pose)
+                          for n in case_names]
+            for study in studies.at("case", profile):  # every case's solves on the workers
+                if study.prefetch is not None:
+                    study.prefetch(ctx, geometries)
             for name in case_names:
                 entry, mode_files[name] = run_case(
                     ctx, scene.case(name),

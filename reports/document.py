@@ -8,7 +8,7 @@ from pathlib import Path
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from results import verdict
-from studies import STUDIES
+from results.sections import section_titles
 
 from . import validation
 from .case_tables import (
@@ -61,21 +61,19 @@ def case_context(results: dict, i: int, figs: dict, c: Cells) -> dict:
     }
 
 
+SECTION_ORDER = ("summary", "fidelity", "scene", "comparison", "convergence", "modes", "speed",
+                 "workspace", "validation", "joint-orders", "joint-couplings", "hard-cases",
+                 "studies", "other")
+
+
 def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
     """The numbered titles of the sections the results call for, by anchor: a section whose
     key `present` marks False has no data in these results and is left out."""
-    titles = {"summary": "Summary", "fidelity": "Fidelity: what the scene asked, what was chosen",
-              "scene": "Scene and set-up",
-              "comparison": "Table I reproduction" if paper else "Analytical vs FEM",
-              "convergence": "Convergence", "modes": "Mode shapes", "speed": "Speed vs error",
-              "workspace": "Workspace maps",
-              "validation": "The model against the FEM over the workspace",
-              "joint-orders": "Both joint orders",
-              "joint-couplings": "Joint faces: rigid and distributing couplings",
-              "hard-cases": "Hard cases: numerical stability and physics checks",
-              "studies": "Reading the paper: angle conventions and height calibration",
-              "other": "Other cases"}
-    titles |= {s.anchor: s.title for s in STUDIES if s.anchor in titles}  # declared once
+    own = {"summary": "Summary", "fidelity": "Fidelity: what the scene asked, what was chosen",
+           "comparison": "Table I reproduction" if paper else "Analytical vs FEM",
+           "modes": "Mode shapes", "other": "Other cases"}
+    studies = section_titles()  # the studies' sections, declared once (results.sections)
+    titles = {key: own[key] if key in own else studies[key] for key in SECTION_ORDER}
     kept = [(key, title) for key, title in titles.items() if present.get(key, True)]
     return {key: f"{n} {title}" for n, (key, title) in enumerate(kept, start=1)}
 

@@ -130,8 +130,9 @@ def checkout(command: str) -> Path:
 def fem_choices() -> tuple[tuple[str, ...] | None, ...]:
     """The FEM's platform, coupling and leg-discretisation options; Nones without the [fem]
     extra (then the fem command says which extra to install)."""
+    from common.joints import COUPLINGS
+
     try:
-        from fem_reference.constraints import COUPLINGS
         from fem_reference.model import LEG_MODELS, PLATFORMS
     except ImportError:
         return None, None, None

@@ -27,7 +27,7 @@ CODE_PACKAGES = ("analytical", "common", "joint_ends", "meshing", "fem_reference
 def code_fingerprint(modules: tuple[str, ...] = ()) -> str:
     """Hash of every Python source that the cached values depend on: the model packages, and
     the modules or packages (dotted names under the project root) of a value computed above them (a
-    sweep task pairing modes in pipeline/ is stale when the pairing changes)."""
+    sweep task pairing modes in solvers/ is stale when the pairing changes)."""
     paths = [p for package in CODE_PACKAGES for p in sorted((ROOT / package).rglob("*.py"))]
     for name in sorted(modules):  # a module, or a package (every module in it)
         base = ROOT / name.replace(".", "/")

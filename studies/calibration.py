@@ -8,11 +8,7 @@ import results
 from analytical.calibration import calibrate_height
 from scene import Case, Scene
 
-from .registry import Context, Study
-
-
-def _hz(values) -> list[float]:
-    return [float(v) for v in values]
+from .registry import Context, Study, floats
 
 
 def calibration_case(scene: Scene) -> Case | None:
@@ -33,7 +29,7 @@ def height_calibration(scene: Scene, case: Case) -> dict:
         scene_height_mm=(None if scene.calibrated_height is None
                          else scene.calibrated_height * 1e3),
         worst_deviation_percent=100 * cal.worst_deviation,
-        deviation_percent=_hz(100 * cal.deviations),
+        deviation_percent=floats(100 * cal.deviations),
         settings=f"Euler-Bernoulli, s = 3, {scene.manipulator.platform_shape} plate inertia")
 
 
@@ -42,5 +38,4 @@ def run(ctx: Context):
     return None if case is None else height_calibration(ctx.scene, case)
 
 
-STUDY = Study("height_calibration", "Reading the paper: angle conventions and height calibration",
-              "studies", "scene", run, profiles=("full", "ci"))
+STUDY = Study("height_calibration", "scene", run, profiles=("full", "ci"))

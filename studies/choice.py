@@ -16,7 +16,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from common.errors import InputError
-from scene.fidelity import MIN_TOLERANCE_PERCENT, FidelitySettings  # noqa: F401
 
 FEM_ERROR_SHARE = 0.2  # the reference may use a fifth of the tolerance
 TIE = 0.10  # measured times within 10 % are a tie, broken by the smaller error

@@ -13,8 +13,7 @@ from analytical.model import natural_frequencies
 from analytical.params import Pose
 from scene import Case, Scene
 
-from .calibration import _hz
-from .registry import Context, Study
+from .registry import Context, Study, floats
 
 
 def _tilt_azimuth(rotation: np.ndarray) -> tuple[float, float]:
@@ -61,7 +60,7 @@ def angle_conventions(scene: Scene, case: Case) -> dict:
             entry["note"] = " ".join(str(exc).split())
         else:
             dev = 100 * (f / target - 1)
-            entry.update(frequencies_hz=_hz(f), deviation_percent=_hz(dev),
+            entry.update(frequencies_hz=floats(f), deviation_percent=floats(dev),
                          worst_percent=float(np.abs(dev).max()))
         out.append(entry)
     return results.AngleConventions(case=case.name, azimuth_deg=math.degrees(phi),
@@ -72,6 +71,4 @@ def run(ctx: Context) -> list:
     return [angle_conventions(ctx.scene, c) for c in convention_cases(ctx.scene)]
 
 
-STUDY = Study("angle_conventions",
-              "Reading the paper: angle conventions and height calibration", "studies", "scene",
-              run, profiles=("full", "ci"))
+STUDY = Study("angle_conventions", "scene", run, profiles=("full", "ci"))

@@ -90,5 +90,4 @@ def run(ctx: Context) -> list:
                           ctx.workers, ctx.scheduler)
 
 
-STUDY = Study("joint_couplings", "Joint faces: rigid and distributing couplings",
-              "joint-couplings", "scene", run)
+STUDY = Study("joint_couplings", "scene", run)

@@ -8,8 +8,7 @@ import results
 from analytical.model import natural_frequencies
 from scene import Case, Scene
 
-from .calibration import _hz
-from .registry import CaseContext, Context, Study
+from .registry import CaseContext, Context, Study, floats
 
 ELEMENT_RANGE = tuple(range(1, 11))
 
@@ -19,7 +18,7 @@ def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli")
     rows = []
     for s in ELEMENT_RANGE:
         opts = replace(scene.analytical, elements=s, beam=beam)
-        rows.append(_hz(natural_frequencies(scene.manipulator, case.pose, opts)))
+        rows.append(floats(natural_frequencies(scene.manipulator, case.pose, opts)))
     return results.ElementConvergence(elements=list(ELEMENT_RANGE), beam=beam,
                                       frequencies_hz=rows)
 
@@ -30,4 +29,4 @@ def run(ctx: Context, cc: CaseContext) -> dict:
                                     for beam in ("euler-bernoulli", "timoshenko")}}
 
 
-STUDY = Study("element_convergence", "Convergence", "convergence", "case", run)
+STUDY = Study("element_convergence", "case", run)

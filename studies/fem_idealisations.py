@@ -3,8 +3,11 @@ joint faces, tetrahedral legs), each paired by shape with the default FEM
 (results.cases[].fem_variants; a variant that cannot be solved is named with its reason)."""
 from __future__ import annotations
 
+from dataclasses import replace
+
 import results
 from solvers.compare import error_table, fem_case
+from solvers.refinement import prefetch_fem
 
 from .registry import CaseContext, Context, Study
 
@@ -31,4 +34,12 @@ def run(ctx: Context, cc: CaseContext) -> dict:
     return {"fem_variants": variants, "fem_variant_errors": errors}
 
 
-STUDY = Study("fem_variants", "FEM idealisations", None, "case", run)
+def prefetch(ctx: Context, geometries: list) -> None:
+    """Every case's idealisations solved on the workers, before the cases read them."""
+    scene = ctx.scene
+    for idealisation in FEM_VARIANTS.values():
+        prefetch_fem(replace(scene, fem=replace(scene.fem, **idealisation)), geometries,
+                     (scene.fem.mesh_size,), ctx.cache, ctx.workers, ctx.scheduler)
+
+
+STUDY = Study("fem_variants", "case", run, prefetch=prefetch)

@@ -60,4 +60,4 @@ def run(ctx: Context) -> list:
     return joint_order_study(ctx.scene, ctx.scene.ci_cases, ctx.cache)
 
 
-STUDY = Study("joint_orders", "Both joint orders", "joint-orders", "scene", run)
+STUDY = Study("joint_orders", "scene", run)

@@ -22,4 +22,4 @@ def run(ctx: Context, cc: CaseContext) -> dict:
     return {"models": models}
 
 
-STUDY = Study("models", "Model variants", None, "case", run)
+STUDY = Study("models", "case", run)

@@ -77,5 +77,4 @@ def check(scene: Scene, profile: str = "full") -> schema.ReachableWorkspace:
         adaptations=adaptations)
 
 
-STUDY = Study("reachable_workspace", "Scene and set-up", "scene", "check", None,
-              profiles=("full", "ci"))
+STUDY = Study("reachable_workspace", "check", None, profiles=("full", "ci"))

@@ -13,6 +13,7 @@ from typing import Any, Callable
 
 from analytical.kinematics import PoseGeometry
 from common.errors import InputError
+from results.sections import SECTIONS
 from runtime.cache import ResultCache
 from scene import Case, Scene
 from solvers.compare import Solve
@@ -50,16 +51,42 @@ class CaseContext:
 
 @dataclass(frozen=True)
 class Study:
-    """A study of a run, declared once: the run calls `run` at `stage` in `profiles`, the
-    results hold its record under `key`, the report's section `anchor` is titled `title`."""
+    """A study of a run, declared once: at `stage`, in `profiles`, its record goes under `key`
+    (results.studies[key], or each case's [key] for a case study) and the report shows it in
+    the section `results.sections.SECTIONS[key]` names. `run` computes it: (Context) for a
+    scene study, (Context, CaseContext) for a case study. The "check" and "fidelity" stages are
+    the run's own steps (the up-front workspace check, the fidelity choice), which call their
+    modules directly; their declarations here give the record its key and its section.
+    `prefetch(ctx, geometries)`, when given, fills the result cache for every case on the
+    workers before the cases are run one by one."""
 
     key: str
-    title: str
-    anchor: str | None  # the report section it appears in (None: inside each case's section)
     stage: str
-    run: Callable[..., Any] | None  # (Context) or (Context, CaseContext); None: the run's own step
+    run: Callable[..., Any] | None
     profiles: tuple[str, ...] = ("full",)
+    prefetch: Callable[[Context, list], None] | None = None
 
     def __post_init__(self):
         if self.stage not in STAGES:
             raise InputError(f"study {self.key}: stage {self.stage!r} is not one of {STAGES}")
+        if self.key not in SECTIONS:
+            raise InputError(f"study {self.key}: no section in results.sections.SECTIONS")
+        if (self.run is None) != (self.stage in ("check", "fidelity")):
+            raise InputError(f"study {self.key}: the run calls `run` at the case and scene "
+                             "stages, and only there")
+
+    @property
+    def anchor(self) -> str | None:
+        """The report section that shows it (None: inside each case's section)."""
+        where = SECTIONS[self.key]
+        return None if where is None else where[0]
+
+    @property
+    def title(self) -> str | None:
+        where = SECTIONS[self.key]
+        return None if where is None else where[1]
+
+
+def floats(values) -> list[float]:
+    """Plain floats for a record (numpy scalars are not JSON)."""
+    return [float(v) for v in values]

@@ -45,4 +45,4 @@ def run(ctx: Context, cc: CaseContext) -> dict:
                                              cc.refinement, ctx.cache)}
 
 
-STUDY = Study("speed_vs_error", "Speed vs error", "speed", "case", run)
+STUDY = Study("speed_vs_error", "case", run)

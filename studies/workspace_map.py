@@ -70,4 +70,4 @@ def run(ctx: Context):
     return workspace_map(ctx.scene)
 
 
-STUDY = Study("workspace", "Workspace maps", "workspace", "scene", run)
+STUDY = Study("workspace", "scene", run)

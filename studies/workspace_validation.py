@@ -34,7 +34,7 @@ from solvers.compare import analytical_case, error_table, fem_case
 
 from .registry import Study
 
-PAPER_MODEL = "paper (EB, s=3, Eq. 8 inertia)"  # a label of studies.model_variants
+PAPER_MODEL = "paper (EB, s=3, Eq. 8 inertia)"  # a label of solvers.settings.model_variants
 SOBOL_SEED = 20231
 LIMIT_TOL = 1e-4
 # Below this MAC a FEM mode has no partner: its shape is not seen on the leg axes (e.g. a leg's
@@ -145,7 +145,7 @@ def two_mesh_error(fine_hz, coarse_hz, ratio: float, order: float = P_THEORY):
 
 # the modules a pose's result is computed with, beyond the model packages (its cache key)
 TASK_CODE = ("studies.workspace_validation", "solvers.compare", "solvers.pairing",
-             "results.schema", "scene")
+             "results", "scene")
 
 
 def validate_pose(task: dict) -> dict:
@@ -270,5 +270,4 @@ def summarise(study: dict, default: str) -> dict:
         "worst_error_percent": worst_error(worst["models"][default])}}
 
 
-STUDY = Study("workspace_validation", "The model against the FEM over the workspace",
-              "validation", "fidelity", None, profiles=("full", "ci"))
+STUDY = Study("workspace_validation", "fidelity", None, profiles=("full", "ci"))

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import pytest
 
-from studies.choice import FEM_ERROR_SHARE, FidelitySettings, choose_analytical, choose_fem_size
+from scene import FidelitySettings
+from studies.choice import FEM_ERROR_SHARE, choose_analytical, choose_fem_size
 
 SIZES = [0.04, 0.032, 0.025, 0.02]
 

@@ -33,8 +33,19 @@ def test_every_data_file_is_package_data():
     assert data and all(f"pipeline/scenes/{p.name}" in shipped for p in data)
     templates = [p for p in (ROOT / "reports" / "templates").iterdir() if p.is_file()]
     assert templates and all(f"reports/templates/{p.name}" in shipped for p in templates)
-    for package in ("analytical", "common", "meshing", "fem_reference", "pipeline", "reports"):
-        assert f"{package}/py.typed" in shipped
+    from tests.test_architecture import FLOORS
+
+    for package in FLOORS:
+        assert f"{package}/py.typed" in shipped, package
+
+
+def test_every_package_of_the_tree_is_in_the_wheel():
+    """A package directory (an __init__.py) missing from pyproject's list would be left out of
+    the wheel silently."""
+    listed = set(PYPROJECT["tool"]["setuptools"]["packages"])
+    found = {".".join(p.parent.relative_to(ROOT).parts) for p in ROOT.glob("*/**/__init__.py")
+             if p.parent.relative_to(ROOT).parts[0] not in ("tests", "build", ".venv")}
+    assert found <= listed, sorted(found - listed)
 
 
 def test_installed_scene_paths_match_the_package_layout(tmp_path):

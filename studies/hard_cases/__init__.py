@@ -73,5 +73,4 @@ def run(ctx: Context) -> list[dict]:
     return hard_case_rows(ctx.scene, ctx.cache, ctx.workers)
 
 
-STUDY = Study("hard_cases", "Hard cases: numerical stability and physics checks", "hard-cases",
-              "scene", run)
+STUDY = Study("hard_cases", "scene", run)
