@@ -29,6 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
+from common.rigid_body import skew
+
 from .end_zones import leg_segments, segments, zone_for
 from .kinematics import Joint
 from .modal import ModalError
@@ -175,6 +177,10 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
     mass[:, translation, translation] += level[:3, :3]  # m I
     mass[:, rotation, rotation] += poses.rotation @ level[3:, 3:] @ np.swapaxes(
         poses.rotation, 1, 2)  # R J R^T
+    if np.any(manipulator.payload.first_moment):  # an offset payload: -[R S x], [R S x]
+        coupling = skew(poses.rotation @ manipulator.payload.first_moment)
+        mass[:, translation, rotation] -= coupling
+        mass[:, rotation, translation] += coupling
     return BatchModel(stiffness, mass, tuple(maps), slice(n_q - 6, n_q),
                       manipulator.leg_diameter / 2, manipulator.platform_radius)
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field, replace
 
 from common.errors import InputError
 from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
+from common.payload import Payload
 from common.settings import (
     MAX_ANGLE,
     MAX_LENGTH,
@@ -90,6 +91,7 @@ class Manipulator:
     platform_thickness: float = setting(doc="h, thickness of the platform plate", unit="mm",
                                         **_PART)
     material: Material = nested_setting(Material)
+    payload: Payload = nested_setting(Payload, default_factory=Payload)
     leg_angles: tuple[float, float, float] = setting(
         (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3,
         minimum=-MAX_ANGLE, maximum=MAX_ANGLE,

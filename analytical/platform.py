@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from common.errors import InputError
+from common.payload import payload_mass_matrix
 from common.plate import plate_area as _area
 from common.plate import plate_inertia, plate_mass, rigid_mass_matrix
 
@@ -44,6 +45,8 @@ def platform_inertia_body(manipulator: Manipulator, form: str = "plate") -> np.n
 
 def platform_mass_matrix(manipulator: Manipulator, rotation: np.ndarray,
                          form: str = "plate") -> np.ndarray:
-    """6x6 mass matrix on (Delta_p, Phi_p) in base coordinates, Eqs. (7)-(9): T_p oM_p T_p^T."""
+    """6x6 mass matrix on (Delta_p, Phi_p) in base coordinates, Eqs. (7)-(9): T_p oM_p T_p^T,
+    with the scene's payload (`common.payload`) fixed to the plate."""
     return rigid_mass_matrix(platform_mass(manipulator),
-                             platform_inertia_body(manipulator, form), rotation)
+                             platform_inertia_body(manipulator, form), rotation) \
+        + payload_mass_matrix(manipulator.payload, rotation)

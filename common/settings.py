@@ -30,6 +30,8 @@ UNITS = {
     "deg": ("_deg", math.pi / 180.0, "rad"),
     "GPa": ("_gpa", 1e9, "Pa"),
     "kg/m3": ("_kg_m3", 1.0, "kg/m3"),
+    "kg": ("_kg", 1.0, "kg"),
+    "kg m2": ("_kg_m2", 1.0, "kg m2"),
 }
 
 

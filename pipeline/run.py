@@ -101,7 +101,10 @@ def scene_summary(scene: Scene, path: str) -> dict:
             youngs_modulus_gpa=m.material.youngs_modulus / 1e9,
             shear_modulus_gpa=m.material.shear_modulus / 1e9,
             poisson_ratio=m.material.poisson_ratio,
-            density_kg_m3=m.material.density),
+            density_kg_m3=m.material.density,
+            payload=schema.Payload(mass_kg=m.payload.mass,
+                                   centre_mm=[1e3 * x for x in m.payload.centre],
+                                   inertia_kg_m2=list(m.payload.inertia))),
         analytical=schema.AnalyticalSettings(
             elements=scene.analytical.elements, beam=scene.analytical.beam,
             platform_inertia=scene.analytical.platform_inertia, modes=scene.analytical.modes),

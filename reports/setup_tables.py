@@ -40,6 +40,14 @@ def manipulator_table(results: dict, c: Cells) -> dict:
              for key, label in (("base_joint", "joint at the base"),
                                 ("platform_joint", "joint at the platform"),
                                 ("platform_shape", "platform shape"))]
+    if m["payload"]["mass_kg"] > 0:  # a payload fixed to the platform (common/payload.py)
+        p = f"{q}/payload"
+        rows += [[c.text(literal="payload mass"), c.num(f"{p}/mass_kg", 2), unit("kg")]]
+        rows += [[c.text(literal=f"payload centre {axis} (platform frame)"),
+                  c.num(f"{p}/centre_mm/{i}", 1), unit("mm")] for i, axis in enumerate("xyz")]
+        rows += [[c.text(literal=f"payload inertia about its centre, {axis}"),
+                  c.num(f"{p}/inertia_kg_m2/{i}", 3), unit("kg m²")]
+                 for i, axis in enumerate("xyz")]
     return {"head": [head("parameter", "value", "unit")], "rows": rows, "cls": "params"}
 
 

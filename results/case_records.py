@@ -27,6 +27,14 @@ class Manipulator(TypedDict):
     shear_modulus_gpa: FiniteFloat
     poisson_ratio: FiniteFloat
     density_kg_m3: FiniteFloat
+    payload: Payload
+
+
+@with_config(STRICT)
+class Payload(TypedDict):
+    mass_kg: FiniteFloat  # 0: none
+    centre_mm: list[FiniteFloat]  # platform frame, from o
+    inertia_kg_m2: list[FiniteFloat]  # principal, about its own centre, platform axes
 
 
 @with_config(STRICT)

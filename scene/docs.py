@@ -12,6 +12,7 @@ from pathlib import Path
 
 from analytical.params import Manipulator, Material, ModelOptions
 from common.paths import MAX_LENGTH
+from common.payload import Payload
 from common.settings import Setting, declared
 from fem_reference.model import FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
@@ -34,6 +35,9 @@ TABLES = (
     ("[manipulator]", "Geometry, joints and limits of the machine (paper Section 2, Eq. 25).",
      (Manipulator, ManipulatorNotes)),
     ("[material]", "One isotropic material for legs and platform.", (Material,)),
+    ("[payload]", "A rigid body fixed to the platform (a tool, a spindle, a workpiece), carried "
+     "identically by both models (common/payload.py). Leave the table out for none.",
+     (Payload,)),
     ("[fidelity]", "What accuracy the scene needs, on which modes. Where the scene leaves "
      "[analytical] out, and mesh_size_mm out of [fem], the run chooses the cheapest models that "
      "meet it, by measurement (studies/choice.py).", (FidelitySettings,)),

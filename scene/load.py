@@ -22,6 +22,7 @@ from analytical.params import (
 )
 from common.errors import InputError
 from common.paths import UnsafeName, distinct_stems
+from common.payload import Payload
 from common.settings import (
     MAX_ANGLE,
     MAX_LENGTH,
@@ -297,7 +298,10 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     mat = top.table("material")
     material = mat.settings(Material)
     mat.done()
-    manipulator = man.settings(Manipulator, material=material)
+    pay = top.table("payload", {})
+    payload = pay.settings(Payload)
+    pay.done()
+    manipulator = man.settings(Manipulator, material=material, payload=payload)
     shape_reason = man.settings(ManipulatorNotes).platform_shape_reason.strip()
     man.done()
     try:

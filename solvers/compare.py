@@ -169,14 +169,12 @@ FEM_CACHED = ("frequencies_hz", "dofs", "raw_dofs", "mesh_size_m", "platform", "
 
 
 def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
-    """Everything that determines a FEM result, whole (see `fem_case`), and nothing else: the
-    rim grading (`rim_*`) shapes only tetrahedral meshes, so harmonic legs on a rigid platform
-    (whose meridians grade their own corners) are keyed without it."""
-    settings = as_dict(options)
-    if options.legs == "harmonic" and options.platform == "rigid":
-        settings["mesh"] = {"size": settings["mesh"]["size"]}
+    """Everything that determines a FEM result, whole (see `fem_case`): the options object
+    entire, so a new option is in the key without a line here (tests/test_common.py). The rim
+    grading (`rim_*`) shapes only tetrahedral meshes; changing it with harmonic legs costs a
+    recompute, never a stale answer."""
     return {"manipulator": as_dict(manipulator), "geometry": as_dict(geometry),
-            "options": settings, "stations": STATIONS.tolist(),
+            "options": as_dict(options), "stations": STATIONS.tolist(),
             "station_components": list(STATION_COMPONENTS)}
 
 
