@@ -76,6 +76,7 @@ def check_mesh_size(assembly: Assembly, options: FemOptions, runtime: FemRuntime
         raise FemError(f"{shown}: about {estimate}{' harmonic' if harmonic else ''} dofs "
                        f"expected, above max_dofs = {runtime.max_dofs}")
     try:  # before meshing: peak against the memory the machine has, whatever max_dofs says
-        check_memory(estimate, diameter, settings.size, harmonic=harmonic)
+        check_memory(estimate, diameter, settings.size, harmonic=harmonic,
+                     share=runtime.memory_share)
     except MemoryLimitError as exc:
         raise FemError(str(exc)) from None

@@ -96,6 +96,10 @@ class FemRuntime:
                             "is refused too (fem_reference/resources.py)")
     backend: str = setting("splu", kind=str, choices=BACKENDS, scene=False,
                            doc="sparse factorisation of the shift-invert eigen solve")
+    memory_share: float = setting(1.0, minimum=0.0, exclusive_minimum=True, maximum=1.0,
+                                  scene=False, doc="the share of the memory limit this solve "
+                                  "may take: 1 / n when n solves run at once (a sweep's "
+                                  "workers), so together they stay within it")
 
     def __post_init__(self):
         try:

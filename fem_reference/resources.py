@@ -126,15 +126,20 @@ def harmonic_peak_bytes(dofs: float) -> float:
 
 
 def check_memory(dofs: float, leg_diameter: float, size: float,
-                 available: float | None = None, harmonic: bool = False) -> float:
-    """The estimated peak (bytes); MemoryLimitError if it exceeds MEMORY_FRACTION of the
-    memory available (measured now unless given). `harmonic`: the 2D meridian solve."""
+                 available: float | None = None, harmonic: bool = False,
+                 share: float = 1.0) -> float:
+    """The estimated peak (bytes); MemoryLimitError if it exceeds `share` of MEMORY_FRACTION
+    of the memory available (measured now unless given): n solves at once take 1 / n each,
+    since each measures the memory before the others have taken theirs. `harmonic`: the 2D
+    meridian solve."""
     need = harmonic_peak_bytes(dofs) if harmonic else peak_bytes(dofs, leg_diameter, size)
     free = available_bytes() if available is None else available
-    if free is not None and need > MEMORY_FRACTION * free:
+    if free is not None and need > share * MEMORY_FRACTION * free:
+        of = "half" if share == 1.0 else f"{share:.3g} of half"
         raise MemoryLimitError(
             f"mesh_size_mm = {size * 1e3:g}: the solve needs about {need / 1e9:.3g} GB "
             f"({int(dofs):,} dofs, from the measured LU fill: fem_reference/resources.py), "
-            f"above the limit of {MEMORY_FRACTION * free / 1e9:.3g} GB (half of the "
-            f"{free / 1e9:.3g} GB available); use a coarser mesh")
+            f"above the limit of {share * MEMORY_FRACTION * free / 1e9:.3g} GB ({of} of the "
+            f"{free / 1e9:.3g} GB available{'' if share == 1.0 else ', one of parallel solves'})"
+            "; use a coarser mesh")
     return need

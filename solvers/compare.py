@@ -107,6 +107,13 @@ def with_cache_dir(scene: Scene, directory: str | os.PathLike) -> Scene:
     return replace(scene, analytical=replace(scene.analytical, cache_dir=str(directory)))
 
 
+def in_parallel(scene: Scene, workers: int) -> Scene:
+    """The scene whose FEM solves each take 1 / `workers` of the memory limit (`FemRuntime.
+    memory_share`): `workers` of them run at once on a sweep's processes."""
+    share = 1.0 / max(1, int(workers))
+    return replace(scene, fem_runtime=replace(scene.fem_runtime, memory_share=share))
+
+
 def fem_runtime(scene: Scene, cache: ResultCache | None = None, use_cache: bool = True):
     """How the scene's FEM solves run: its DOF guard, the mesh cache beside the result cache."""
     return replace(scene.fem_runtime, use_cache=use_cache,
@@ -115,12 +122,13 @@ def fem_runtime(scene: Scene, cache: ResultCache | None = None, use_cache: bool 
 
 def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size: float,
              platform: str | None = None, coupling: str | None = None,
-             legs: str | None = None) -> Solve:
+             legs: str | None = None, max_dofs: int | None = None) -> Solve:
     """The FEM reference of one pose at one mesh size, through the result cache.
 
     The cache key is every input that changes the answer, taken whole: the manipulator, the
     pose geometry, the complete FEM options (`dataclasses.asdict`, so a new option can never be
-    left out of the key) and the sampling stations.
+    left out of the key) and the sampling stations. `max_dofs` lowers the scene's DOF guard
+    for this solve (an optional study's budget), FemError when the mesh would exceed it.
     """
     from fem_reference import solve_pose
 
@@ -128,7 +136,10 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
     payload = fem_cache_payload(scene.manipulator, geometry, options)
 
     def compute():
-        result = solve_pose(scene.manipulator, geometry, options, fem_runtime(scene, cache))
+        runtime = fem_runtime(scene, cache)
+        if max_dofs is not None:
+            runtime = replace(runtime, max_dofs=min(runtime.max_dofs, max_dofs))
+        result = solve_pose(scene.manipulator, geometry, options, runtime)
         shapes = station_vector(result.leg_axis_displacements(STATIONS),
                                 result.leg_axis_twists(STATIONS),
                                 0.5 * scene.manipulator.leg_diameter)

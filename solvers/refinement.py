@@ -5,23 +5,26 @@ from __future__ import annotations
 import results as schema
 from runtime.cache import ResultCache
 from scene import Scene
-from solvers.compare import fem_case
+from solvers.compare import fem_case, in_parallel
 
 
 def _solve_fem(task: dict) -> dict:
     """One FEM solve into the result cache (a task of `prefetch_fem`)."""
-    fem_case(task["scene"], task["geometry"], ResultCache(task["cache_dir"]), task["size"])
+    fem_case(task["scene"], task["geometry"], ResultCache(task["cache_dir"]), task["size"],
+             max_dofs=task["max_dofs"])
     return {"error": None}
 
 
 def prefetch_fem(scene: Scene, geometries: list, sizes, cache: ResultCache, workers: int,
-                 scheduler: str | None = None) -> None:
+                 scheduler: str | None = None, max_dofs: int | None = None) -> None:
     """Fill the result cache with the FEM solve of every geometry at every size, on the
-    sweep's workers (finest first, for balance); the callers then read them from the cache. A
+    sweep's workers (finest first, for balance; each solve within its share of the memory,
+    `in_parallel`, and `max_dofs` when given); the callers then read them from the cache. A
     failed solve is left to its caller, which repeats it and reports its error."""
     from runtime.sweep import map_tasks
 
-    tasks = [{"scene": scene, "geometry": g, "size": h, "cache_dir": str(cache.directory)}
+    tasks = [{"scene": in_parallel(scene, workers), "geometry": g, "size": h,
+              "cache_dir": str(cache.directory), "max_dofs": max_dofs}
              for h in sorted(sizes) for g in geometries]
     if workers > 1 or scheduler:
         map_tasks(_solve_fem, tasks, workers, scheduler)

@@ -30,7 +30,7 @@ from analytical.reach import layer_band, max_tilts, regular_radii
 from common.settings import as_dict
 from fem_reference.convergence import P_THEORY
 from runtime.cache import ResultCache
-from solvers.compare import analytical_case, error_table, fem_case
+from solvers.compare import analytical_case, error_table, fem_case, in_parallel
 
 from .registry import Study
 
@@ -240,7 +240,8 @@ def run_study(scene, models: dict[str, ModelOptions], cache: ResultCache, coarse
     from runtime.sweep import run_sweep
 
     poses = design(scene.manipulator, size)
-    tasks = [{"scene": scene, "cache_dir": str(cache.directory),
+    shared = in_parallel(scene, 1 if scheduler else workers)  # solves at once on this machine
+    tasks = [{"scene": shared, "cache_dir": str(cache.directory),
               "pose": {k: p[k] for k in ("height", "azimuth", "tilt")},
               "size": scene.fem.mesh_size, "coarse_size": coarse_size,
               "models": models} for p in poses]

@@ -421,6 +421,42 @@ def test_the_memory_estimate_names_size_estimate_and_limit():
     assert resources.check_memory(44_229, 0.1, 0.02, available=20e9) < 1e9
 
 
+def test_solves_at_once_share_the_memory_limit():
+    """Each of n parallel solves measures the free memory before the others take theirs, so
+    each may take 1 / n of the limit: two 6 GB solves fit one at a time in 20 GB, not at once."""
+    need = resources.check_memory(200_000, 0.1, 0.011, available=20e9)
+    assert 5e9 < need < 10e9
+    with pytest.raises(resources.MemoryLimitError, match=r"0.5 of half of the 20 GB available"):
+        resources.check_memory(200_000, 0.1, 0.011, available=20e9, share=0.5)
+
+
+def test_the_sweeps_give_each_parallel_solve_its_share(scene):
+    from solvers.compare import in_parallel
+
+    assert in_parallel(scene, 2).fem_runtime.memory_share == 0.5
+    assert in_parallel(scene, 1).fem_runtime == scene.fem_runtime
+
+
+def test_an_idealisation_above_its_budget_is_reported_not_solved(scene, tmp_path, monkeypatch):
+    """A side study never starts a solve beyond its budget: the variant says why, the case
+    goes on."""
+    import studies.fem_idealisations as ideal
+    from runtime.cache import ResultCache
+    from solvers.compare import fem_case
+    from studies import CaseContext, Context
+
+    monkeypatch.setattr(ideal, "MAX_DOFS", 14_000)  # at 40 mm: harmonic legs 13.5k estimated,
+    scene = replace(scene, fem=scene.fem.with_size(0.04))  # tetrahedra 15k, elastic plate 19k
+    case = scene.case("case1")
+    geometry = pose_geometry(scene.manipulator, case.pose)
+    ctx = Context(scene, ResultCache(tmp_path))
+    fem = fem_case(scene, geometry, ctx.cache, 0.04)
+    out = ideal.run(ctx, CaseContext(case, geometry, fem, None, None, None))
+    assert set(out["fem_variant_errors"]) == {"elastic platform", "tetrahedral legs"}
+    assert all("above max_dofs = 14000" in why for why in out["fem_variant_errors"].values())
+    assert set(out["fem_variants"]) == {"distributing coupling"}
+
+
 def test_size_9_mm_is_refused_before_meshing_on_this_machine(manipulator, scene, monkeypatch):
     geometry = pose_geometry(manipulator, scene.case("case1").pose)
     options = fem_options(scene, 0.009, legs="tetrahedra")  # the 3D mesh's memory guard
