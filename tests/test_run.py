@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import pipeline.run as run
+from results import SCHEMA_VERSION
 from tests.conftest import PAPER_SCENE
 
 pytestmark = pytest.mark.slow  # whole validation runs (CI profile): tens of seconds each
@@ -53,7 +54,7 @@ def test_ci_profile_run_writes_the_contract(tmp_path, monkeypatch):
     assert (out / "tables" / "case1.csv").read_text().startswith("mode,paper_fea_hz")
     assert (out / "modes" / "case2_fem.vtu").stat().st_size > 0
     assert results["cases"][0]["pose"]["height_origin"] == "calibrated"
-    assert on_disk["schema"] == 6 and on_disk["environment"]["project_version"]
+    assert on_disk["schema"] == SCHEMA_VERSION and on_disk["environment"]["project_version"]
     assert on_disk["studies"]["height_calibration"]["case"] == "case1"  # calibrated, with rows
     assert [s["case"] for s in on_disk["studies"]["angle_conventions"]] == ["case2"]  # tilted
     # the chosen setting's stated worst error covers every workspace-validation pose, not only
