@@ -25,6 +25,7 @@ import pytest
 import pipeline.run as run
 import runtime.outdir as outdir
 from analytical.kinematics import pose_geometry
+from analytical.params import Pose
 from common.worker import WorkerDied, stoppable
 from fem_reference import resources
 from fem_reference.model import FemError, solve_pose
@@ -419,6 +420,26 @@ def test_the_memory_estimate_names_size_estimate_and_limit():
                                       "(395,373 dofs")
     assert "above the limit of 10 GB (half of the 20 GB available)" in str(info.value)
     assert resources.check_memory(44_229, 0.1, 0.02, available=20e9) < 1e9
+
+
+def test_a_wide_thick_elastic_plate_is_estimated_by_its_own_section(scene):
+    """The fill model was fitted on legs; a meshed plate wider and thicker than the legs fills
+    as its own cut says. Legs alone keep their estimate; a plate section 7x the legs' raises
+    the fill term 50x (a random machine's 41 mm plate of 222 mm radius on 19 mm legs)."""
+    from fem_reference.guard import section_width
+    from meshing.bodies import pose_assembly
+
+    m = replace(scene.manipulator, leg_diameter=0.0189, platform_radius=0.222,
+                platform_thickness=0.041, base_radius=0.241, actuator_min=0.285,
+                actuator_max=0.374)
+    geometry = pose_geometry(m, Pose(0.306))
+    legs = pose_assembly(m, geometry, elastic_platform=False)
+    plate = pose_assembly(m, geometry, elastic_platform=True)
+    assert section_width(legs) == pytest.approx(0.0189)
+    assert section_width(plate) == pytest.approx((2 * 0.222 * 0.041) ** 0.5)
+    paper = pose_assembly(scene.manipulator, pose_geometry(scene.manipulator, Pose(0.5436)),
+                          elastic_platform=True)
+    assert section_width(paper) == pytest.approx(0.1)  # the paper's legs still set it
 
 
 def test_solves_at_once_share_the_memory_limit():
