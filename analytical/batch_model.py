@@ -12,7 +12,8 @@ batch of poses, and the eigen solves of `modal.solve_modes` without its per-call
 - K = sum over legs and elements of T_e^T K_e T_e (Eqs. 5-6, 13, 22) with T_e the element's
   12 rows of the leg map in its limb frame, restricted to the columns of q they touch;
 - the rigid platform's mass (Eqs. 7-9) is diag(m I, R J R^T), with m and J read from
-  `platform_mass_matrix` at R = I.
+  `platform_mass_matrix` at R = I, plus, for a payload off the platform centre, the coupling
+  -[R S x] / [R S x] of its first moment S (common/payload.py).
 
 Frequencies come from ?sygvd without vectors (`batch_frequencies`); where shapes are needed,
 ?sygvx gives the lowest modes with vectors (`batch_modes`), as solve_modes does. Shapes are

@@ -1,6 +1,7 @@
 """A payload on the platform: a rigid body fixed to it (a tool, a spindle, a workpiece), declared
-once and carried identically by both models (DESIGN.md: "springs and payload are shared
-idealisations"; what is elastic, each model builds on its own).
+once and carried identically by both models: it is an idealisation they share (like the pose);
+what is elastic, each model builds on its own. Its place is not checked against the legs (a
+spindle may hang below the platform, among them).
 
 The scene gives its mass m, its centre c in the platform frame (from o, mm at the edge) and its
 principal moments of inertia about its own centre, along the platform axes. About o, in the

@@ -58,17 +58,19 @@ def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
     return int(3 * nodes) if 3 * nodes < MAX_ESTIMATE else MAX_ESTIMATE
 
 
+PLATE_WIDTH_PER_THICKNESS = 2.0  # an elastic plate fills like a leg of twice its thickness
+
+
 def section_width(assembly: Assembly) -> float:
-    """The width w of the widest cut through a meshed body, (w / h)^2 elements across it: the
-    leg diameter, or, for an elastic plate, the side of a square as large as its cross-section
-    through the centre (2 r2 h). The LU fill per dof grows with the nodes of the separators a
-    nested-dissection ordering cuts a body with, and the widest cut sets it: the fill model of
-    resources.py was fitted on legs; an elastic plate much wider and thicker than the legs
-    fills as its own section says (a 41 mm plate of 222 mm radius on 19 mm legs: 7x wider)."""
+    """The width the LU fill model (resources.peak_bytes) takes for the meshed bodies: the leg
+    diameter it was fitted on, or, with an elastic plate thicker than half the legs, twice the
+    plate's thickness. Measured (max RSS of `rps fem --platform elastic --legs tetrahedra`):
+    a 41 mm plate of 222 mm radius on 18.9 mm legs at 12 mm, 1.95 GB (estimate with the legs
+    alone 1.32 GB, with this width 2.78 GB); the slender scene's 15 mm plate on 30 mm legs at
+    9.6 and 7.5 mm, 1.30 and 3.65 GB (its legs set the width: 2.17 and 4.21 GB)."""
     width = 2 * max(c.radius for c in assembly.cylinders)
-    plate = assembly.plate
-    if plate is not None:
-        width = max(width, math.sqrt(2 * plate.radius * plate.thickness))
+    if assembly.plate is not None:
+        width = max(width, PLATE_WIDTH_PER_THICKNESS * assembly.plate.thickness)
     return width
 
 

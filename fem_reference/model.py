@@ -38,6 +38,10 @@ __all__ = ["FemAnswer", "FemError", "FemOptions", "FemResult", "FemRuntime", "Ha
            "solve_pose", "with_size"]
 
 
+ELASTIC_PAYLOAD = ("platform = 'elastic' with a payload: how the payload's mass spreads over an "
+                   "elastic plate is not modelled (use a rigid platform)")
+
+
 def solve_pose(manipulator, geometry, options: FemOptions,
                runtime: FemRuntime = FemRuntime()) -> FemAnswer:
     """Natural frequencies and modes of the 3D solid model of one pose."""
@@ -45,6 +49,8 @@ def solve_pose(manipulator, geometry, options: FemOptions,
         raise FemError(f"options = {options!r}: expected FemOptions")
     if not isinstance(runtime, FemRuntime):
         raise FemError(f"runtime = {runtime!r}: expected FemRuntime")
+    if options.platform == "elastic" and manipulator.payload.mass > 0.0:  # before meshing
+        raise FemError(ELASTIC_PAYLOAD)
     t0 = time.perf_counter()
     try:
         assembly = pose_assembly(manipulator, geometry,

@@ -125,14 +125,14 @@ def harmonic_peak_bytes(dofs: float) -> float:
     return BASE_BYTES + HARMONIC_BYTES_PER_DOF * dofs
 
 
-def check_memory(dofs: float, leg_diameter: float, size: float,
+def check_memory(dofs: float, width: float, size: float,
                  available: float | None = None, harmonic: bool = False,
                  share: float = 1.0) -> float:
     """The estimated peak (bytes); MemoryLimitError if it exceeds `share` of MEMORY_FRACTION
     of the memory available (measured now unless given): n solves at once take 1 / n each,
     since each measures the memory before the others have taken theirs. `harmonic`: the 2D
-    meridian solve."""
-    need = harmonic_peak_bytes(dofs) if harmonic else peak_bytes(dofs, leg_diameter, size)
+    meridian solve. `width`: the leg diameter, or the widest body's (guard.section_width)."""
+    need = harmonic_peak_bytes(dofs) if harmonic else peak_bytes(dofs, width, size)
     free = available_bytes() if available is None else available
     if free is not None and need > share * MEMORY_FRACTION * free:
         of = "half" if share == 1.0 else f"{share:.3g} of half"
@@ -141,5 +141,5 @@ def check_memory(dofs: float, leg_diameter: float, size: float,
             f"({int(dofs):,} dofs, from the measured LU fill: fem_reference/resources.py), "
             f"above the limit of {share * MEMORY_FRACTION * free / 1e9:.3g} GB ({of} of the "
             f"{free / 1e9:.3g} GB available{'' if share == 1.0 else ', one of parallel solves'})"
-            "; use a coarser mesh")
+            f"; use a coarser mesh{'' if share == 1.0 else ' or fewer workers'}")
     return need

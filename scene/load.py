@@ -321,6 +321,10 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     if legs is not None and "legs" not in fem_t.data:
         given["legs"] = legs
     fem = fem_t.settings(FemOptions, defaults, **given)
+    if fem.platform == "elastic" and manipulator.payload.mass > 0.0:
+        raise SceneError(f"{where}.fem.platform = 'elastic' with [payload] mass_kg = "
+                         f"{manipulator.payload.mass:g}: how the payload's mass spreads over an "
+                         "elastic plate is not modelled (use a rigid platform)")
     study = fem_t.settings(FemStudy, defaults)
     why = sequence_problem(study.refinement)
     if why is not None:

@@ -23,7 +23,9 @@ def prefetch_fem(scene: Scene, geometries: list, sizes, cache: ResultCache, work
     failed solve is left to its caller, which repeats it and reports its error."""
     from runtime.sweep import map_tasks
 
-    tasks = [{"scene": in_parallel(scene, workers), "geometry": g, "size": h,
+    count = len(sizes) * len(geometries)
+    at_once = 1 if scheduler else min(workers, count)  # dask: one solve per remote process
+    tasks = [{"scene": in_parallel(scene, at_once), "geometry": g, "size": h,
               "cache_dir": str(cache.directory), "max_dofs": max_dofs}
              for h in sorted(sizes) for g in geometries]
     if workers > 1 or scheduler:

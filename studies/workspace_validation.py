@@ -240,7 +240,7 @@ def run_study(scene, models: dict[str, ModelOptions], cache: ResultCache, coarse
     from runtime.sweep import run_sweep
 
     poses = design(scene.manipulator, size)
-    shared = in_parallel(scene, 1 if scheduler else workers)  # solves at once on this machine
+    shared = in_parallel(scene, 1 if scheduler else min(workers, len(poses)))  # at once here
     tasks = [{"scene": shared, "cache_dir": str(cache.directory),
               "pose": {k: p[k] for k in ("height", "azimuth", "tilt")},
               "size": scene.fem.mesh_size, "coarse_size": coarse_size,

@@ -129,3 +129,25 @@ def test_an_elastic_plate_with_a_payload_is_refused(scene):
     with pytest.raises(FemError, match="elastic.*payload"):
         solve_pose(m, geometry, FemOptions(MeshSettings(0.08), platform="elastic",
                                            legs="tetrahedra"))
+
+
+def test_the_symmetry_and_scaling_claims_are_the_structures_payload_or_not(scene):
+    """Repeated pairs, turned layouts and material scaling hold for the machine's structure; a
+    payload off the axis breaks the symmetry and does not scale with the density, so the hard
+    cases check the machine without it (studies.hard_cases.base.bare)."""
+    from studies import hard_cases as hc
+
+    carrying = replace(scene, manipulator=replace(scene.manipulator, payload=TOOL))
+    for row in (hc.repeated_pairs(carrying, runs=20), hc.turned_layout(carrying, poses=20),
+                hc.aluminium_scaling(carrying), hc.titanium_scaling(carrying)):
+        assert row.passed, row
+
+
+def test_an_elastic_plate_with_a_payload_is_refused_at_load():
+    import tomllib
+
+    raw = tomllib.loads(PAPER_SCENE.read_text(encoding="utf-8"))
+    raw["payload"] = {"mass_kg": 35.0}
+    raw["fem"]["platform"] = "elastic"
+    with pytest.raises(InputError, match="fem.platform = 'elastic' with \\[payload\\] mass_kg"):
+        parse_scene(raw)

@@ -6,6 +6,7 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 
 from analytical.params import Manipulator
+from common.payload import Payload
 
 SEED = 20231201
 
@@ -25,6 +26,13 @@ class Row:
 
     def to_dict(self) -> dict:
         return {**asdict(self), "passed": self.passed}
+
+
+def bare(m: Manipulator) -> Manipulator:
+    """The machine without its payload: the claims of symmetry (repeated pairs, turned layouts)
+    and of material scaling are the structure's; a payload off the axis breaks the three-fold
+    symmetry, and its mass does not scale with the material's density."""
+    return replace(m, payload=Payload())
 
 
 def turned(m: Manipulator, angle: float) -> Manipulator:

@@ -12,7 +12,7 @@ from analytical.params import Material, Pose
 from analytical.reach import WorkspaceError, layer_heights, sample_poses
 from scene import Scene
 
-from .base import SEED, Row, untestable
+from .base import SEED, Row, bare, untestable
 
 # --- geometry --------------------------------------------------------------------------------
 
@@ -95,7 +95,7 @@ TITANIUM = (113.8e9, 0.342, 4430.0)  # Ti-6Al-4V: E (Pa), Poisson ratio, rho
 def aluminium_scaling(scene: Scene) -> Row:
     """With steel's Poisson ratio, an aluminium machine has K scaled by E and M by rho: every
     frequency scales by sqrt(E rho_steel / (E_steel rho)) exactly (to 1e-9)."""
-    m = scene.manipulator
+    m = bare(scene.manipulator)
     e, rho = ALUMINIUM
     scale = e / m.material.youngs_modulus
     aluminium = replace(m, material=Material(e, m.material.shear_modulus * scale, rho))
@@ -113,7 +113,7 @@ def titanium_scaling(scene: Scene) -> Row:
     Courant-Fischer every frequency ratio to steel lies between sqrt(E ratio / rho ratio) and
     sqrt(G ratio / rho ratio). No mode deviates from the sqrt(E / rho) scaling by more than a
     pure torsion mode would: |1 - sqrt((1 + nu_steel) / (1 + nu_Ti))| = 1.6 %."""
-    m = scene.manipulator
+    m = bare(scene.manipulator)
     e, nu, rho = TITANIUM
     titanium = replace(m, material=Material(e, e / (2 * (1 + nu)), rho))
     expected = math.sqrt(e / m.material.youngs_modulus * m.material.density / rho)

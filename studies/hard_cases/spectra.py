@@ -15,7 +15,7 @@ from analytical.reach import layer_heights, sample_poses
 from common.modes import clusters
 from scene import Scene
 
-from .base import SEED, Row, random_rotation, turned
+from .base import SEED, Row, bare, random_rotation, turned
 
 # --- repeated eigenvalues --------------------------------------------------------------------
 
@@ -24,7 +24,7 @@ def repeated_pairs(scene: Scene, runs: int = 1000, modes: int = 8) -> Row:
     repeated pairs. Over `runs` random layout turns, heights and rigid rotations of the whole
     machine, every pair of the unturned machine stays repeated (relative split below 1e-9) and
     every frequency stays the unturned machine's (to 1e-9)."""
-    m, opts = scene.manipulator, replace(scene.analytical, modes=modes)
+    m, opts = bare(scene.manipulator), replace(scene.analytical, modes=modes)
     rng = np.random.default_rng(SEED)
     heights = layer_heights(m, 2)
     worst = 0.0
@@ -46,7 +46,7 @@ def repeated_pairs(scene: Scene, runs: int = 1000, modes: int = 8) -> Row:
 def turned_layout(scene: Scene, poses: int = 300) -> Row:
     """A layout turned by gamma, posed at azimuth phi + gamma, is the same machine turned:
     its frequencies equal the unturned ones at phi (to 1e-9), at random tilted poses."""
-    m, opts = scene.manipulator, scene.analytical
+    m, opts = bare(scene.manipulator), scene.analytical
     rng = np.random.default_rng(SEED + 1)
     worst = 0.0
     for pose in sample_poses(m, poses, rng):
