@@ -338,3 +338,18 @@ def test_the_hard_cases_of_a_run_are_computed_once_per_scene_and_code(scene, tmp
     assert hard_case_rows(scene, cache) == first and len(calls) == 1
     hard_case_rows(replace(scene, analytical=replace(scene.analytical, elements=5)), cache)
     assert len(calls) == 2
+
+
+def test_a_claim_that_cannot_be_evaluated_is_a_failed_row_not_the_end_of_the_run(scene,
+                                                                                 monkeypatch):
+    """A random machine (4.2 mm legs, L/d 37, under a 12.6 mm plate) could not solve its
+    highest modes to the residual limit: the mode-count claim now fails, with the reason, and
+    the other claims and the run go on."""
+    from analytical.modal import ModalError
+
+    def refused(scene):
+        raise ModalError("eigen solve inaccurate: residual 3.02e-06 (limit 1e-06)")
+
+    row = hc._row((refused, scene, None))
+    assert row["passed"] is False and "residual 3.02e-06" in row["note"]
+    assert row["case"] == "refused" and row["measured"] > row["tolerance"]

@@ -10,7 +10,9 @@ plate, other metals, turned layouts, lower joint limits).
 """
 from __future__ import annotations
 
-from common.errors import ComputeError
+import math
+
+from common.errors import ComputeError, RpsError
 from common.settings import as_dict
 from runtime.cache import ResultCache
 from scene import Scene
@@ -38,8 +40,17 @@ CHEAP = (repeated_pairs, turned_layout, eigen_residuals, mode_count, no_spurious
 
 
 def _row(task) -> dict:
+    """One claim's row. A claim whose own computation is refused (an eigen solve of the
+    machine's highest modes less accurate than modal.RESIDUAL_LIMIT, a pose it cannot reach)
+    has not held: it is a failed row that says why, never the end of the run."""
     claim, scene, argument = task
-    return (claim(scene) if argument is None else claim(scene, argument)).to_dict()
+    try:
+        row = claim(scene) if argument is None else claim(scene, argument)
+    except RpsError as exc:
+        name = claim.__name__.replace("_", " ") + ("" if argument is None else f" ({argument})")
+        row = Row(name, "the claim could be evaluated on this machine", 0.0, 1.0,
+                  "evaluations that failed", note=" ".join(str(exc).split()))
+    return row.to_dict()
 
 
 def evaluate(scene: Scene, workers: int = 1) -> list[dict]:
