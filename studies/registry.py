@@ -75,17 +75,6 @@ class Study:
             raise InputError(f"study {self.key}: the run calls `run` at the case and scene "
                              "stages, and only there")
 
-    @property
-    def anchor(self) -> str | None:
-        """The report section that shows it (None: inside each case's section)."""
-        where = SECTIONS[self.key]
-        return None if where is None else where[0]
-
-    @property
-    def title(self) -> str | None:
-        where = SECTIONS[self.key]
-        return None if where is None else where[1]
-
 
 def floats(values) -> list[float]:
     """Plain floats for a record (numpy scalars are not JSON)."""

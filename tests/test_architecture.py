@@ -121,3 +121,12 @@ def test_every_room_says_what_it_holds_and_may_import():
         text = (ROOT / package / "README.md").read_text(encoding="utf-8").lower()
         assert "import" in text and "copy" in text, f"{package}/README.md: what it may " \
             "import and the example to copy"
+
+
+def test_every_study_has_its_section_and_every_section_its_study():
+    """The registry (studies.STUDIES) and the report's sections (results.sections) name the
+    same studies: a study the report cannot place, or a section no study fills, is refused."""
+    from results.sections import SECTIONS
+    from studies import STUDIES
+
+    assert sorted(s.key for s in STUDIES) == sorted(SECTIONS)
