@@ -10,7 +10,9 @@ from dataclasses import dataclass, field, replace
 
 from common.errors import InputError
 from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
+from common.leg_profile import LegPart, LegProfile
 from common.payload import Payload
+from common.stiffness import Stiffness
 from common.settings import (
     MAX_ANGLE,
     MAX_LENGTH,
@@ -86,12 +88,15 @@ class Manipulator:
                                  **_PART)
     platform_radius: float = setting(doc="r2, radius of the circle of platform joints A_i",
                                      unit="mm", **_PART)
-    leg_diameter: float = setting(doc="d, diameter of the solid circular legs", unit="mm",
-                                  **_PART)
+    leg_diameter: float = setting(doc="d, diameter of the solid circular legs (with a [leg] "
+                                  "housing and rod: not given; the largest of their outer "
+                                  "diameters)", unit="mm", **_PART)
     platform_thickness: float = setting(doc="h, thickness of the platform plate", unit="mm",
                                         **_PART)
     material: Material = nested_setting(Material)
     payload: Payload = nested_setting(Payload, default_factory=Payload)
+    leg: LegProfile = nested_setting(LegProfile, default_factory=LegProfile)
+    stiffness: Stiffness = nested_setting(Stiffness, default_factory=Stiffness)
     leg_angles: tuple[float, float, float] = setting(
         (0.0, 2 * math.pi / 3, 4 * math.pi / 3), kind=tuple, unit="deg", length=3,
         minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
@@ -127,6 +132,15 @@ class Manipulator:
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
 
+    def leg_parts(self, length: float) -> tuple[LegPart, ...]:
+        """The parts of a leg `length` long, base joint first (`common.leg_profile`)."""
+        return self.leg.parts(length, self.leg_diameter)
+
+    def end_part(self, end: str) -> LegPart:
+        """The part of every leg at its `end` ("base" or "platform"): its diameters are the
+        joint face's there."""
+        return self.leg.end_part(end, self.leg_diameter)
+
     @property
     def axis_end(self) -> str:
         """The end of every leg ("base" or "platform") whose joint has an axis (the R joint):
@@ -144,6 +158,7 @@ class Manipulator:
             platform_thickness=self.platform_thickness * k,
             actuator_min=self.actuator_min * k,
             actuator_max=self.actuator_max * k,
+            leg=self.leg.scaled(k),
         )
 
 
@@ -263,11 +278,31 @@ def check_manipulator(m: Manipulator) -> None:
             f"platform_shape = {m.platform_shape!r}: expected one of {', '.join(PLATFORM_SHAPES)}"
         )
     _check_proportions(m)
+    m.stiffness.check_joints(m.base_joint, m.platform_joint)
+
+
+def _check_profile(m: Manipulator) -> None:
+    """A housing and a rod: the manipulator's leg diameter is their largest, and the rod
+    reaches out of the housing at the shortest leg."""
+    leg = m.leg
+    if not math.isclose(m.leg_diameter, leg.largest_diameter, rel_tol=1e-12):
+        raise InputError(f"{_named(Manipulator, 'leg_diameter', m.leg_diameter)} with a [leg] "
+                         f"housing and rod: the leg's diameter is theirs (the largest outer one, "
+                         f"{leg.largest_diameter * 1e3:g} mm); leave leg_diameter_mm out")
+    if m.actuator_min < leg.shortest_leg():
+        raise InputError(
+            f"{_named(Manipulator, 'actuator_min', m.actuator_min)}: the shortest leg leaves "
+            f"a rod of {(m.actuator_min - leg.housing_length) * 1e3:.6g} mm out of the housing "
+            f"(leg.housing_length_mm = {leg.housing_length * 1e3:g}); expected at least the "
+            f"rod's diameter {leg.rod_outer_diameter * 1e3:g} mm, so actuator_min_mm >= "
+            f"{leg.shortest_leg() * 1e3:g}")
 
 
 def _check_proportions(m: Manipulator) -> None:
     """Bodies that the models take as separate solids meeting only at the joints."""
     d = m.leg_diameter
+    if m.leg.stepped:
+        _check_profile(m)
     if m.actuator_min < d:
         raise InputError(f"{_named(Manipulator, 'actuator_min', m.actuator_min)}: the shortest "
                          f"leg is shorter than its diameter "
@@ -282,14 +317,17 @@ def _check_proportions(m: Manipulator) -> None:
                          f"{_named(Manipulator, 'platform_radius', m.platform_radius)}; "
                          f"expected at most {m.platform_radius * 1e3:g} mm (a plate)")
     angles = m.leg_angles
-    for radius, name, ends in ((m.base_radius, "base_radius", "B"),
-                               (m.platform_radius, "platform_radius", "A")):
+    for radius, name, ends, end in ((m.base_radius, "base_radius", "B", "base"),
+                                    (m.platform_radius, "platform_radius", "A", "platform")):
+        d = m.end_part(end).outer
         for i in range(3):
             for j in range(i + 1, 3):
                 gap = _distance_on_circle(radius, angles[i], angles[j])
                 if gap <= d:
+                    what = (_named(Manipulator, 'leg_diameter', d) if not m.leg.stepped else
+                            f"leg.{m.end_part(end).name}_outer_diameter_mm = {d * 1e3:g}")
                     raise InputError(
-                        f"{_named(Manipulator, 'leg_diameter', d)}: legs {i + 1} and {j + 1} "
+                        f"{what}: legs {i + 1} and {j + 1} "
                         f"overlap at their joints {ends}{i + 1}, {ends}{j + 1} "
                         f"({gap * 1e3:.6g} mm apart with {_named(Manipulator, name, radius)} and "
                         f"leg_angles_deg); expected a leg diameter below {gap * 1e3:.6g} mm")

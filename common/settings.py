@@ -32,6 +32,8 @@ UNITS = {
     "kg/m3": ("_kg_m3", 1.0, "kg/m3"),
     "kg": ("_kg", 1.0, "kg"),
     "kg m2": ("_kg_m2", 1.0, "kg m2"),
+    "N/um": ("_n_per_um", 1e6, "N/m"),
+    "N m/urad": ("_nm_per_urad", 1e6, "N m/rad"),
 }
 
 

@@ -12,7 +12,9 @@ from pathlib import Path
 
 from analytical.params import Manipulator, Material, ModelOptions
 from common.paths import MAX_LENGTH
+from common.leg_profile import LegProfile
 from common.payload import Payload
+from common.stiffness import Stiffness
 from common.settings import Setting, declared
 from fem_reference.model import FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
@@ -38,6 +40,15 @@ TABLES = (
     ("[payload]", "A rigid body fixed to the platform (a tool, a spindle, a workpiece), carried "
      "identically by both models (common/payload.py). Leave the table out for none.",
      (Payload,)),
+    ("[leg]", "Every leg as a linear actuator: a housing tube of fixed length from the base joint "
+     "and a rod taking the rest of the pose's length, each solid or hollow (common/"
+     "leg_profile.py). Both models build their legs from this one profile. Leave the table out "
+     "for the paper's uniform solid leg of leg_diameter_mm; with it, leave leg_diameter_mm out.",
+     (LegProfile,)),
+    ("[stiffness]", "Joint bearings and the drive as linear springs, carried identically by both "
+     "models (common/stiffness.py): a joint spring joins the body to the leg end's reference "
+     "point, the drive spring joins the housing's end face to the rod's. 0 (the default) is "
+     "rigid.", (Stiffness,)),
     ("[fidelity]", "What accuracy the scene needs, on which modes. Where the scene leaves "
      "[analytical] out, and mesh_size_mm out of [fem], the run chooses the cheapest models that "
      "meet it, by measurement (studies/choice.py).", (FidelitySettings,)),

@@ -22,7 +22,9 @@ from analytical.params import (
 )
 from common.errors import InputError
 from common.paths import UnsafeName, distinct_stems
+from common.leg_profile import LegProfile
 from common.payload import Payload
+from common.stiffness import Stiffness
 from common.settings import (
     MAX_ANGLE,
     MAX_LENGTH,
@@ -301,7 +303,20 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     pay = top.table("payload", {})
     payload = pay.settings(Payload)
     pay.done()
-    manipulator = man.settings(Manipulator, material=material, payload=payload)
+    leg_t = top.table("leg", {})
+    leg = leg_t.settings(LegProfile)
+    leg_t.done()
+    stiff_t = top.table("stiffness", {})
+    stiffness = stiff_t.settings(Stiffness)
+    stiff_t.done()
+    parts = dict(material=material, payload=payload, leg=leg, stiffness=stiffness)
+    if leg.stepped:  # the leg's diameter is its parts' (common.leg_profile)
+        if "leg_diameter_mm" in man.data:
+            raise SceneError(f"{where}.manipulator.leg_diameter_mm = "
+                             f"{_short(man.data['leg_diameter_mm'])} with a [leg] housing and "
+                             "rod: their diameters are the leg's; leave leg_diameter_mm out")
+        parts["leg_diameter"] = leg.largest_diameter
+    manipulator = man.settings(Manipulator, **parts)
     shape_reason = man.settings(ManipulatorNotes).platform_shape_reason.strip()
     man.done()
     try:
