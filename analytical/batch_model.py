@@ -32,40 +32,49 @@ import scipy.linalg
 
 from common.rigid_body import skew
 
-from .end_zones import leg_segments, segments, zone_for
+from .end_zones import zone_for
 from .kinematics import Joint
+from .leg_chain import leg_segments
 from .modal import ModalError
 from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
 from .pose_batch import PoseBatch
 from .substructure import (
+    LegLayout,
     SingularJointMap,
     _leg_map,
     coordinate_count,
+    leg_layout,
     r_joint_direction,
+    spring_stiffness,
 )
 
 
 @dataclass(frozen=True)
 class LegMapBasis:
-    """T_i(arm, d) = constant + sum_k arm_k * per_arm[k] + sum_k d_k * per_direction[k],
-    restricted to `columns` of q (the leg's own coordinates and the platform's)."""
+    """T_i(arm, d, e) = constant + sum_k arm_k * per_arm[k] + sum_k d_k * per_direction[k]
+    + sum_k e_k * per_axis[k], restricted to `columns` of q (the leg's own coordinates and the
+    platform's); e is the leg's axis (the drive's stretch moves along it)."""
 
     columns: np.ndarray  # (c,) indices into q
     constant: np.ndarray  # (6(s+1), c)
     per_arm: np.ndarray  # (3, 6(s+1), c)
     per_direction: np.ndarray  # (3, 6(s+1), c)
+    per_axis: np.ndarray  # (3, 6(s+1), c)
 
-    def evaluate(self, arms: np.ndarray, directions: np.ndarray) -> np.ndarray:
-        """(N, 6(s+1), c) for arms and R-joint directions of shape (N, 3)."""
+    def evaluate(self, arms: np.ndarray, directions: np.ndarray,
+                 axes: np.ndarray | None = None) -> np.ndarray:
+        """(N, 6(s+1), c) for arms, R-joint directions and leg axes of shape (N, 3)."""
         varying = (arms @ self.per_arm.reshape(3, -1)
                    + directions @ self.per_direction.reshape(3, -1))
+        if axes is not None:
+            varying = varying + axes @ self.per_axis.reshape(3, -1)
         return self.constant + varying.reshape((len(arms),) + self.constant.shape)
 
     def touched(self, rows: slice) -> np.ndarray:
-        """Local columns that the given rows can reach for some arm and direction."""
+        """Local columns that the given rows can reach for some arm, direction and axis."""
         every = (np.abs(self.constant) + np.abs(self.per_arm).sum(0)
-                 + np.abs(self.per_direction).sum(0))
+                 + np.abs(self.per_direction).sum(0) + np.abs(self.per_axis).sum(0))
         return np.flatnonzero(np.any(every[rows] != 0.0, axis=0))
 
 
@@ -78,49 +87,55 @@ def _runs(q_columns: np.ndarray) -> list[tuple[slice, slice]]:
             for a, b in zip(starts, stops)]
 
 
-def leg_map_basis(elements: int, leg: int, base_joint: str, platform_joint: str) -> LegMapBasis:
-    """The joint map of leg `leg` probed at zero and unit arms and R-joint directions."""
-    def leg_map(arm, direction):
+def leg_map_basis(layout: LegLayout, leg: int, base_joint: str, platform_joint: str
+                  ) -> LegMapBasis:
+    """The joint map of leg `leg` probed at zero and unit arms, R-joint directions and leg
+    axes."""
+    def leg_map(arm, direction, axis):
         joints = (Joint.at(base_joint, np.zeros(3), direction, "base"),
                   Joint.at(platform_joint, np.zeros(3), direction, "platform"))
-        return _leg_map(elements, leg, joints, np.asarray(arm, float), "axis")
+        return _leg_map(layout, leg, joints, np.asarray(arm, float), "axis",
+                        np.asarray(axis, float))
 
     zero = np.zeros(3)
-    constant = leg_map(zero, zero)
-    per_arm = np.stack([leg_map(e, zero) - constant for e in np.eye(3)])
-    per_direction = np.stack([leg_map(zero, e) - constant for e in np.eye(3)])
-    every = np.concatenate([constant[None], per_arm, per_direction])
+    constant = leg_map(zero, zero, zero)
+    per_arm = np.stack([leg_map(e, zero, zero) - constant for e in np.eye(3)])
+    per_direction = np.stack([leg_map(zero, e, zero) - constant for e in np.eye(3)])
+    per_axis = np.stack([leg_map(zero, zero, e) - constant for e in np.eye(3)])
+    every = np.concatenate([constant[None], per_arm, per_direction, per_axis])
     columns = np.flatnonzero(np.any(every != 0.0, axis=(0, 1)))
-    probe = np.array([0.3, -0.7, 0.2]), np.array([0.6, 0.1, -0.4])
+    probe = (np.array([0.3, -0.7, 0.2]), np.array([0.6, 0.1, -0.4]),
+             np.array([-0.5, 0.4, 0.3]))
     affine = LegMapBasis(columns, constant[:, columns], per_arm[:, :, columns],
-                         per_direction[:, :, columns])
-    if not np.allclose(affine.evaluate(probe[0][None], probe[1][None])[0],
+                         per_direction[:, :, columns], per_axis[:, :, columns])
+    if not np.allclose(affine.evaluate(*(p[None] for p in probe))[0],
                        leg_map(*probe)[:, columns], rtol=0, atol=1e-14) or np.any(
                            leg_map(*probe)[:, np.setdiff1d(np.arange(constant.shape[1]),
                                                            columns)]):
-        raise AssertionError("the joint map is not affine in the arm and joint direction")
+        raise AssertionError("the joint map is not affine in the arm, joint direction and "
+                             "leg axis")
     return affine
 
 
 @dataclass(frozen=True)
 class AssemblyPlan:
-    """What does not change from pose to pose: per leg its map basis and, per element, the
+    """What does not change from pose to pose: per leg its map basis and, per segment, the
     local columns its rows touch and where those sit in q (contiguous runs)."""
 
-    elements: int
-    legs: tuple  # per leg: (LegMapBasis, ((columns, runs) per element))
+    layout: LegLayout
+    legs: tuple  # per leg: (LegMapBasis, ((columns, runs) per segment))
 
 
-def assembly_plan(elements: int, base_joint: str, platform_joint: str) -> AssemblyPlan:
+def assembly_plan(layout: LegLayout) -> AssemblyPlan:
     legs = []
     for i in range(3):
-        basis = leg_map_basis(elements, i, base_joint, platform_joint)
+        basis = leg_map_basis(layout, i, layout.base.type, layout.top.type)
         per_element = []
-        for e in range(elements):
+        for e in range(layout.segments):
             columns = basis.touched(slice(6 * e, 6 * e + 12))
             per_element.append((columns, _runs(basis.columns[columns])))
         legs.append((basis, tuple(per_element)))
-    return AssemblyPlan(elements, tuple(legs))
+    return AssemblyPlan(layout, tuple(legs))
 
 
 def _directions(axes: np.ndarray, form: str) -> np.ndarray:
@@ -148,10 +163,11 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
 
     `plan` (from `assembly_plan`) may be passed to reuse it over many batches.
     """
-    s = segments(options)  # frame elements, and the end zones with solid joint ends
-    if plan is None or plan.elements != s:
-        plan = assembly_plan(s, poses.base_joint, poses.platform_joint)
-    n, n_q = len(poses), coordinate_count(s, poses.base_joint, poses.platform_joint)
+    layout = leg_layout(manipulator, options, poses.base_joint, poses.platform_joint)
+    s = layout.segments  # elements, end zones with solid joint ends, the drive's
+    if plan is None or plan.layout != layout:
+        plan = assembly_plan(layout)
+    n, n_q = len(poses), coordinate_count(layout)
     matrices = np.zeros((2, n, n_q, n_q))  # K and M
     arms = poses.platform_points - poses.platform_centre[:, None, :]
     parts = leg_segments(manipulator, options, zone_for(manipulator, options),
@@ -162,7 +178,8 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
             directions = _directions(poses.joint_axes[:, i], options.r_joint_coordinate)
         except SingularJointMap as exc:
             raise ModalError(str(exc)) from None
-        t = basis.evaluate(arms[:, i], directions)  # global leg DOFs from q, Eqs. (10)-(21)
+        axes = poses.leg_frames[:, i, :, 0]  # the leg's axis B_i -> A_i, limb x
+        t = basis.evaluate(arms[:, i], directions, axes)  # leg DOFs from q, Eqs. (10)-(21)
         limb_to_base = np.swapaxes(poses.leg_frames[:, i], 1, 2)[:, None]
         local = (limb_to_base @ t.reshape(n, 2 * (s + 1), 3, -1)).reshape(t.shape)  # Eq. (6)
         for e, (columns, runs) in enumerate(per_element):
@@ -172,6 +189,11 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
                 for to_cols, b in runs:
                     matrices[:, :, to_rows, to_cols] += reduced[:, :, a, b]
         maps.append((basis.columns, t))
+        joints = (Joint.at(poses.base_joint, np.zeros(3), np.zeros(3), "base"),
+                  Joint.at(poses.platform_joint, np.zeros(3), np.zeros(3), "platform"))
+        for columns, spring in spring_stiffness(layout, manipulator, i, joints,
+                                                poses.joint_axes[:, i]):
+            matrices[0][:, columns[:, None], columns[None, :]] += spring
     stiffness, mass = matrices
     translation, rotation = slice(n_q - 6, n_q - 3), slice(n_q - 3, n_q)
     level = platform_mass_matrix(manipulator, np.eye(3), options.platform_inertia)

@@ -48,18 +48,42 @@ class Section:
         return cls(math.pi * r**2, i, i, 2.0 * i, 2.0 * i,
                    circle_shear_coefficient(poisson_ratio, shear))
 
+    @classmethod
+    def circle(cls, outer: float, inner: float, poisson_ratio: float,
+               shear: str = "cowper") -> "Section":
+        """A solid (inner = 0) or hollow circle of diameters `outer` and `inner`:
+        A = pi (a^2 - b^2), I = pi (a^4 - b^4) / 4, J = I_p = 2 I (a circle's St Venant
+        constant is its polar moment), kappa from `circle_shear_coefficient`."""
+        if inner == 0.0:
+            return cls.solid_circle(outer, poisson_ratio, shear)
+        a, b = outer / 2.0, inner / 2.0
+        i = math.pi * (a**4 - b**4) / 4.0
+        return cls(math.pi * (a**2 - b**2), i, i, 2.0 * i, 2.0 * i,
+                   circle_shear_coefficient(poisson_ratio, shear, b / a))
+
 
 SHEAR_COEFFICIENTS = ("cowper", "hutchinson")
 
 
-def circle_shear_coefficient(poisson_ratio: float, form: str = "cowper") -> float:
-    """Timoshenko shear coefficient of a solid circle: Cowper (J. Appl. Mech. 33, 1966)
-    6(1+nu)/(7+6nu), or Hutchinson (J. Appl. Mech. 68, 2001) 6(1+nu)^2/(7+12nu+4nu^2)."""
-    nu = poisson_ratio
+def circle_shear_coefficient(poisson_ratio: float, form: str = "cowper",
+                             bore: float = 0.0) -> float:
+    """Timoshenko shear coefficient of a circle, solid (bore = 0) or hollow with inner to outer
+    radius ratio `bore` = m = b / a:
+
+    - Cowper (J. Appl. Mech. 33, 1966): 6 (1+nu) (1+m^2)^2 / ((7+6nu) (1+m^2)^2 + (20+12nu) m^2),
+      6(1+nu)/(7+6nu) solid, 2(1+nu)/(4+3nu) for a thin tube;
+    - Hutchinson (J. Appl. Mech. 68, 2001): 6 (1+m^2)^2 (1+nu)^2 / ((7+12nu+4nu^2)(1+m^4)
+      + (34+48nu+16nu^2) m^2), 6(1+nu)^2/(7+12nu+4nu^2) solid, (1+nu)/(2+nu) for a thin tube.
+    """
+    nu, m2 = poisson_ratio, bore**2
+    if not 0.0 <= bore < 1.0:
+        raise InputError(f"bore ratio = {bore!r}: expected 0 <= inner / outer < 1")
     if form == "cowper":
-        return 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu)
+        return 6.0 * (1.0 + nu) * (1 + m2) ** 2 / ((7.0 + 6.0 * nu) * (1 + m2) ** 2
+                                                    + (20.0 + 12.0 * nu) * m2)
     if form == "hutchinson":
-        return 6.0 * (1.0 + nu) ** 2 / (7.0 + 12.0 * nu + 4.0 * nu**2)
+        return 6.0 * (1 + m2) ** 2 * (1.0 + nu) ** 2 / (
+            (7.0 + 12.0 * nu + 4.0 * nu**2) * (1 + m2**2) + (34.0 + 48.0 * nu + 16.0 * nu**2) * m2)
     raise InputError(f"shear = {form!r}: expected one of {', '.join(SHEAR_COEFFICIENTS)}")
 
 

@@ -12,7 +12,6 @@ from common.errors import InputError
 from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
 from common.leg_profile import LegPart, LegProfile
 from common.payload import Payload
-from common.stiffness import Stiffness
 from common.settings import (
     MAX_ANGLE,
     MAX_LENGTH,
@@ -23,6 +22,7 @@ from common.settings import (
     nested_setting,
     setting,
 )
+from common.stiffness import Stiffness
 
 from .beam import SHEAR_COEFFICIENTS
 

@@ -41,9 +41,11 @@ import numpy as np
 from common.errors import InputError
 from common.joints import JOINTS
 from common.rigid_body import skew
+from common.stiffness import joint_spring_matrix
 
-from .end_zones import leg_segments, leg_stations, segments, zone_for
+from .end_zones import zone_for
 from .kinematics import PoseGeometry
+from .leg_chain import leg_chain, leg_segments, leg_stations
 from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
 
@@ -85,60 +87,174 @@ def r_joint_direction(axis: np.ndarray, form: str) -> np.ndarray:
 LEGS = 3  # the substructure model is for a three-legged machine
 
 
+@dataclass(frozen=True)
+class JointLayout:
+    """The coordinates a joint gives its leg end: its free rotations (R: one, about the axis;
+    S: three) and, when compliant (`common.stiffness`), the relative motions its springs
+    resist: a translational spring adds the three translations tau of the leg end against the
+    body's point; a rotational spring on an R joint frees its two tied rotations too, so the
+    leg end's rotation relative to the body is three coordinates rho (the spring resists
+    rho's part normal to the axis, k_r (I - a a^T))."""
+
+    type: str
+    translational: bool = False
+    rotational: bool = False
+
+    @property
+    def rotations(self) -> int:
+        return 3 if self.rotational else JOINTS[self.type].free
+
+    @property
+    def count(self) -> int:
+        return self.rotations + (3 if self.translational else 0)
+
+
+@dataclass(frozen=True)
+class LegLayout:
+    """How a leg's nodal coordinates come from q: its joints' layouts, its node count and the
+    drive's node (`leg_chain`: it repeats the node before it plus delta along the leg)."""
+
+    base: JointLayout
+    top: JointLayout
+    segments: int
+    split: int | None = None
+
+    @property
+    def interior(self) -> int:
+        """Nodes with six coordinates of their own (not a joint's, not the drive's)."""
+        return self.segments - 1 - (self.split is not None)
+
+    @property
+    def count(self) -> int:
+        """Coordinates of one leg: base joint, interior nodes, delta, platform joint."""
+        return self.base.count + 6 * self.interior + (self.split is not None) + self.top.count
+
+
+def leg_layout(manipulator: Manipulator, options: ModelOptions, base_joint: str | None = None,
+               platform_joint: str | None = None) -> LegLayout:
+    """The layout of every leg of this machine with these options (the joints default to the
+    manipulator's)."""
+    chain = leg_chain(manipulator, options)
+    k = manipulator.stiffness
+    joints = []
+    for end, kind in (("base", base_joint or manipulator.base_joint),
+                      ("platform", platform_joint or manipulator.platform_joint)):
+        k_t, k_r = k.joint(end)
+        joints.append(JointLayout(kind, k_t > 0.0, k_r > 0.0 and JOINTS[kind].has_axis))
+    return LegLayout(joints[0], joints[1], chain.segments, chain.split)
+
+
+def rigid_layout(s: int, base_joint: str, platform_joint: str) -> LegLayout:
+    """The paper's leg of s segments between rigid joints, no drive spring."""
+    return LegLayout(JointLayout(base_joint), JointLayout(platform_joint), s)
+
+
 def leg_coordinates(s: int, base_joint: str, platform_joint: str) -> int:
-    """Independent coordinates of one leg of s segments: its base joint's free rotations, the
-    six of every interior node, its platform joint's free rotations (6 s - 2 for R and S)."""
-    return JOINTS[base_joint].free + 6 * (s - 1) + JOINTS[platform_joint].free
+    """Independent coordinates of one paper's leg of s segments: its base joint's free
+    rotations, the six of every interior node, its platform joint's free rotations (6 s - 2
+    for R and S)."""
+    return rigid_layout(s, base_joint, platform_joint).count
 
 
-def coordinate_count(s: int, base_joint: str, platform_joint: str) -> int:
-    """Length of q: every leg's coordinates, then the platform's six (18 s for R and S)."""
-    return LEGS * leg_coordinates(s, base_joint, platform_joint) + 6
+def coordinate_count(layout: LegLayout) -> int:
+    """Length of q: every leg's coordinates, then the platform's six (18 s for the paper's
+    leg)."""
+    return LEGS * layout.count + 6
 
 
-def _joint_rows(joint, first: int, n_q: int, platform: int, arm: np.ndarray,
-                r_form: str) -> np.ndarray:
+def model_coordinates(manipulator: Manipulator, options: ModelOptions) -> int:
+    """The analytical model's coordinates (its most modes) for this machine and options."""
+    return coordinate_count(leg_layout(manipulator, options))
+
+
+def _joint_rows(joint, layout: JointLayout, first: int, n_q: int, platform: int,
+                arm: np.ndarray, r_form: str) -> np.ndarray:
     """(6, n_q): the six nodal coordinates (translation, rotation) of the leg end at `joint`
-    in terms of q, the joint's own coordinates (its `free` rotations, `common.joints`) starting
-    at column `first`.
+    in terms of q, the joint's own coordinates (`layout`) starting at column `first`: its
+    rotations, then tau when translationally compliant.
 
-    - body "base": Delta = 0 (Eqs. 14-16); body "platform": Delta = Delta_p + Phi_p x arm
-      (Eq. 10), arm = joint centre - o.
+    - translation: body "base": Delta = tau (0 when rigid, Eqs. 14-16); body "platform":
+      Delta = Delta_p + Phi_p x arm (+ tau) (Eq. 10), arm = joint centre - o.
     - rotation: Phi = Phi_body + sum_k f_k psi_k over the joint's free rotations f_k; the body's
       rotation only where the joint ties some rotation to it (`follows_body`, Phi_body = 0 on
       the fixed base). S: three free rotations, the body's rotation does not reach the leg end
-      (Eq. 10); R: one, about the joint axis (Eqs. 16-17), scaled as `r_form` says.
+      (Eq. 10); R: one, about the joint axis (Eqs. 16-17), scaled as `r_form` says; R with a
+      rotational spring: three, rho, the body's rotation still reaching the leg end.
     """
     kind = JOINTS[joint.type]
     rows = np.zeros((6, n_q))
     if joint.body == "platform":
         rows[:3, platform:platform + 3] = np.eye(3)
         rows[:3, platform + 3:platform + 6] = -skew(arm)
-    axis = r_joint_direction(joint.axis, r_form) if kind.has_axis else None
-    rows[3:, first:first + kind.free] = kind.free_rotations(axis)
+    if layout.rotational:
+        rows[3:, first:first + 3] = np.eye(3)
+    else:
+        axis = r_joint_direction(joint.axis, r_form) if kind.has_axis else None
+        rows[3:, first:first + kind.free] = kind.free_rotations(axis)
     if kind.follows_body and joint.body == "platform":
         rows[3:, platform + 3:platform + 6] = np.eye(3)
+    if layout.translational:
+        tau = first + layout.rotations
+        rows[:3, tau:tau + 3] += np.eye(3)
     return rows
 
 
-def _leg_map(s: int, leg: int, joints, arm: np.ndarray, r_form: str) -> np.ndarray:
+def _leg_map(layout: LegLayout, leg: int, joints, arm: np.ndarray, r_form: str,
+             axis: np.ndarray | None = None) -> np.ndarray:
     """T_i: leg nodal coordinates (base frame) in terms of q (Eqs. 10, 12, 17, 21).
 
-    Per leg, q holds the base joint's free rotations, the interior nodes' six coordinates and
-    the platform joint's free rotations (`leg_coordinates`); every leg has the same joints.
+    Per leg, q holds the base joint's coordinates, the interior nodes' six, the drive's
+    stretch delta and the platform joint's coordinates (`LegLayout`); every leg has the same
+    joints. `axis` is the leg's unit axis B_i -> A_i (base frame), along which the drive's
+    node moves by delta.
     """
     base, top = joints
-    per_leg = leg_coordinates(s, base.type, top.type)
-    first = leg * per_leg
-    platform = LEGS * per_leg
+    first = leg * layout.count
+    platform = LEGS * layout.count
     n_q = platform + 6
-    nb = JOINTS[base.type].free
-    inner = 6 * (s - 1)
+    s = layout.segments
     t = np.zeros((6 * (s + 1), n_q))
-    t[0:6] = _joint_rows(base, first, n_q, platform, arm, r_form)
-    t[6:6 + inner, first + nb:first + nb + inner] = np.eye(inner)  # interior nodes
-    t[6 * s:] = _joint_rows(top, first + nb + inner, n_q, platform, arm, r_form)
+    t[0:6] = _joint_rows(base, layout.base, first, n_q, platform, arm, r_form)
+    column = first + layout.base.count
+    for node in range(1, s):
+        rows = slice(6 * node, 6 * node + 6)
+        if node == layout.split:
+            continue
+        t[rows, column:column + 6] = np.eye(6)
+        column += 6
+    top_first = column + (layout.split is not None)
+    t[6 * s:] = _joint_rows(top, layout.top, top_first, n_q, platform, arm, r_form)
+    if layout.split is not None:  # u_split = u_before + delta e
+        j = layout.split
+        t[6 * j:6 * j + 6] = t[6 * j - 6:6 * j]
+        t[6 * j:6 * j + 3, column] += np.zeros(3) if axis is None else axis
     return t
+
+
+def spring_stiffness(layout: LegLayout, manipulator: Manipulator, leg: int, joints,
+                     axes=None) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The springs of leg `leg` on q, as (columns, block) pairs: each joint's
+    `common.stiffness.joint_spring_matrix` on its tau and rho, the drive's k_a on delta.
+    `axes` (N, 3), R-joint axes of N poses, batches the blocks, (N, c, c); default: the
+    joints' own axes, one pose."""
+    out = []
+    first = leg * layout.count
+    column = first
+    for end, joint, jl in (("base", joints[0], layout.base), ("platform", joints[1], layout.top)):
+        if end == "platform":
+            column = first + layout.base.count + 6 * layout.interior
+            if layout.split is not None:
+                out.append((np.array([column]),
+                            np.array([[manipulator.stiffness.actuator_axial]])))
+                column += 1
+        k_t, k_r = manipulator.stiffness.joint(end)
+        block = joint_spring_matrix(joint.type, joint.axis if axes is None else axes, k_t, k_r)
+        if jl.rotational:
+            out.append((np.arange(column, column + 3), block[..., 3:, 3:]))
+        if jl.translational:
+            tau = column + jl.rotations
+            out.append((np.arange(tau, tau + 3), block[..., :3, :3]))
+    return out
 
 
 def _to_limb_frame(leg_map: np.ndarray, rotation: np.ndarray) -> np.ndarray:
@@ -155,22 +271,24 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
              options: ModelOptions) -> SubstructureModel:
     """Reduced stiffness K and mass M of the whole manipulator in one pose (Eqs. 4-22).
 
-    With solid joint ends every leg has s + 2 segments (analytical.end_zones): the condensed
-    end zones at B_i and A_i and s frame elements between them; the joints act on the zones'
-    joint nodes exactly as on a beam's end nodes.
+    Every leg is its chain of segments (`leg_chain`: frame elements of each part, solid end
+    zones at the coupled faces with solid joint ends, the drive's node); the joints act on the
+    chain's end nodes exactly as on a beam's end nodes; the joint and drive springs add their
+    energy on their coordinates (`spring_stiffness`).
     """
-    n = segments(options)
     if geometry.leg_count != LEGS:
         raise InputError(f"{geometry.leg_count} legs: the substructure model is for three")
-    zone = zone_for(manipulator, options)
-    n_q = coordinate_count(n, geometry.base_joint, geometry.platform_joint)
+    layout = leg_layout(manipulator, options, geometry.base_joint, geometry.platform_joint)
+    n = layout.segments
+    zones = zone_for(manipulator, options)
+    n_q = coordinate_count(layout)
     k_total = np.zeros((n_q, n_q))
     m_total = np.zeros((n_q, n_q))
     maps = []
     nodes = np.empty((geometry.leg_count, n + 1, 3))
     lengths = np.asarray(geometry.leg_lengths, float)
-    stations = leg_stations(options, zone, lengths)
-    parts = leg_segments(manipulator, options, zone, lengths)  # (n, 2, 3, 12, 12), Eq. (4)
+    stations = leg_stations(manipulator, options, zones, lengths)
+    parts = leg_segments(manipulator, options, zones, lengths)  # (n, 2, 3, 12, 12), Eq. (4)
     for i in range(geometry.leg_count):
         k_local = np.zeros((6 * (n + 1), 6 * (n + 1)))
         m_local = np.zeros_like(k_local)
@@ -179,13 +297,17 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
             k_local[sl, sl] += parts[e, 0, i]
             m_local[sl, sl] += parts[e, 1, i]
         arm = geometry.platform_points[i] - geometry.platform_centre
-        t = _leg_map(n, i, geometry.leg_joints(i), arm, options.r_joint_coordinate)
+        joints = geometry.leg_joints(i)
+        t = _leg_map(layout, i, joints, arm, options.r_joint_coordinate,
+                     geometry.leg_frames[i][:, 0])
         local = _to_limb_frame(t, geometry.leg_frames[i])  # u_i = T_i^T T q, Eqs. (5)-(6)
         cols = np.flatnonzero(np.any(local != 0.0, axis=0))  # this leg's and the platform's
         local = local[:, cols]
         block = np.ix_(cols, cols)
         k_total[block] += local.T @ k_local @ local
         m_total[block] += local.T @ m_local @ local
+        for columns, spring in spring_stiffness(layout, manipulator, i, joints):
+            k_total[np.ix_(columns, columns)] += spring
         maps.append(t)
         nodes[i] = geometry.base_points[i] + np.outer(stations[i], geometry.platform_points[i]
                                                       - geometry.base_points[i])

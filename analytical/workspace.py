@@ -32,11 +32,11 @@ from .batch_model import (
     probe_shapes,
     standard_form,
 )
-from .end_zones import segments, zone_for
+from .end_zones import zone_for
 from .params import Manipulator, ModelOptions
 from .pose_batch import pose_batch
 from .reach import regular_radii
-from .substructure import coordinate_count
+from .substructure import leg_layout, model_coordinates
 from .tracking import (
     REPEATED,
     family_values,
@@ -128,7 +128,7 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radiu
     where[ring_of[feasible], az_of[feasible]] = np.arange(len(feasible))
     where[0, :] = where[0, 0]  # the level pose is the same for every azimuth
     solvable = poses.take(feasible)
-    plan = assembly_plan(segments(options), poses.base_joint, poses.platform_joint)
+    plan = assembly_plan(leg_layout(manipulator, options, poses.base_joint, poses.platform_joint))
     solved = []  # per chunk of poses: (its slice, its model, its standard form)
     for chunk in _chunks(len(feasible)):
         model = assemble_batch(manipulator, solvable.take(chunk), options, plan)
@@ -300,8 +300,7 @@ def _renumbered(crossing: Crossing, relabel: np.ndarray) -> Crossing | None:
 def followed_modes(manipulator, options) -> int:
     """The most modes a map can follow with these options: one fewer than the model has
     coordinates (the window of every pose)."""
-    return coordinate_count(segments(options), manipulator.base_joint,
-                            manipulator.platform_joint) - 1
+    return model_coordinates(manipulator, options) - 1
 
 
 def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, rings: int = 6,

@@ -105,13 +105,14 @@ class Stiffness:
 
 def joint_spring_matrix(joint_type: str, axis, k_t: float, k_r: float) -> np.ndarray:
     """6x6 stiffness of a compliant joint on the leg end's motion relative to its body
-    (translation, rotation; base coordinates), the module's K_t and K_r. A rigid part (k = 0)
-    has no spring: the model ties that motion instead, and this block is zero there."""
-    out = np.zeros((6, 6))
-    out[:3, :3] = k_t * np.eye(3)
+    (translation, rotation; base coordinates), the module's K_t and K_r; `axis` (3,) or a
+    batch (..., 3) of unit joint axes gives (..., 6, 6). A rigid part (k = 0) has no spring:
+    the model ties that motion instead, and this block is zero there."""
     kind = JOINTS[joint_type]
+    a = np.zeros(3) if axis is None else np.asarray(axis, float)
+    out = np.zeros(a.shape[:-1] + (6, 6))
+    out[..., :3, :3] = k_t * np.eye(3)
     if kind.has_axis and k_r:
-        a = np.asarray(axis, float)
-        a = a / np.linalg.norm(a)
-        out[3:, 3:] = k_r * (np.eye(3) - np.outer(a, a))
+        a = a / np.linalg.norm(a, axis=-1, keepdims=True)
+        out[..., 3:, 3:] = k_r * (np.eye(3) - a[..., :, None] * a[..., None, :])
     return out

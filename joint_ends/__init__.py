@@ -21,21 +21,23 @@ __all__ = ["COUPLINGS", "EndZone", "ZoneMesh", "end_zone"]
 
 def end_zone(diameter: float, length: float, youngs_modulus: float, shear_modulus: float,
              density: float, coupling: str, mesh: ZoneMesh = ZoneMesh(),
-             cache_dir=None) -> EndZone:
+             cache_dir=None, inner_diameter: float = 0.0) -> EndZone:
     """The condensed end zone (`EndZone`) of a leg of this diameter and material, `length`
-    long, its joint face coupled as `coupling`; SI units. `cache_dir`: the cache directory (the
-    zones go to its `joint_ends/`); None: the default one."""
+    long, its joint face coupled as `coupling`; SI units; a tube with a bore of
+    `inner_diameter` (0: solid). `cache_dir`: the cache directory (the zones go to its
+    `joint_ends/`); None: the default one."""
     return _memo(float(diameter), float(length), float(youngs_modulus), float(shear_modulus),
                  float(density), str(coupling), mesh, None if cache_dir is None
-                 else str(cache_dir))
+                 else str(cache_dir), float(inner_diameter))
 
 
 @lru_cache(maxsize=16)
-def _memo(diameter, length, youngs_modulus, shear_modulus, density, coupling, mesh, cache_dir):
+def _memo(diameter, length, youngs_modulus, shear_modulus, density, coupling, mesh, cache_dir,
+          inner_diameter):
     from .cache import cached_zone, default_dir
 
     model = cached_zone(diameter, length, youngs_modulus, shear_modulus, density, coupling,
-                        mesh, default_dir(cache_dir))
+                        mesh, default_dir(cache_dir), inner_diameter)
     model.stiffness.setflags(write=False)
     model.mass.setflags(write=False)
     return EndZone(model.length, model.stiffness, model.mass)

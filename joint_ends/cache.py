@@ -28,7 +28,7 @@ KIND = "joint_ends"  # the entries' folder under a cache directory, beside the o
 
 
 def zone_inputs(diameter, length, youngs_modulus, shear_modulus, density, coupling,
-                mesh: ZoneMesh) -> dict:
+                mesh: ZoneMesh, inner_diameter: float = 0.0) -> dict:
     from meshing.geometry import PINNED_OPTIONS, gmsh_version
 
     rounded = lambda x: float(f"{x:.12g}")  # noqa: E731
@@ -36,7 +36,8 @@ def zone_inputs(diameter, length, youngs_modulus, shear_modulus, density, coupli
             "diameter_m": rounded(diameter), "length_m": rounded(length),
             "youngs_modulus_pa": rounded(youngs_modulus),
             "shear_modulus_pa": rounded(shear_modulus), "density_kg_m3": rounded(density),
-            "coupling": coupling, "mesh": as_dict(mesh)}
+            "coupling": coupling, "mesh": as_dict(mesh)} | (
+                {"inner_diameter_m": rounded(inner_diameter)} if inner_diameter else {})
 
 
 def zone_key(inputs: dict) -> str:
@@ -50,11 +51,12 @@ def default_dir(root: str | os.PathLike | None = None) -> Path:
 
 
 def cached_zone(diameter, length, youngs_modulus, shear_modulus, density, coupling,
-                mesh: ZoneMesh = ZoneMesh(), cache_dir: str | os.PathLike | None = None
-                ) -> ZoneModel:
-    """The condensed zone from the cache, or built and stored."""
+                mesh: ZoneMesh = ZoneMesh(), cache_dir: str | os.PathLike | None = None,
+                inner_diameter: float = 0.0) -> ZoneModel:
+    """The condensed zone from the cache, or built and stored (a tube with a bore of
+    `inner_diameter`; 0: solid, the key of a solid zone unchanged)."""
     inputs = zone_inputs(diameter, length, youngs_modulus, shear_modulus, density, coupling,
-                         mesh)
+                         mesh, inner_diameter)
     key = zone_key(inputs)
     directory = Path(cache_dir) if cache_dir is not None else default_dir()
     arrays, meta = directory / f"{key}.npz", directory / f"{key}.json"
@@ -69,7 +71,7 @@ def cached_zone(diameter, length, youngs_modulus, shear_modulus, density, coupli
         except (ChecksumError, ValueError, KeyError, OSError) as exc:
             report_dropped("end-zone cache entry", meta, str(exc) or type(exc).__name__)
     model = build_zone(diameter, length, youngs_modulus, shear_modulus, density, coupling,
-                       mesh)
+                       mesh, inner_diameter=inner_diameter)
     directory.mkdir(parents=True, exist_ok=True)
     atomic_write(arrays, lambda p: _save(p, model))
     record = dict(inputs, key=key, length_m=model.length, raw_dofs=model.raw_dofs,

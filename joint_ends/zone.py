@@ -79,14 +79,22 @@ class ZoneModel:
     first_interior_hz: float  # lowest mode with both ends held (Craig-Bampton's first)
 
 
-def cylinder_mesh(diameter: float, length: float, mesh: ZoneMesh):
-    """The solid cylinder (0, 0, 0) -> (length, 0, 0) of this diameter, meshed (faces
-    JOINT_FACE at x = 0 and INTERFACE at x = length)."""
+def cylinder_mesh(diameter: float, length: float, mesh: ZoneMesh, inner_diameter: float = 0.0):
+    """The solid cylinder (0, 0, 0) -> (length, 0, 0) of this diameter (a tube with a bore of
+    `inner_diameter`), meshed (faces JOINT_FACE at x = 0 and INTERFACE at x = length)."""
     from meshing.bodies import Assembly, Cylinder
     from meshing.geometry import MeshSettings, build_mesh
 
-    cylinder = Cylinder("zone", (0.0, 0.0, 0.0), (float(length), 0.0, 0.0), diameter / 2)
-    settings = MeshSettings(size=mesh.size * diameter, rim_factor=mesh.rim_factor,
+    if inner_diameter:
+        cylinder = Cylinder("zone", (0.0, 0.0, 0.0), (float(length), 0.0, 0.0), diameter / 2,
+                            inner_radius=inner_diameter / 2)
+    else:
+        cylinder = Cylinder("zone", (0.0, 0.0, 0.0), (float(length), 0.0, 0.0), diameter / 2)
+    # a tube's wall gets two elements across at least, however thin
+    size = mesh.size * diameter
+    if inner_diameter:
+        size = min(size, (diameter - inner_diameter) / 4)
+    settings = MeshSettings(size=size, rim_factor=mesh.rim_factor,
                             rim_zone=mesh.rim_zone * diameter)
     return build_mesh(Assembly((cylinder,)), settings)
 
@@ -162,7 +170,7 @@ def _dihedral_average(a: np.ndarray) -> np.ndarray:
 
 def build_zone(diameter: float, length: float, youngs_modulus: float, shear_modulus: float,
                density: float, coupling: str, mesh: ZoneMesh = ZoneMesh(),
-               interface: str = "distributing") -> ZoneModel:
+               interface: str = "distributing", inner_diameter: float = 0.0) -> ZoneModel:
     """Mesh, assemble and condense one end zone (see the module docstring). SI units.
 
     `coupling` ties the joint face to the joint point, `interface` the interface section to
@@ -173,7 +181,7 @@ def build_zone(diameter: float, length: float, youngs_modulus: float, shear_modu
     for name, value in (("coupling", coupling), ("interface", interface)):
         if value not in COUPLINGS:
             raise InputError(f"{name} = {value!r}: expected one of {', '.join(COUPLINGS)}")
-    disc = discretise(cylinder_mesh(diameter, length, mesh))
+    disc = discretise(cylinder_mesh(diameter, length, mesh, inner_diameter))
     k, m = stiffness_and_mass(disc, Solid(youngs_modulus, shear_modulus, density))
     ends = ((JOINT_FACE, np.zeros(3), coupling), (INTERFACE, np.array([length, 0.0, 0.0]),
                                                    interface))

@@ -14,7 +14,7 @@ from analytical.kinematics import PoseGeometry
 from analytical.modal import leg_axis_displacements, leg_axis_twists, platform_motion
 from analytical.model import analyse
 from analytical.params import ModelOptions
-from analytical.substructure import coordinate_count
+from analytical.substructure import model_coordinates
 from common.settings import as_dict
 from fem_reference.model import legs_for
 from runtime.cache import ResultCache
@@ -62,8 +62,7 @@ class Solve:
 def scene_coordinates(scene: Scene, options: ModelOptions) -> int:
     """The analytical model's coordinates (its number of modes) with these options: the
     joints' free rotations and six per interior node of every leg, plus the platform's six."""
-    m = scene.manipulator
-    return coordinate_count(options.elements, m.base_joint, m.platform_joint)
+    return model_coordinates(scene.manipulator, options)
 
 
 def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:

@@ -16,7 +16,8 @@ import pytest
 import scipy.linalg as la
 
 from analytical.beam import Section, assemble_beam
-from analytical.end_zones import JointEndsUnavailable, leg_segments
+from analytical.end_zones import JointEndsUnavailable
+from analytical.leg_chain import leg_segments
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions
 from joint_ends import EndZone
@@ -229,7 +230,7 @@ def test_legs_too_short_for_two_end_zones_are_refused_in_one_line(manipulator):
     zone = EndZone(0.3, np.eye(12), np.eye(12))
     opts = ModelOptions(joint_ends="solid")
     with pytest.raises(JointEndsUnavailable) as info:
-        leg_segments(manipulator, opts, zone, np.array([0.55]))
+        leg_segments(manipulator, opts, {"leg": zone}, np.array([0.55]))
     assert "\n" not in str(info.value) and "550 mm" in str(info.value)
 
 
