@@ -142,3 +142,19 @@ def leg_axis_twists(model: SubstructureModel, leg_frames: np.ndarray, shapes: np
         twist = np.einsum("b,kbn->kn", leg_frames[i][:, 0], nodal[i, :, 3:, :])
         out[i] = (1 - xi)[:, None] * twist[element] + xi[:, None] * twist[element + 1]
     return out
+
+
+ENERGY_PARTS = ("legs", "joints", "drive", "platform")
+
+
+def strain_energy_shares(model: SubstructureModel, shapes: np.ndarray) -> dict[str, np.ndarray]:
+    """The share of each mode's strain energy x^T K x in each part of the machine: the joints'
+    springs, the drive's, and the legs (the rest: every leg segment's elastic energy). The
+    platform is rigid in this model, so its share is 0 by construction. Returns part ->
+    (n,) fractions summing to 1 per mode."""
+    total = np.einsum("qn,qp,pn->n", shapes, model.stiffness, shapes)
+    out = {part: np.zeros(shapes.shape[1]) for part in ENERGY_PARTS}
+    for part, block in (model.springs or {}).items():
+        out[part] = np.einsum("qn,qp,pn->n", shapes, block, shapes) / total
+    out["legs"] = 1.0 - out["joints"] - out["drive"]
+    return out

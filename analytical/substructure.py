@@ -63,7 +63,8 @@ class SubstructureModel:
     leg_maps: tuple[np.ndarray, ...]  # T_i: (6(s+1), 18s), global leg nodal DOFs from q
     leg_nodes: np.ndarray  # (3, n+1, 3) node positions along each leg, base coordinates
     platform_slice: slice  # position of (Delta_p, Phi_p) in q
-    elements: int  # n, segments per leg: s frame elements (+ 2 end zones with solid ends)
+    elements: int  # n, segments per leg (leg_chain: elements, end zones, the drive's)
+    springs: dict | None = None  # "joints", "drive": each spring kind's share of K (18s, 18s)
 
 
 def r_joint_direction(axis: np.ndarray, form: str) -> np.ndarray:
@@ -285,6 +286,7 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
     k_total = np.zeros((n_q, n_q))
     m_total = np.zeros((n_q, n_q))
     maps = []
+    springs: dict[str, np.ndarray] = {}
     nodes = np.empty((geometry.leg_count, n + 1, 3))
     lengths = np.asarray(geometry.leg_lengths, float)
     stations = leg_stations(manipulator, options, zones, lengths)
@@ -307,11 +309,14 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
         k_total[block] += local.T @ k_local @ local
         m_total[block] += local.T @ m_local @ local
         for columns, spring in spring_stiffness(layout, manipulator, i, joints):
-            k_total[np.ix_(columns, columns)] += spring
+            kind = "drive" if len(columns) == 1 else "joints"
+            springs.setdefault(kind, np.zeros((n_q, n_q)))[np.ix_(columns, columns)] += spring
         maps.append(t)
         nodes[i] = geometry.base_points[i] + np.outer(stations[i], geometry.platform_points[i]
                                                       - geometry.base_points[i])
+    for block in springs.values():
+        k_total += block
     p = slice(n_q - 6, n_q)
     m_total[p, p] += platform_mass_matrix(manipulator, geometry.rotation,
                                           options.platform_inertia)
-    return SubstructureModel(k_total, m_total, tuple(maps), nodes, p, n)
+    return SubstructureModel(k_total, m_total, tuple(maps), nodes, p, n, springs)

@@ -28,6 +28,7 @@ import results as schema
 import studies
 from analytical.kinematics import pose_geometry
 from common.paths import distinct_stems, inside
+from common.settings import declared
 from fem_reference.export import write_mode_collection
 from results.tables import write_tables
 from runtime.cache import ROOT, ResultCache
@@ -104,7 +105,11 @@ def scene_summary(scene: Scene, path: str) -> dict:
             density_kg_m3=m.material.density,
             payload=schema.Payload(mass_kg=m.payload.mass,
                                    centre_mm=[1e3 * x for x in m.payload.centre],
-                                   inertia_kg_m2=list(m.payload.inertia))),
+                                   inertia_kg_m2=list(m.payload.inertia)),
+            leg=schema.LegProfile(**{spec.scene_key(n): spec.edge(getattr(m.leg, n))
+                                     for n, spec, _ in declared(m.leg)}),
+            stiffness=schema.Stiffness(**{spec.scene_key(n): spec.edge(getattr(m.stiffness, n))
+                                          for n, spec, _ in declared(m.stiffness)})),
         analytical=schema.AnalyticalSettings(
             elements=scene.analytical.elements, beam=scene.analytical.beam,
             platform_inertia=scene.analytical.platform_inertia, modes=scene.analytical.modes),
@@ -235,7 +240,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
                                    height_calibration=None, angle_conventions=[],
                                    workspace=None, joint_orders=[],
                                    joint_couplings=[], workspace_validation=None,
-                                   hard_cases=[]),
+                                   hard_cases=[], lowest_modes=[]),
             fidelity=None,
             fixture_note=None)
         mode_files = {}

@@ -21,6 +21,7 @@ from .case_tables import (
 from .cells import Cells, align, tables_in
 from .figure_set import has_paper, main_cases
 from .figures import PAPER_SECONDS
+from .real_machine import shares_table, sweep_table
 from .setup_tables import setup_tables
 from .study_tables import (
     calibration_table,
@@ -62,8 +63,8 @@ def case_context(results: dict, i: int, figs: dict, c: Cells) -> dict:
 
 
 SECTION_ORDER = ("summary", "fidelity", "scene", "comparison", "convergence", "modes", "speed",
-                 "workspace", "validation", "joint-orders", "joint-couplings", "hard-cases",
-                 "studies", "other")
+                 "workspace", "validation", "lowest-modes", "joint-orders", "joint-couplings",
+                 "hard-cases", "studies", "other")
 
 
 def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
@@ -81,7 +82,8 @@ def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
 STUDY_SECTIONS = {"convergence": "convergence studies", "speed": "speed vs error",
                   "workspace": "workspace maps", "validation": "workspace validation",
                   "joint-orders": "both joint orders",
-                  "joint-couplings": "both joint-face couplings", "hard-cases": "hard cases"}
+                  "joint-couplings": "both joint-face couplings", "hard-cases": "hard cases",
+                  "lowest-modes": "what sets the lowest modes"}
 
 
 def context(results: dict, results_path: Path, figs: dict) -> dict:
@@ -97,6 +99,11 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
     joint_orders = joint_order_tables(results, c)
     couplings = coupling_tables(results, c)
     hard = hard_cases_table(results, c)
+    lowest = [{"case": study["case"], "sets": study["sets_lowest"], "study": study,
+               "sweep": sweep_table(results, c, ci) if study["sweep"] else None,
+               "shares": shares_table(results, c, ci),
+               "fig": _figure(figs.get("sweeps", {}).get(study["case"]))}
+              for ci, study in enumerate(studies["lowest_modes"])]
     env = results["environment"]
     ctx = {
         "results": results, "scene": results["scene"], "env": env,
@@ -116,6 +123,7 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
             "validation": bool(results["studies"]["workspace_validation"]),
             "joint-orders": bool(joint_orders), "joint-couplings": bool(couplings),
             "hard-cases": bool(hard), "studies": bool(conventions or calibration),
+            "lowest-modes": bool(lowest),
             "other": bool(other)}),
         "cases": cases, "main_cases": main, "other_cases": other,
         "tables": setup_tables(results, c),
@@ -126,6 +134,8 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
             f"{h:g}" for h in (studies["joint_couplings"][0]["readings"][0]["fem_sizes_mm"]
                                if studies["joint_couplings"] else [])),
         "hard_cases": hard,
+        "lowest_modes": lowest,
+        "fig_leg_profile": _figure(figs.get("leg_profile")),
         "hard_failed": [r for r in results["studies"]["hard_cases"] if not r["passed"]],
         "conventions": conventions,
         "calibration": calibration,
@@ -141,7 +151,10 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
         "generated": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
     }
     # the studies these results do not hold, named once under the contents
-    ctx["omitted"] = [label for key, label in STUDY_SECTIONS.items() if key not in ctx["section"]]
+    springs = results["scene"]["manipulator"]["stiffness"]
+    needless = set() if any(springs.values()) else {"lowest-modes"}  # a scene without springs
+    ctx["omitted"] = [label for key, label in STUDY_SECTIONS.items()
+                      if key not in ctx["section"] and key not in needless]
     return ctx
 
 

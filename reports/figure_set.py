@@ -7,7 +7,7 @@ from pathlib import Path
 from common.errors import ComputeError
 from common.paths import distinct_stems, file_stem, inside
 
-from . import figures, validation, workspace_figures
+from . import figures, real_machine, validation, workspace_figures
 from .beam_figure import beam_mode
 from .figure_jobs import Job, draw
 from .results import joint_points, leg_axis_shapes, platform_centre, platform_motion
@@ -119,6 +119,16 @@ def make_figures(results: dict, results_path: Path, fig_dir: Path,
                  figs["workspace_polar"], then=polar_done)
         plan.add(workspace_figures.workspace_height, figs["workspace_height"], ws,
                  figs["workspace_height"], then=height_done)
+    m = results["scene"]["manipulator"]
+    if m["leg"]["housing_length_mm"] > 0:  # an actuator leg: its profile drawn
+        figs["leg_profile"] = inside(fig_dir, "leg_profile.png")
+        plan.add(real_machine.leg_profile, figs["leg_profile"], m, figs["leg_profile"])
+    figs["sweeps"] = {}
+    for study in results["studies"]["lowest_modes"]:
+        if study["sweep"]:
+            path = inside(fig_dir, f"stiffness_sweep_{stems.get(study['case'], 'case')}.png")
+            plan.add(real_machine.stiffness_sweep, path, study, path)
+            figs["sweeps"][study["case"]] = path
     plan.draw(cache_dir, workers)
     return figs
 

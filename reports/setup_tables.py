@@ -48,7 +48,27 @@ def manipulator_table(results: dict, c: Cells) -> dict:
         rows += [[c.text(literal=f"payload inertia about its centre, {axis}"),
                   c.num(f"{p}/inertia_kg_m2/{i}", 3), unit("kg m²")]
                  for i, axis in enumerate("xyz")]
+    if m["leg"]["housing_length_mm"] > 0:  # an actuator leg (common/leg_profile.py)
+        rows += [[c.text(literal=label), c.num(f"{q}/leg/{key}", 1), unit("mm")]
+                 for key, label in LEG_ROWS]
+    for key, label, u in STIFFNESS_ROWS:  # joint and drive springs (common/stiffness.py)
+        if m["stiffness"][key] > 0:
+            rows += [[c.text(literal=label), c.sci(f"{q}/stiffness/{key}"), unit(u)]]
     return {"head": [head("parameter", "value", "unit")], "rows": rows, "cls": "params"}
+
+
+LEG_ROWS = (("housing_length_mm", "leg housing length, from the base joint"),
+            ("housing_outer_diameter_mm", "housing outer diameter"),
+            ("housing_inner_diameter_mm", "housing bore (0: solid)"),
+            ("rod_outer_diameter_mm", "rod outer diameter"),
+            ("rod_inner_diameter_mm", "rod bore (0: solid)"))
+STIFFNESS_ROWS = (
+    ("actuator_axial_n_per_um", "drive axial stiffness (screw, nut, bearings)", "N/µm"),
+    ("base_joint_translational_n_per_um", "base joint translational stiffness", "N/µm"),
+    ("base_joint_rotational_nm_per_urad", "base joint rotational stiffness", "N m/µrad"),
+    ("platform_joint_translational_n_per_um", "platform joint translational stiffness", "N/µm"),
+    ("platform_joint_rotational_nm_per_urad", "platform joint rotational stiffness",
+     "N m/µrad"))
 
 
 def fidelity_table(results: dict, c: Cells) -> dict:

@@ -28,6 +28,28 @@ class Manipulator(TypedDict):
     poisson_ratio: FiniteFloat
     density_kg_m3: FiniteFloat
     payload: Payload
+    leg: LegProfile
+    stiffness: Stiffness
+
+
+@with_config(STRICT)
+class LegProfile(TypedDict):
+    """[leg]: all 0 for the uniform solid leg of leg_diameter_mm."""
+    housing_length_mm: FiniteFloat
+    housing_outer_diameter_mm: FiniteFloat
+    housing_inner_diameter_mm: FiniteFloat
+    rod_outer_diameter_mm: FiniteFloat
+    rod_inner_diameter_mm: FiniteFloat
+
+
+@with_config(STRICT)
+class Stiffness(TypedDict):
+    """[stiffness]: 0 is rigid."""
+    actuator_axial_n_per_um: FiniteFloat
+    base_joint_translational_n_per_um: FiniteFloat
+    base_joint_rotational_nm_per_urad: FiniteFloat
+    platform_joint_translational_n_per_um: FiniteFloat
+    platform_joint_rotational_nm_per_urad: FiniteFloat
 
 
 @with_config(STRICT)

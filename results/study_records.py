@@ -173,6 +173,41 @@ class ReachableWorkspace(TypedDict):
 
 
 @with_config(STRICT)
+class SweepPoint(TypedDict):
+    """Both models with the drive's stiffness scaled (studies.lowest_modes)."""
+    factor: FiniteFloat | None  # k_a / the scene's k_a; None: a rigid drive
+    actuator_n_per_um: FiniteFloat  # 0: rigid
+    analytical_hz: Frequencies  # the run's model, ascending
+    fem_hz: Frequencies  # the FEM at the run's mesh size, ascending
+    error_percent: list[FiniteFloat]  # analytical vs FEM, per FEM mode, paired by shape
+
+
+@with_config(STRICT)
+class EnergyShares(TypedDict):
+    """Where one mode's strain energy lies, percent (the run's analytical model)."""
+    mode: int
+    frequency_hz: Frequency
+    legs_percent: FiniteFloat
+    joints_percent: FiniteFloat
+    drive_percent: FiniteFloat
+    platform_percent: FiniteFloat  # 0: the platform is rigid in both models
+    largest: str  # "legs", "joints", "drive" or "platform"
+
+
+@with_config(STRICT)
+class LowestModes(TypedDict):
+    """What sets the lowest modes of one case (studies.lowest_modes)."""
+    case: str
+    fem_size_mm: FiniteFloat
+    sweep: list[SweepPoint]  # empty: the drive is rigid
+    rigid_drive: SweepPoint | None
+    knee_factor: FiniteFloat | None  # f1 = f1(rigid drive) / sqrt(2) there; None: not crossed
+    knee_n_per_um: FiniteFloat | None
+    shares: list[EnergyShares]  # at the scene's stiffness
+    sets_lowest: str  # the part holding most of mode 1's strain energy
+
+
+@with_config(STRICT)
 class Studies(TypedDict):
     reachable_workspace: ReachableWorkspace
     height_calibration: HeightCalibration | None
@@ -182,6 +217,7 @@ class Studies(TypedDict):
     joint_couplings: list[CouplingCase]  # empty: not run (the CI profile)
     workspace_validation: WorkspaceValidation | None
     hard_cases: list[HardCase]  # empty: not run (the CI profile)
+    lowest_modes: list[LowestModes]  # empty: no spring in the scene, or the CI profile
 
 
 @with_config(STRICT)

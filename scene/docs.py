@@ -11,11 +11,11 @@ from dataclasses import MISSING
 from pathlib import Path
 
 from analytical.params import Manipulator, Material, ModelOptions
-from common.paths import MAX_LENGTH
 from common.leg_profile import LegProfile
+from common.paths import MAX_LENGTH
 from common.payload import Payload
-from common.stiffness import Stiffness
 from common.settings import Setting, declared
+from common.stiffness import Stiffness
 from fem_reference.model import FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
 

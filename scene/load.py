@@ -21,10 +21,9 @@ from analytical.params import (
     check_manipulator,
 )
 from common.errors import InputError
-from common.paths import UnsafeName, distinct_stems
 from common.leg_profile import LegProfile
+from common.paths import UnsafeName, distinct_stems
 from common.payload import Payload
-from common.stiffness import Stiffness
 from common.settings import (
     MAX_ANGLE,
     MAX_LENGTH,
@@ -34,6 +33,7 @@ from common.settings import (
     nested,
     setting,
 )
+from common.stiffness import Stiffness
 from fem_reference.convergence import sequence_problem
 from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
 from meshing.geometry import MIN_MESH_SIZE

@@ -18,6 +18,7 @@ from . import (
     fem_idealisations,
     hard_cases,
     joint_orders,
+    lowest_modes,
     model_variants,
     reachable,
     speed_vs_error,
@@ -39,6 +40,7 @@ STUDIES: tuple[Study, ...] = (
     joint_orders.STUDY,
     couplings.STUDY,
     hard_cases.STUDY,
+    lowest_modes.STUDY,
 )
 
 

@@ -322,7 +322,14 @@ def test_fem_and_beam_model_agree_on_hard_geometry(name, tmp_path):
 
 
 def test_the_hard_cases_spread_over_two_workers_give_the_serial_rows(scene):
-    assert hc.evaluate(scene, workers=2) == hc.evaluate(scene, workers=1)
+    """The same rows; a measured round-off (an eigenpair's residual, 1e-12) may differ in its
+    last digits, as BLAS sums in another order in a worker with one thread (measured: 8.8e-12
+    and 7.0e-12), never by more than round-off."""
+    spread, serial = hc.evaluate(scene, workers=2), hc.evaluate(scene, workers=1)
+    assert [{**r, "measured": None} for r in spread] == [{**r, "measured": None}
+                                                          for r in serial]
+    for a, b in zip(spread, serial):
+        assert a["measured"] == pytest.approx(b["measured"], rel=1e-9, abs=1e-10)
 
 
 def test_the_hard_cases_of_a_run_are_computed_once_per_scene_and_code(scene, tmp_path,

@@ -187,7 +187,7 @@ def _ci_profile(results: dict) -> dict:
     ci["studies"] = {"reachable_workspace": results["studies"]["reachable_workspace"],
                      "height_calibration": None, "angle_conventions": [], "workspace": None,
                      "joint_orders": [], "joint_couplings": [], "workspace_validation": None,
-                     "hard_cases": []}
+                     "hard_cases": [], "lowest_modes": []}
     ci["cases"] = [c for c in ci["cases"] if c["name"] in ("case1", "case2")]
     for case in ci["cases"]:
         for key in ("fem_refinement", "models", "element_convergence", "fem_variants",
