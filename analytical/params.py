@@ -10,7 +10,7 @@ from dataclasses import dataclass, field, replace
 
 from common.errors import InputError
 from common.joints import COUPLINGS, JOINT_TYPES, JOINTS
-from common.leg_profile import LegPart, LegProfile
+from common.leg_profile import MIN_PART_DIAMETERS, LegPart, LegProfile
 from common.payload import Payload
 from common.settings import (
     MAX_ANGLE,
@@ -293,8 +293,8 @@ def _check_profile(m: Manipulator) -> None:
         raise InputError(
             f"{_named(Manipulator, 'actuator_min', m.actuator_min)}: the shortest leg leaves "
             f"a rod of {(m.actuator_min - leg.housing_length) * 1e3:.6g} mm out of the housing "
-            f"(leg.housing_length_mm = {leg.housing_length * 1e3:g}); expected at least the "
-            f"rod's diameter {leg.rod_outer_diameter * 1e3:g} mm, so actuator_min_mm >= "
+            f"(leg.housing_length_mm = {leg.housing_length * 1e3:g}); expected at least "
+            f"{MIN_PART_DIAMETERS:g} rod diameters, so actuator_min_mm >= "
             f"{leg.shortest_leg() * 1e3:g}")
 
 

@@ -24,6 +24,10 @@ from .errors import InputError
 from .settings import MAX_LENGTH, MIN_PART, check_settings, setting
 
 ENDS = ("base", "platform")
+# A part is at least this many of its diameters long: a tube or rod, not a ring, with room for
+# the solid end zones of half a diameter at both its coupled faces and a beam between them
+# (analytical.end_zones), at every reachable pose.
+MIN_PART_DIAMETERS = 1.2
 
 
 @dataclass(frozen=True)
@@ -90,10 +94,11 @@ class LegProfile:
                     f"{part}_outer_diameter_mm = {outer * 1e3:g}: the wall is thinner than "
                     f"{MIN_PART * 1e3:g} mm (expected a bore of at most "
                     f"{(outer - 2 * MIN_PART) * 1e3:g} mm, or 0 for a solid {part})")
-        if self.housing_length < self.housing_outer_diameter:
-            raise InputError(f"leg.housing_length_mm = {self.housing_length * 1e3:g}: shorter "
-                             f"than the housing's diameter {self.housing_outer_diameter * 1e3:g} "
-                             "mm (a tube, not a ring)")
+        if self.housing_length < MIN_PART_DIAMETERS * self.housing_outer_diameter:
+            raise InputError(f"leg.housing_length_mm = {self.housing_length * 1e3:g}: expected "
+                             f"at least {MIN_PART_DIAMETERS:g} housing diameters, "
+                             f"{MIN_PART_DIAMETERS * self.housing_outer_diameter * 1e3:g} mm "
+                             "(a tube, not a ring)")
 
     @property
     def stepped(self) -> bool:
@@ -106,11 +111,11 @@ class LegProfile:
         return max(self.housing_outer_diameter, self.rod_outer_diameter)
 
     def shortest_leg(self) -> float:
-        """The shortest leg this profile admits: the housing plus a rod at least as long as
-        its own diameter (a rod, not a disk), 0 for a uniform leg."""
+        """The shortest leg this profile admits: the housing plus a rod of MIN_PART_DIAMETERS
+        of its own diameters, 0 for a uniform leg."""
         if not self.stepped:
             return 0.0
-        return self.housing_length + self.rod_outer_diameter
+        return self.housing_length + MIN_PART_DIAMETERS * self.rod_outer_diameter
 
     def parts(self, length: float, diameter: float) -> tuple[LegPart, ...]:
         """The parts of a leg `length` long (m), base joint first; `diameter` is the uniform

@@ -23,6 +23,16 @@ MODELS = {"EB, s=3": dict(beam="euler-bernoulli", elements=3),
           "Timoshenko, s=3": dict(beam="timoshenko", elements=3)}
 
 
+def with_joints(m, base: str, top: str):
+    """The scene's springs for a joint order: a rotational spring is the R joint's (the S joint
+    constrains no rotation), so it moves with it; translational springs stay with their body."""
+    k = m.stiffness
+    if (base, top) == (m.base_joint, m.platform_joint):
+        return k
+    return replace(k, base_joint_rotational=k.platform_joint_rotational,
+                   platform_joint_rotational=k.base_joint_rotational)
+
+
 def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict]:
     """Per case and joint order: FEM frequencies and each beam model's error vs the FEM."""
     count = scene.analytical.modes
@@ -31,7 +41,8 @@ def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict
         case = scene.case(name)
         readings = []
         for base, top in ORDERS:
-            m = replace(scene.manipulator, base_joint=base, platform_joint=top)
+            m = replace(scene.manipulator, base_joint=base, platform_joint=top,
+                        stiffness=with_joints(scene.manipulator, base, top))
             ordered = replace(scene, manipulator=m)
             entry = results.JointOrderReading(
                 base_joint=base, platform_joint=top,

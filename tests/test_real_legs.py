@@ -268,7 +268,7 @@ def test_a_scene_with_every_key_reads_in_si(paper):
                                             "base_joint_rotational_nm_per_urad": 2.0,
                                             "platform_joint_translational_n_per_um": 600.0})
     del raw["manipulator"]["leg_diameter_mm"]
-    raw["manipulator"]["actuator_min_mm"] = 320.0  # the rod's 60 mm out of a 250 mm housing
+    raw["manipulator"]["actuator_min_mm"] = 330.0  # 80 mm of rod (>= 1.2 x 60) out of 250 mm
     m = parse_scene(raw).manipulator
     assert m.leg == TUBES and m.leg_diameter == pytest.approx(0.1)
     assert m.stiffness == ACTUATOR

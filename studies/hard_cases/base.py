@@ -6,7 +6,9 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 
 from analytical.params import Manipulator
+from common.leg_profile import LegProfile
 from common.payload import Payload
+from common.stiffness import Stiffness
 
 SEED = 20231201
 
@@ -29,10 +31,17 @@ class Row:
 
 
 def bare(m: Manipulator) -> Manipulator:
-    """The machine without its payload: the claims of symmetry (repeated pairs, turned layouts)
-    and of material scaling are the structure's; a payload off the axis breaks the three-fold
-    symmetry, and its mass does not scale with the material's density."""
-    return replace(m, payload=Payload())
+    """The machine without its payload and springs: the claims of symmetry (repeated pairs,
+    turned layouts) and of material scaling are the structure's; a payload off the axis breaks
+    the three-fold symmetry, its mass does not scale with the material's density, nor does a
+    spring's stiffness with the material's modulus."""
+    return replace(m, payload=Payload(), stiffness=Stiffness())
+
+
+def uniform(m: Manipulator, diameter: float) -> Manipulator:
+    """The machine with uniform solid legs of `diameter` (the claims about a leg's slenderness
+    are the paper's leg's)."""
+    return replace(m, leg=LegProfile(), leg_diameter=diameter)
 
 
 def turned(m: Manipulator, angle: float) -> Manipulator:

@@ -12,7 +12,7 @@ from analytical.params import Material, Pose
 from analytical.reach import WorkspaceError, layer_heights, sample_poses
 from scene import Scene
 
-from .base import SEED, Row, bare, untestable
+from .base import SEED, Row, bare, uniform, untestable
 
 # --- geometry --------------------------------------------------------------------------------
 
@@ -26,7 +26,7 @@ def beam_theory_gap(scene: Scene, slenderness: float, poses: int = 50) -> float:
     scene's machine with legs of L/d = `slenderness` (L at the middle level pose)."""
     m = scene.manipulator
     length = pose_geometry(m, Pose(float(layer_heights(m, 3)[1]))).leg_lengths[0]
-    machine = replace(m, leg_diameter=length / slenderness)
+    machine = uniform(m, length / slenderness)
     sample = sample_poses(machine, poses, np.random.default_rng(SEED + 3))  # may raise
     ratio = _ratio_over_poses(machine, replace(scene.analytical, beam="timoshenko", modes=6),
                               machine, replace(scene.analytical, beam="euler-bernoulli",
@@ -56,7 +56,7 @@ def stocky_legs(scene: Scene) -> Row:
     m = scene.manipulator
     z = float(layer_heights(m, 3)[1])
     length = pose_geometry(m, Pose(z)).leg_lengths[0]
-    stocky = replace(m, leg_diameter=length / 3)
+    stocky = uniform(m, length / 3)
     try:
         poses = sample_poses(stocky, 50, np.random.default_rng(SEED + 4))
     except WorkspaceError as exc:
