@@ -265,7 +265,8 @@ def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = 
         raise InputError(f"platform = 'elastic' with {geometry.platform_joint} joints on the "
                          "platform: the rotation of an elastic plate at a joint is not defined "
                          "here (use a rigid platform)")
-    phi = psi = np.zeros(0, np.int64)
+    phi: np.ndarray = np.zeros(0, np.int64)
+    psi: np.ndarray = np.zeros(0, np.int64)
     if coupling == "rigid":
         if needs_phi(stiffness, geometry):
             phi = bld.add_extra("phi", len(legs))  # one rotation per R joint

@@ -88,7 +88,8 @@ def harmonic_constraints(parts: list, offsets: list, harmonics: tuple, geometry,
     o = np.asarray(geometry.platform_centre, float)
     legs = geometry.leg_count
     per_leg = sum(p.index == 0 for p in parts)
-    phi = psi = np.zeros(0, np.int64)
+    phi: np.ndarray = np.zeros(0, np.int64)
+    psi: np.ndarray = np.zeros(0, np.int64)
     if coupling == "rigid":
         if needs_phi(stiffness, geometry):
             phi = bld.add_extra("phi", legs)

@@ -209,6 +209,7 @@ def rigid_rotation(joint, leg: int, phi: np.ndarray, psi: np.ndarray, plat: np.n
                          "coupling has coordinates for 1 or 3")
     cols, rot = coordinates[kind.free], kind.free_rotations(joint.axis)
     if kind.follows_body and joint.body == "platform":
+        assert plat is not None  # the rigid platform's coordinates (build_constraints checks)
         cols, rot = np.concatenate([cols, plat[3:]]), np.hstack([rot, np.eye(3)])
     return cols, rot
 

@@ -41,12 +41,16 @@ CORNER_ZONE = 1.0  # walls: the radius of a solid part, R - r_in of a tube
 
 
 def part_size(size: float, radius: float, inner: float = 0.0) -> float:
-    """The meridian's element size of a part: the global size h for a solid part (the guard
-    keeps h below the leg's diameter), min(h, wall / 2) for a tube, so that at least two P2
-    elements span its wall (R - r_in) whatever h: a thin wall bends through its thickness."""
+    """The meridian's element size of a part. A solid part: the global size h (the guard keeps
+    h below the leg's diameter). A tube of wall w = R - r_in and outer diameter D = 2 R:
+    min(h, w / 2, w h / D): at least two P2 elements span the wall at any h (a thin wall bends
+    through its thickness), and for h <= D / 2 (every refinement study's sizes) the size is
+    proportional to h, so a study refines the wall too (min(h, w / 2) alone would freeze the
+    wall's mesh for every h above w / 2, and the study would see no change and state none)."""
     if inner <= 0.0:
         return float(size)
-    return min(float(size), 0.5 * (radius - inner))
+    wall = radius - inner
+    return min(float(size), 0.5 * wall, wall * float(size) / (2.0 * radius))
 
 
 # ---------------------------------------------------------------- meridian mesh (gmsh, 2D)

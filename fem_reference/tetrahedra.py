@@ -81,16 +81,18 @@ class FemResult:
 
     def _section_mean(self, part, centres: np.ndarray) -> np.ndarray:
         """(len(centres), 3, n_modes): the mean displacement over the sections of a hollow part
-        at `centres` on its axis (which lies outside the solid): 4 Gauss-Legendre radii through
-        the wall (weights r dr) times 12 angles (the mean over equally spaced angles is exact
-        for the harmonics 0 and 1 that carry a section's rigid motion)."""
+        at `centres` on its axis (which lies outside the solid): 2 Gauss-Legendre radii through
+        the wall (weights r dr; exact for a field quadratic through the wall, and clear of the
+        curved surfaces, where the element search of `probes.locate` is affine) times 12
+        angles (the mean over equally spaced angles is exact for the harmonics 0 and 1 that
+        carry a section's rigid motion)."""
         b, a = np.asarray(part.start), np.asarray(part.end)
         axis = (a - b) / np.linalg.norm(a - b)
-        x, w = np.polynomial.legendre.leggauss(4)
+        x, w = np.polynomial.legendre.leggauss(2)
         r = part.inner_radius + 0.5 * (x + 1) * part.wall
         w = w * r / np.sum(w * r)
         unit = section_arms(axis, 1.0, 12)  # (12, 3)
-        offsets = (r[:, None, None] * unit[None]).reshape(-1, 3)  # (4 * 12, 3)
+        offsets = (r[:, None, None] * unit[None]).reshape(-1, 3)  # (2 * 12, 3)
         weights = np.repeat(w, len(unit)) / len(unit)
         pts = (centres[:, None, :] + offsets[None]).reshape(-1, 3)
         u = evaluate(self.disc, part.name, pts, self.modes_raw).reshape(len(centres),
