@@ -74,7 +74,7 @@ def test_a_clamped_hollow_tube_bends_as_a_beam(scene):
     free: the Euler-Bernoulli cantilever f_k = (beta_k L)^2 / (2 pi L^2) sqrt(E I / (rho A)),
     I = pi (R^4 - r^4) / 4, from below (shear and rotary inertia only lower it: by about
     (beta_k r_g)^2 (1 + E / (kappa G)) / 2, 0.07 % for mode 1 and 0.4 % for mode 2 with
-    r_g = 16 mm, kappa ~ 0.53)."""
+    r_g = 16 mm, kappa ~ 0.53; measured -0.02 % and -0.53 %)."""
     material = scene.manipulator.material
     lam, mu = lame(material)
     radius, inner, length = 0.025, 0.02, 2.0
@@ -158,10 +158,11 @@ def test_harmonic_and_tetrahedral_stepped_hollow_legs_agree_from_above(scene):
     """A stepped hollow leg (STEPPED) with the real springs, case 2: the harmonic legs at 40 mm
     (their tubes at min(h, w / 2, w h / D), converged to 1e-5: 20 mm changes f1-f6 by <= 7e-6)
     are the reference; the tetrahedra (one element across a wall at these sizes) converge to it
-    from above, 0.06-0.08 % at 30 mm and 0.05-0.07 % at 20 mm without springs (their own error
-    at these sizes on uniform legs, fem_reference/README.md: 0.05-0.09 %): within 0.15 % and
-    closer at 20 mm. Both dof estimates lie above the counts, and the two models' leg-axis
-    motions of mode 1 agree (hollow parts read by their sections' mean motion)."""
+    from above, measured 0.02-0.07 % at 30 mm and 0.01-0.05 % at 20 mm (their own error at
+    these sizes on uniform legs, fem_reference/README.md: 0.05-0.09 %; one element across a
+    wall here): within 0.15 % and closer at 20 mm. Both dof estimates lie above the counts,
+    and the two models' leg-axis motions of mode 1 agree (hollow parts read by their
+    sections' mean motion)."""
     m = replace(scene.manipulator, leg=STEPPED, actuator_min=0.4,
                 stiffness=Stiffness(**REAL))
     geometry = pose_geometry(m, scene.case("case2").pose)
