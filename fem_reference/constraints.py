@@ -54,6 +54,14 @@ from common.joints import COUPLINGS, JOINTS  # COUPLINGS: also read from here (t
 from common.rigid_body import rigid_body_mass, skew
 
 from .discretisation import Discretisation
+from .leg_points import (  # rigid_rotation: also read from here
+    LegPoints,
+    RefPoint,
+    needs_phi,
+    rigid_rotation,  # noqa: F401  (re-exported: the harmonic legs read it from here)
+    tie_distributing,
+    tie_rigid,
+)
 
 # ---------------------------------------------------------------- face averages (RBE3 weights)
 
@@ -112,6 +120,7 @@ class ConstraintMap:
     columns: dict[str, np.ndarray] = field(default_factory=dict)  # e.g. "phi", "psi", "platform"
     projections: dict[str, FaceProjection] = field(default_factory=dict)  # face -> projection
     references: dict[str, np.ndarray] = field(default_factory=dict)  # face -> reference point
+    springs: sp.csr_matrix | None = None  # the springs' stiffness on q (leg_points), or None
 
     @property
     def n_free(self) -> int:
@@ -140,6 +149,8 @@ class ConstraintBuilder:
         self.dependent = np.zeros(n_raw, bool)
         self.n_extra = 0
         self.extra = {}
+        self.springs = []  # (extra coordinates, stiffness matrix on them): leg_points
+        self.n_retained = 0
 
     def add_extra(self, name: str, count: int) -> np.ndarray:
         idx = np.arange(self.n_extra, self.n_extra + count)
@@ -174,71 +185,23 @@ class ConstraintBuilder:
         t.sum_duplicates()
         t.eliminate_zeros()
         columns = {k: len(retained) + v for k, v in self.extra.items()}
+        self.n_retained = len(retained)
         return t, retained, columns
 
-
-def _rigid_face(builder: ConstraintBuilder, nodes: np.ndarray, xyz: np.ndarray, ref: np.ndarray,
-                translation_cols: np.ndarray | None, translation_vals: np.ndarray | None,
-                translation_extra: bool, rotation_cols: np.ndarray, rotation_map: np.ndarray):
-    """Face nodes follow the reference point rigidly: u_k = t + theta x r_k (RBE2).
-
-    t = translation_vals @ q[translation_cols] (3 x n_t), theta = rotation_map @ q[rotation_cols]
-    (3 x n_r), all vectorised over the face's nodes.
-    """
-    r = xyz[nodes] - ref  # (n_f, 3)
-    rot = -skew(r) @ rotation_map  # (n_f, 3, n_r): theta x r = -[r x] theta
-    dofs = 3 * nodes[:, None] + np.arange(3)  # (n_f, 3)
-    builder.dependent[dofs.ravel()] = True
-    nr = len(rotation_cols)
-    builder.entries(np.repeat(dofs[:, :, None], nr, axis=2),
-                    np.broadcast_to(rotation_cols, rot.shape), rot, extra=True)
-    if translation_cols is not None:
-        nt = len(translation_cols)
-        builder.entries(np.repeat(dofs[:, :, None], nt, axis=2),
-                        np.broadcast_to(translation_cols, (len(nodes), 3, nt)),
-                        np.broadcast_to(translation_vals, (len(nodes), 3, nt)),
-                        extra=translation_extra)
-
-
-def _eliminate(builder: ConstraintBuilder, face_dofs: np.ndarray, c: np.ndarray,
-               rhs_cols: np.ndarray | None, rhs: np.ndarray | None, rhs_extra: bool,
-               candidates: np.ndarray | None = None):
-    """Solve C u_face = D q for len(C) face dofs chosen by pivoted QR (among the columns
-    `candidates`, default all: a dof that another constraint refers to must stay
-    independent); record them in T."""
-    allowed = np.arange(c.shape[1]) if candidates is None else np.asarray(candidates)
-    _, _, piv = la.qr(c[:, allowed], mode="economic", pivoting=True)
-    m = c.shape[0]
-    dep = np.sort(allowed[piv[:m]])
-    ind = np.setdiff1d(np.arange(c.shape[1]), dep)
-    cd_inv = la.inv(c[:, dep])
-    builder.dependent[face_dofs[dep]] = True
-    coeff = -cd_inv @ c[:, ind]  # (m, n_ind)
-    builder.entries(np.repeat(face_dofs[dep][:, None], len(ind), 1),
-                    np.broadcast_to(face_dofs[ind], coeff.shape), coeff, extra=False)
-    if rhs_cols is not None:
-        g = cd_inv @ rhs  # (m, n_rhs)
-        builder.entries(np.repeat(face_dofs[dep][:, None], len(rhs_cols), 1),
-                        np.broadcast_to(rhs_cols, g.shape), g, extra=rhs_extra)
-
-
-def rigid_rotation(joint, leg: int, phi: np.ndarray, psi: np.ndarray, plat: np.ndarray | None
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """(columns, map): the rotation of a rigidly coupled face's reference point as
-    map @ q[columns], read from the joint's declaration (`common.joints.JOINTS`): its free
-    rotations, `free_rotations(axis)`, on the leg's coordinates of that many rotations (phi_i,
-    one per leg, or psi_i, three per leg), plus the body's rotation when the joint ties some
-    rotations to its body and the body is the platform (the base does not turn). S, Eq. (10):
-    psi_i, free; R, Eqs. (16)-(17): phi_i about the joint axis plus the platform's rotation."""
-    kind = JOINTS[joint.type]
-    coordinates = {1: phi[leg:leg + 1], 3: psi[leg]}
-    if kind.free not in coordinates:
-        raise InputError(f"joint {joint.type!r}: {kind.free} free rotations, and the rigid "
-                         "coupling has coordinates for 1 or 3")
-    cols, rot = coordinates[kind.free], kind.free_rotations(joint.axis)
-    if kind.follows_body and joint.body == "platform":
-        cols, rot = np.concatenate([cols, plat[3:]]), np.hstack([rot, np.eye(3)])
-    return cols, rot
+    def spring_matrix(self) -> sp.csr_matrix | None:
+        """The springs' stiffness on the reduced coordinates q (after `finish`), or None when
+        there is no spring: 1/2 q^T S q is the springs' energy (`leg_points`)."""
+        if not self.springs:
+            return None
+        n = self.n_retained + self.n_extra
+        rows, cols, vals = [], [], []
+        for idx, k in self.springs:
+            c = self.n_retained + np.asarray(idx)
+            rows.append(np.repeat(c, len(c)))
+            cols.append(np.tile(c, len(c)))
+            vals.append(np.asarray(k, float).ravel())
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                                     np.concatenate(cols))), shape=(n, n))
 
 
 def distributing_joint(bld: ConstraintBuilder, face_dofs: np.ndarray, projection: np.ndarray,
@@ -249,14 +212,15 @@ def distributing_joint(bld: ConstraintBuilder, face_dofs: np.ndarray, projection
     (t_vals @ q[t_cols], none on the base), and so are the rotations the joint ties to its
     body, `tied_rotations(axis)` of its declaration (`common.joints.JOINTS`; none for S, the
     two normal to the axis for R). Eliminated for as many face dofs as equations
-    (`_eliminate`)."""
+    (`leg_points.eliminate`). A joint without springs: `leg_points.LegPoints` builds the
+    general point (springs, junctions) that `leg_points.tie_distributing` ties."""
     tied = JOINTS[joint.type].tied_rotations(joint.axis)  # (k, 3)
-    c = np.vstack([projection[:3], tied @ projection[3:]])
     if len(tied) and joint.body == "platform":  # the platform's rotation reaches the tied ones
-        rhs = np.vstack([t_vals, np.hstack([np.zeros((len(tied), 3)), tied])])
-        _eliminate(bld, face_dofs, c, plat, rhs, True, candidates)
+        rhs = (plat, np.vstack([t_vals, np.hstack([np.zeros((len(tied), 3)), tied])]), True)
     else:
-        _eliminate(bld, face_dofs, c, t_cols, t_vals, t_extra, candidates)
+        rhs = (t_cols, t_vals, t_extra) if t_cols is not None else None
+    point = RefPoint(np.asarray(joint.centre, float), None, None, tied, rhs)
+    tie_distributing(bld, face_dofs, projection, point, candidates)
 
 
 def patch_weights(disc: Discretisation, body: str, centre: np.ndarray, radius: float):
@@ -276,14 +240,16 @@ def patch_weights(disc: Discretisation, body: str, centre: np.ndarray, radius: f
 
 
 def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = "rigid",
-                      platform: str = "rigid", patch_radius: float | None = None
-                      ) -> ConstraintMap:
+                      platform: str = "rigid", patch_radius: float | None = None,
+                      stiffness=None) -> ConstraintMap:
     """T for the joints of every leg on the meshed legs (and plate), see the module docstring.
 
     `geometry` is an `analytical.kinematics.PoseGeometry` (its chain of joints per leg);
-    `assembly` the `meshing.bodies.Assembly` that was meshed (its leg cylinders name the faces).
-    With platform="rigid" the last six coordinates are the platform's (Delta_p, Phi_p) at o,
-    Eq. (7).
+    `assembly` the `meshing.bodies.Assembly` that was meshed (its legs' parts name the faces);
+    `stiffness` a `common.stiffness.Stiffness` (None: every joint and drive rigid): its springs,
+    a stepped leg's junction (`leg_points`) and the springs' matrix (`ConstraintMap.springs`).
+    With platform="rigid" the first six extra coordinates after the joints' are the platform's
+    (Delta_p, Phi_p) at o, Eq. (7).
     """
     if coupling not in COUPLINGS:
         raise InputError(f"coupling = {coupling!r}: expected one of {', '.join(COUPLINGS)}")
@@ -292,44 +258,50 @@ def build_constraints(disc: Discretisation, geometry, assembly, coupling: str = 
     xyz = disc.node_xyz
     o = np.asarray(geometry.platform_centre, float)
     projections, references = {}, {}
-    legs = assembly.cylinders
+    legs = assembly.legs
     if len(legs) != geometry.leg_count:
         raise InputError(f"{len(legs)} meshed legs for a pose of {geometry.leg_count}")
     if platform != "rigid" and JOINTS[geometry.platform_joint].follows_body:
         raise InputError(f"platform = 'elastic' with {geometry.platform_joint} joints on the "
                          "platform: the rotation of an elastic plate at a joint is not defined "
                          "here (use a rigid platform)")
+    phi: np.ndarray = np.zeros(0, np.int64)
+    psi: np.ndarray = np.zeros(0, np.int64)
     if coupling == "rigid":
-        phi = bld.add_extra("phi", len(legs))  # one rotation per R joint
+        if needs_phi(stiffness, geometry):
+            phi = bld.add_extra("phi", len(legs))  # one rotation per R joint
         psi = bld.add_extra("psi", 3 * len(legs)).reshape(len(legs), 3)  # three per S joint
     plat = bld.add_extra("platform", 6) if platform == "rigid" else None
-    for i, leg in enumerate(legs):
-        for face, joint in zip((leg.start_face, leg.end_face), geometry.leg_joints(i)):
-            ref = np.asarray(joint.centre, float)
-            projections[face] = face_projection(disc, face, ref)
-            references[face] = ref
-            # translation of the reference point imposed by the joint's body: none on the base;
-            # the platform's motion at the joint centre, Eq. (10)
-            if joint.body == "base":
-                t_cols = t_vals = None
-                t_extra = True
-            elif platform == "rigid":
-                t_cols, t_vals, t_extra = plat, np.hstack([np.eye(3), -skew(ref - o)]), True
-            else:
-                radius = patch_radius if patch_radius is not None else leg.radius
-                pn, pw = patch_weights(disc, "platform", ref, radius)
-                t_cols = (3 * pn[None, :] + np.arange(3)[:, None]).ravel()  # component-major
-                t_vals = np.zeros((3, 3 * len(pn)))
-                for c in range(3):
-                    t_vals[c, c * len(pn):(c + 1) * len(pn)] = pw
-                t_extra = False
-            if coupling == "rigid":
-                r_cols, r_map = rigid_rotation(joint, i, phi, psi, plat)
-                _rigid_face(bld, disc.face_nodes[face], xyz, ref, t_cols, t_vals, t_extra,
-                            r_cols, r_map)
-                continue
-            proj = projections[face]
-            fd = (3 * proj.nodes[:, None] + np.arange(3)).ravel()
-            distributing_joint(bld, fd, proj.matrix, joint, t_cols, t_vals, t_extra, plat)
+    points = LegPoints(bld, geometry, coupling, stiffness, len(legs[0]))
+    for i, parts in enumerate(legs):
+        # the translation of the platform joint's body at its centre: the rigid platform's
+        # motion there, Eq. (10), or the elastic plate's patch average
+        ref = np.asarray(geometry.leg_joints(i)[1].centre, float)
+        if platform == "rigid":
+            body = (plat, np.hstack([np.eye(3), -skew(ref - o)]), True)
+        else:
+            radius = patch_radius if patch_radius is not None else parts[-1].radius
+            pn, pw = patch_weights(disc, "platform", ref, radius)
+            t_vals = np.zeros((3, 3 * len(pn)))
+            for c in range(3):
+                t_vals[c, c * len(pn):(c + 1) * len(pn)] = pw
+            body = ((3 * pn[None, :] + np.arange(3)[:, None]).ravel(), t_vals, False)
+        b = np.asarray(geometry.base_points[i], float)
+        starts = [float(np.linalg.norm(np.subtract(c.start, b))) for c in parts]
+        starts[0] = 0.0
+        tied_to = points.face_points(i, starts, phi, psi, plat, body)
+        for part, ends in zip(parts, tied_to):
+            for face, point in zip((part.start_face, part.end_face), ends):
+                projections[face] = face_projection(disc, face, point.centre)
+                references[face] = point.centre
+                if coupling == "rigid":
+                    nodes = disc.face_nodes[face]
+                    tie_rigid(bld, 3 * nodes[:, None] + np.arange(3), xyz[nodes] - point.centre,
+                              point)
+                    continue
+                proj = projections[face]
+                fd = (3 * proj.nodes[:, None] + np.arange(3)).ravel()
+                tie_distributing(bld, fd, proj.matrix, point)
     t, retained, columns = bld.finish()
-    return ConstraintMap(t, n_raw, retained, columns, projections, references)
+    return ConstraintMap(t, n_raw, retained, columns, projections, references,
+                         bld.spring_matrix())

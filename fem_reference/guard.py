@@ -41,10 +41,21 @@ def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
     meet there (the face and the wall), NODES_PER_RIM_AREA int (1/s^2 - 1/h^2) 2 (2 pi R) dr.
     """
     h = settings.size
+    tubes = [c for c in assembly.cylinders if c.hollow]
     try:
-        nodes = NODES_PER_VOLUME * assembly.volume / h**3 + NODES_PER_AREA * assembly.area / h**2
+        if not tubes:
+            nodes = (NODES_PER_VOLUME * assembly.volume / h**3
+                     + NODES_PER_AREA * assembly.area / h**2)
+        else:  # the solids (and the plate) at h, each tube at its own size
+            plate = [assembly.plate] if assembly.plate is not None else []
+            solids = [c for c in assembly.cylinders if not c.hollow] + plate
+            nodes = (NODES_PER_VOLUME * sum(b.volume for b in solids) / h**3
+                     + NODES_PER_AREA * sum(b.area for b in solids) / h**2)
+            nodes += sum(_tube_nodes(c, settings) for c in tubes)
         if settings.rim_factor < 1 and settings.rim_zone > 0:
             for c in assembly.cylinders:
+                if c.hollow:
+                    continue
                 reach = min(settings.rim_zone, c.radius, 0.5 * c.length)
                 r = reach * np.concatenate([np.linspace(0.0, 1e-3, 50)[:-1],
                                             np.geomspace(1e-3, 1.0, 400)])
@@ -56,6 +67,25 @@ def estimate_raw_dofs(assembly: Assembly, settings: MeshSettings) -> int:
     if not math.isfinite(nodes):
         return MAX_ESTIMATE
     return int(3 * nodes) if 3 * nodes < MAX_ESTIMATE else MAX_ESTIMATE
+
+
+def _tube_nodes(c, settings: MeshSettings) -> float:
+    """P2 nodes of a tube: meshed at h_t = min(h, wall) (`meshing.geometry`'s wall field), its
+    rims graded on both circles (radius R + r_in in the rim term), the grading's size at most
+    h_t. The same constants as the solids'; a thin wall's elements are squat (one across the
+    wall), so the volume term counts them as h_t cubes: an upper bound (checked in
+    tests/test_fem_real_legs.py)."""
+    h = float(settings.size)
+    ht = min(h, c.wall)
+    nodes = NODES_PER_VOLUME * c.volume / ht**3 + NODES_PER_AREA * c.area / ht**2
+    if settings.rim_factor < 1 and settings.rim_zone > 0:
+        reach = min(settings.rim_zone, c.wall, 0.5 * c.length)
+        r = reach * np.concatenate([np.linspace(0.0, 1e-3, 50)[:-1],
+                                    np.geomspace(1e-3, 1.0, 400)])
+        finer = 1 / np.minimum(element_size(settings, r), ht) ** 2 - 1 / ht**2
+        nodes += (NODES_PER_RIM_AREA * 2 * (2 * math.pi * (c.radius + c.inner_radius))
+                  * float(np.trapezoid(2 * finer, r)))
+    return nodes
 
 
 PLATE_WIDTH_PER_THICKNESS = 2.0  # an elastic plate fills like a leg of twice its thickness
@@ -78,7 +108,7 @@ def check_mesh_size(assembly: Assembly, options: FemOptions, runtime: FemRuntime
     """Refuse, before meshing, a size coarser than a leg or whose estimated dofs exceed the
     DOF guard, or (tetrahedra) whose solve would not fit in memory: FemError naming the size."""
     settings = options.mesh
-    diameter = 2 * assembly.cylinders[0].radius
+    diameter = 2 * max(c.radius for c in assembly.cylinders)
     shown = f"mesh_size_mm = {settings.size * 1e3:g}"
     if settings.size > diameter:
         raise FemError(f"{shown}: coarser than the leg diameter {diameter * 1e3:g} mm (needs "

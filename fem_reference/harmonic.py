@@ -71,9 +71,11 @@ from .meridian import (
     families,
     leg_data,
     leg_harmonics,
-    leg_lengths,
     meridian_mesh,
     mesh_quality,
+    part_data,
+    part_size,
+    pose_parts,
 )
 from .reduction import reduced_matrices
 
@@ -121,29 +123,38 @@ def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = N
 
 def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicResult:
     size, coupling = float(options.mesh.size), options.coupling
-    radius = 0.5 * float(manipulator.leg_diameter)
-    for length in leg_lengths(geometry):  # the meshes first, so that "mesh" times them alone
-        meridian_mesh(radius, float(length), size)
+    for parts in pose_parts(manipulator, geometry):  # the meshes first: "mesh" times them alone
+        for p in parts:
+            radius, inner = 0.5 * float(p.outer), 0.5 * float(p.inner)
+            length = float(p.end) if p.start == 0.0 else round(float(p.end - p.start), 12)
+            h = part_size(size, radius, inner)
+            if inner:
+                meridian_mesh(radius, length, h, inner)
+            else:
+                meridian_mesh(radius, length, h)
     t_mesh = time.perf_counter()
-    legs = leg_data(manipulator, geometry, size, harmonics)
+    legs = part_data(manipulator, geometry, size, harmonics)
     fams = families(harmonics)
     offsets, n_raw = [], 0
-    for leg, _ in legs:
+    for part in legs:
         offsets.append(n_raw)
-        n_raw += len(fams) * 3 * leg.n_scalar
+        n_raw += len(fams) * 3 * part.leg.n_scalar
     if max_dofs is not None and n_raw > max_dofs:
         raise HarmonicError(f"mesh_size_mm = {size * 1e3:g}: {n_raw} harmonic dofs, above "
                             f"max_dofs = {max_dofs}")
-    t_map, columns = harmonic_constraints(legs, offsets, harmonics, geometry, coupling, n_raw)
+    t_map, columns, springs = harmonic_constraints(legs, offsets, harmonics, geometry, coupling,
+                                                   n_raw, getattr(manipulator, "stiffness",
+                                                                  None))
     k_blocks, m_blocks = [], []
-    for leg, _ in legs:
+    for part in legs:
         for n, _ in fams:
-            k_blocks.append(leg.stiffness[n])
-            m_blocks.append(leg.mass * (2.0 if n == 0 else 1.0))
+            k_blocks.append(part.leg.stiffness[n])
+            m_blocks.append(part.leg.mass * (2.0 if n == 0 else 1.0))
     plate = platform_plate(manipulator, geometry)
     kq, mq = reduced_matrices(sp.block_diag(k_blocks, format="csr"),
                               sp.block_diag(m_blocks, format="csr"), t_map,
-                              columns["platform"], plate, manipulator, geometry, options)
+                              columns["platform"], plate, manipulator, geometry, options,
+                              springs)
     t_asm = time.perf_counter()
     try:
         found = lowest_modes(kq, mq, options.modes)
@@ -152,16 +163,16 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
     t_end = time.perf_counter()
     v = normalise_signs(found.vectors)
     digest = hashlib.sha256()
-    for leg, _ in legs:
-        digest.update(np.ascontiguousarray(leg.basis.mesh.p).tobytes())
-        digest.update(np.ascontiguousarray(leg.basis.mesh.t).tobytes())
+    for part in legs:
+        digest.update(np.ascontiguousarray(part.leg.basis.mesh.p).tobytes())
+        digest.update(np.ascontiguousarray(part.leg.basis.mesh.t).tobytes())
     return HarmonicResult(
         frequencies_hz=found.frequencies_hz, dofs=int(kq.shape[0]), raw_dofs=n_raw,
         mesh_size=size,
         timings={"mesh": t_mesh - t0, "assemble": t_asm - t_mesh, "solve": t_end - t_asm},
         clusters=[list(map(int, c)) for c in found.clusters], mesh_digest=digest.hexdigest(),
-        n_elements=int(sum(leg.basis.mesh.t.shape[1] for leg, _ in legs)), options=options,
-        min_quality=min(mesh_quality(leg.basis.mesh) for leg, _ in legs),
+        n_elements=int(sum(p.leg.basis.mesh.t.shape[1] for p in legs)), options=options,
+        min_quality=min(mesh_quality(p.leg.basis.mesh) for p in legs),
         harmonics=tuple(harmonics), excluded_above_hz=math.nan, geometry=geometry,
         modes_q=v, modes_raw=t_map @ v, columns=columns,
-        legs=[(leg, frame, off) for (leg, frame), off in zip(legs, offsets)], plate=plate)
+        legs=[(p, off) for p, off in zip(legs, offsets)], plate=plate)

@@ -18,7 +18,8 @@ import scipy.sparse as sp
 
 from common.rigid_body import skew
 
-from .constraints import ConstraintBuilder, distributing_joint, rigid_rotation
+from .constraints import ConstraintBuilder
+from .leg_points import LegPoints, needs_phi, tie_distributing, tie_rigid_map
 from .meridian import LegHarmonics, families
 
 
@@ -41,14 +42,22 @@ def rigid_face_coefficients(n: int, family: str, rho: np.ndarray) -> np.ndarray:
     return h
 
 
+def section_constants(leg: LegHarmonics) -> tuple[float, float, float]:
+    """(A, I_xx, I_zz) of the part's section: a circle, or an annulus of a tube."""
+    r, ri = leg.radius, leg.inner
+    if not ri:
+        return math.pi * r**2, math.pi * r**4 / 4, math.pi * r**4 / 2
+    return (math.pi * (r**2 - ri**2), math.pi * (r**4 - ri**4) / 4,
+            math.pi * (r**4 - ri**4) / 2)
+
+
 def face_projection_coefficients(leg: LegHarmonics, face: int, n: int, family: str
                                  ) -> np.ndarray:
     """(6, len(face nodes), 3): the L2 projection of the face's displacement onto rigid
     motions about its centre, a = G^-1 int Phi^T u dA (constraints.face_projection), read from
     harmonic (n, family) of the face's nodal values, in the leg frame."""
     w1, w2 = leg.face_weights[face]
-    r = leg.radius
-    area, i_xx, i_zz = math.pi * r**2, math.pi * r**4 / 4, math.pi * r**4 / 2
+    area, i_xx, i_zz = section_constants(leg)
     p = np.zeros((6, len(w1), 3))
     if n == 0:
         p[2, :, 2] = 2 * math.pi * w1 / area  # t_z
@@ -64,21 +73,37 @@ def face_projection_coefficients(leg: LegHarmonics, face: int, n: int, family: s
     return p
 
 
-def harmonic_constraints(legs: list, offsets: list, harmonics: tuple, geometry, coupling: str,
-                         n_raw: int) -> tuple[sp.csr_matrix, dict]:
-    """(T, columns by name) of u = T q for the legs `legs` (per leg (LegHarmonics, frame))
-    whose raw dofs start at `offsets`, in blocks `families(harmonics)`: the regularity of
-    every harmonic on the axis, then each face tied to its joint (rigid: harmonics 0 and 1 of
-    its nodes follow the joint, n >= 2 held; distributing: its projected rigid motion is
-    constrained). The rigid platform's six coordinates are columns["platform"]."""
+def harmonic_constraints(parts: list, offsets: list, harmonics: tuple, geometry, coupling: str,
+                         n_raw: int, stiffness=None) -> tuple[sp.csr_matrix, dict, object]:
+    """(T, columns by name, springs) of u = T q for the legs' parts `parts`
+    (`meridian.PartHarmonics`, leg by leg, base joint first) whose raw dofs start at `offsets`,
+    in blocks `families(harmonics)`: the regularity of every harmonic on the axis of a solid
+    part, then each end face tied to its reference point (`leg_points`: the joints, a stepped
+    leg's junction, the springs of `stiffness`; rigid: harmonics 0 and 1 of its nodes follow
+    the point, n >= 2 held; distributing: its projected rigid motion is constrained). The
+    rigid platform's six coordinates are columns["platform"]; `springs` the springs'
+    stiffness on q (None without springs)."""
     fams = families(harmonics)
     bld = ConstraintBuilder(n_raw)
     o = np.asarray(geometry.platform_centre, float)
+    legs = geometry.leg_count
+    per_leg = sum(p.index == 0 for p in parts)
+    phi: np.ndarray = np.zeros(0, np.int64)
+    psi: np.ndarray = np.zeros(0, np.int64)
     if coupling == "rigid":
-        phi = bld.add_extra("phi", len(legs))
-        psi = bld.add_extra("psi", 3 * len(legs)).reshape(len(legs), 3)
+        if needs_phi(stiffness, geometry):
+            phi = bld.add_extra("phi", legs)
+        psi = bld.add_extra("psi", 3 * legs).reshape(legs, 3)
     plat = bld.add_extra("platform", 6)
-    for i, ((leg, frame), offset) in enumerate(zip(legs, offsets)):
+    points = LegPoints(bld, geometry, coupling, stiffness, per_leg)
+    tied_to = []
+    for i in range(legs):
+        ref = np.asarray(geometry.leg_joints(i)[1].centre, float)
+        body = (plat, np.hstack([np.eye(3), -skew(ref - o)]), True)  # Eq. (10)
+        starts = [p.start for p in parts if p.index == i]
+        tied_to += points.face_points(i, starts, phi, psi, plat, body)
+    for part, offset, ends in zip(parts, offsets, tied_to):
+        leg, frame = part.leg, part.frame
         n3 = 3 * leg.n_scalar
         e6 = la.block_diag(frame.T, frame.T)  # global (t, theta) -> leg frame
         base = {fam: offset + k * n3 for k, fam in enumerate(fams)}
@@ -96,15 +121,9 @@ def harmonic_constraints(legs: list, offsets: list, harmonics: tuple, geometry, 
             else:
                 for c in range(3):
                     bld.dependent[start + c] = True
-        for face_index, joint in enumerate(geometry.leg_joints(i)):
-            ref = np.asarray(joint.centre, float)
+        for face_index, point in enumerate(ends):
             nodes = leg.face_nodes[face_index]
-            if joint.body == "base":
-                t_cols = t_vals = None
-            else:  # Eq. (10): the platform's motion at the joint centre
-                t_cols, t_vals = plat, np.hstack([np.eye(3), -skew(ref - o)])
             if coupling == "rigid":
-                r_cols, r_map = rigid_rotation(joint, i, phi, psi, plat)
                 rho = leg.node_rz[nodes, 0]
                 for n, fam in fams:
                     dofs = base[(n, fam)] + 3 * nodes[:, None] + np.arange(3)  # (nf, 3)
@@ -112,13 +131,7 @@ def harmonic_constraints(legs: list, offsets: list, harmonics: tuple, geometry, 
                     if n >= 2:  # held
                         continue
                     h = rigid_face_coefficients(n, fam, rho) @ e6  # (nf, 3, 6), global a
-                    rot = h[:, :, 3:] @ r_map
-                    bld.entries(np.repeat(dofs[:, :, None], rot.shape[2], 2),
-                                np.broadcast_to(r_cols, rot.shape), rot, extra=True)
-                    if t_cols is not None:
-                        tr = h[:, :, :3] @ t_vals
-                        bld.entries(np.repeat(dofs[:, :, None], tr.shape[2], 2),
-                                    np.broadcast_to(t_cols, tr.shape), tr, extra=True)
+                    tie_rigid_map(bld, dofs, h, point)
                 continue
             # distributing: the face's projected rigid motion (global) over its free dofs
             cols, mats, movable = [], [], []
@@ -135,7 +148,6 @@ def harmonic_constraints(legs: list, offsets: list, harmonics: tuple, geometry, 
             face_dofs = np.concatenate(cols)
             candidates = np.flatnonzero(np.concatenate(movable))
             proj = la.block_diag(frame, frame) @ np.hstack(mats)  # (6, n) global a
-            distributing_joint(bld, face_dofs, proj, joint, t_cols, t_vals, True, plat,
-                               candidates)
+            tie_distributing(bld, face_dofs, proj, point, candidates)
     t_map, _, columns = bld.finish()
-    return t_map, columns
+    return t_map, columns, bld.spring_matrix()

@@ -1,8 +1,9 @@
-"""One leg of the harmonic model: its 2D meridian mesh and the matrices of its harmonics.
+"""One leg part of the harmonic model: its 2D meridian mesh and the matrices of its harmonics.
 
-The meridian rectangle [0, R] x [0, L] of a solid cylinder (gmsh, linear triangles graded
-toward the two rim corners, P2 on them), K_n and M of harmonic n on it, and the layout of a
-leg's raw dofs: blocks (n, family), n = 0 once and n >= 1 twice (c, s), each 3 s + c with
+The meridian rectangle [r_in, R] x [0, L] of a part (a solid cylinder, r_in = 0, or a tube;
+gmsh, linear triangles graded toward the rim corners, P2 on them: (R, 0) and (R, L), and for a
+tube (r_in, 0) and (r_in, L) too), K_n and M of harmonic n on it, and the layout of a
+part's raw dofs: blocks (n, family), n = 0 once and n >= 1 twice (c, s), each 3 s + c with
 c = (r, t, z). The equations are in `harmonic.py`'s docstring. Everything here is remembered
 per process (same leg, same mesh). Also the estimate of a leg's raw dofs before meshing, the
 DOF guard's number (`guard.check_mesh_size`).
@@ -36,32 +37,47 @@ class HarmonicError(InputError):
 # within 0.3 R, the tetrahedra's rim grading: 0.05 %; 0.01 within R: 0.005 % with 11k dofs);
 # at h = 0.5 R 0.002 %. In 2D deep grading costs little: a point, not an edge, is refined.
 CORNER_FACTOR = 0.05
-CORNER_ZONE = 1.0  # leg radii
+CORNER_ZONE = 1.0  # walls: the radius of a solid part, R - r_in of a tube
+
+
+def part_size(size: float, radius: float, inner: float = 0.0) -> float:
+    """The meridian's element size of a part. A solid part: the global size h (the guard keeps
+    h below the leg's diameter). A tube of wall w = R - r_in and outer diameter D = 2 R:
+    min(h, w / 2, w h / D): at least two P2 elements span the wall at any h (a thin wall bends
+    through its thickness), and for h <= D / 2 (every refinement study's sizes) the size is
+    proportional to h, so a study refines the wall too (min(h, w / 2) alone would freeze the
+    wall's mesh for every h above w / 2, and the study would see no change and state none)."""
+    if inner <= 0.0:
+        return float(size)
+    wall = radius - inner
+    return min(float(size), 0.5 * wall, wall * float(size) / (2.0 * radius))
 
 
 # ---------------------------------------------------------------- meridian mesh (gmsh, 2D)
 
 @functools.lru_cache(maxsize=64)
-def meridian_mesh(radius: float, length: float, size: float) -> MeshTri:
-    """Linear triangles of the rectangle [0, R] x [0, L] (x = r, y = z), graded toward the rim
-    corners (R, 0) and (R, L); the P2 basis adds the mid-edge nodes (straight edges: the
-    geometry is exact). Read-only, remembered per process (same leg, same mesh)."""
+def meridian_mesh(radius: float, length: float, size: float, inner: float = 0.0) -> MeshTri:
+    """Linear triangles of the rectangle [r_in, R] x [0, L] (x = r, y = z), graded toward the
+    rim corners (R, 0) and (R, L) (and (r_in, 0), (r_in, L) of a tube: every end face of a
+    part is coupled); the P2 basis adds the mid-edge nodes (straight edges: the geometry is
+    exact). `size` is the part's (`part_size`). Read-only, remembered per process."""
     h = float(size)
     h_min = h * CORNER_FACTOR
-    zone = CORNER_ZONE * radius
+    zone = CORNER_ZONE * (radius - inner)
     try:
         with gmsh_session({"Mesh.ElementOrder": 1, "Mesh.MeshSizeMax": h,
                            "Mesh.MeshSizeMin": h_min}) as gmsh:
             model = gmsh.model
             model.add("meridian")
             geo = model.geo
-            corners = [geo.addPoint(0, 0, 0), geo.addPoint(radius, 0, 0),
-                       geo.addPoint(radius, length, 0), geo.addPoint(0, length, 0)]
+            corners = [geo.addPoint(inner, 0, 0), geo.addPoint(radius, 0, 0),
+                       geo.addPoint(radius, length, 0), geo.addPoint(inner, length, 0)]
             lines = [geo.addLine(corners[k], corners[(k + 1) % 4]) for k in range(4)]
             geo.addPlaneSurface([geo.addCurveLoop(lines)])
             geo.synchronize()
             dist = model.mesh.field.add("Distance")
-            model.mesh.field.setNumbers(dist, "PointsList", [corners[1], corners[2]])
+            rims = corners if inner > 0 else [corners[1], corners[2]]
+            model.mesh.field.setNumbers(dist, "PointsList", rims)
             graded = model.mesh.field.add("MathEval")
             model.mesh.field.setString(
                 graded, "F", f"Max({h_min!r}, Min({h!r}, {h!r} * F{dist} / {zone!r}))")
@@ -82,7 +98,7 @@ def meridian_mesh(radius: float, length: float, size: float) -> MeshTri:
     tri = tri.reshape(-1, 3)
     p = points[used]
     # snap the boundary exactly (gmsh's nodes on straight lines are exact to round-off)
-    for col, lo, hi in ((0, 0.0, radius), (1, 0.0, length)):
+    for col, lo, hi in ((0, float(inner), radius), (1, 0.0, length)):
         scale = hi - lo
         p[np.abs(p[:, col] - lo) <= 1e-12 * scale, col] = lo
         p[np.abs(p[:, col] - hi) <= 1e-12 * scale, col] = hi
@@ -110,9 +126,10 @@ class Meridian:
     length: float
     basis: Basis  # scalar P2 on the meridian mesh
     node_rz: np.ndarray  # (n_scalar, 2) P2 node positions (r, z)
-    axis_nodes: np.ndarray  # scalar nodes at r = 0
+    axis_nodes: np.ndarray  # scalar nodes at r = 0 (none for a tube)
     face_nodes: tuple  # (nodes at z = 0, nodes at z = L)
     face_weights: tuple  # per face: (W1, W2) = (int phi r dr, int phi r^2 dr) over the face
+    inner: float = 0.0  # bore radius r_in (0: a solid part)
 
     @property
     def n_scalar(self) -> int:
@@ -129,12 +146,14 @@ class LegHarmonics(Meridian):
 
 
 @functools.lru_cache(maxsize=64)
-def meridian(radius: float, length: float, size: float) -> Meridian:
-    """The leg's meridian (read-only, remembered per process: same leg, same mesh)."""
-    mesh = meridian_mesh(radius, length, size)
+def meridian(radius: float, length: float, size: float, inner: float = 0.0) -> Meridian:
+    """The part's meridian (read-only, remembered per process: same part, same mesh)."""
+    mesh = meridian_mesh(radius, length, size, inner) if inner else meridian_mesh(
+        radius, length, size)
     basis = Basis(mesh, ElementTriP2(), intorder=6)
     locs = basis.doflocs.T  # (n_s, 2)
-    axis = np.flatnonzero(locs[:, 0] <= AXIS_TOL * radius)
+    axis = (np.flatnonzero(locs[:, 0] <= AXIS_TOL * radius) if not inner
+            else np.zeros(0, np.int64))
     faces, weights = [], []
     for z0 in (0.0, length):
         facets = mesh.facets_satisfying(lambda x, z0=z0: np.abs(x[1] - z0) <= FACE_TOL * length)
@@ -143,10 +162,13 @@ def meridian(radius: float, length: float, size: float) -> Meridian:
         faces.append(on)
         weights.append(tuple(LinearForm(lambda v, p, k=k: v * p.x[0] ** k).assemble(fb)[on]
                              for k in (1, 2)))
-    if len(axis) < 3 or any(len(f) < 3 for f in faces):
+    if (len(axis) < 3 and not inner) or any(len(f) < 3 for f in faces):
         raise HarmonicError(f"meridian mesh of R = {radius:g} m, L = {length:g} m: "
                             f"{len(axis)} nodes on the axis, {[len(f) for f in faces]} on the "
                             "faces (expected the boundary lines meshed)")
+    if inner:
+        return Meridian(radius, length, basis, locs, axis, tuple(faces), tuple(weights),
+                        float(inner))
     return Meridian(radius, length, basis, locs, axis, tuple(faces), tuple(weights))
 
 
@@ -191,11 +213,15 @@ def _sparse(element_dofs: np.ndarray, blocks: np.ndarray, n: int) -> sp.csr_matr
     return out
 
 
+def _meridian(radius: float, length: float, size: float, inner: float) -> Meridian:
+    return meridian(radius, length, size, inner) if inner else meridian(radius, length, size)
+
+
 @functools.lru_cache(maxsize=256)
 def harmonic_stiffness(radius: float, length: float, size: float, lam: float, mu: float,
-                       n: int) -> sp.csr_matrix:
-    """K_n = w_n int B^T D B r dr dz of one leg (read-only, remembered per process)."""
-    m = meridian(radius, length, size)
+                       n: int, inner: float = 0.0) -> sp.csr_matrix:
+    """K_n = w_n int B^T D B r dr dz of one part (read-only, remembered per process)."""
+    m = _meridian(radius, length, size, inner)
     values, grads, r, w = _element_arrays(m.basis)
     d = np.zeros((6, 6))
     d[:3, :3] = lam
@@ -210,10 +236,10 @@ def harmonic_stiffness(radius: float, length: float, size: float, lam: float, mu
 
 
 @functools.lru_cache(maxsize=64)
-def unit_mass(radius: float, length: float, size: float) -> sp.csr_matrix:
+def unit_mass(radius: float, length: float, size: float, inner: float = 0.0) -> sp.csr_matrix:
     """pi int N^T N r dr dz on dofs 3 s + c, density 1 (read-only, remembered per process):
     the scalar P2 mass times the 3 x 3 identity."""
-    m = meridian(radius, length, size)
+    m = _meridian(radius, length, size, inner)
     values, _, _, w = _element_arrays(m.basis)
     scalar = _sparse(m.basis.element_dofs,
                      np.einsum("aeq,beq,eq->eab", values, values, w, optimize=True), m.n_scalar)
@@ -223,13 +249,15 @@ def unit_mass(radius: float, length: float, size: float) -> sp.csr_matrix:
 
 
 def leg_harmonics(radius: float, length: float, lam: float, mu: float, density: float,
-                  size: float, harmonics: tuple) -> LegHarmonics:
-    """One leg's meridian with K_n (n in `harmonics`) and M, from the per-process caches."""
-    m = meridian(radius, length, size)
+                  size: float, harmonics: tuple, inner: float = 0.0) -> LegHarmonics:
+    """One part's meridian with K_n (n in `harmonics`) and M, from the per-process caches
+    (`size`: the part's own, `part_size`)."""
+    m = _meridian(radius, length, size, inner)
+    extra = (inner,) if inner else ()
     return LegHarmonics(**{f: getattr(m, f) for f in Meridian.__dataclass_fields__},
-                        stiffness={n: harmonic_stiffness(radius, length, size, lam, mu, n)
-                                   for n in harmonics},
-                        mass=density * unit_mass(radius, length, size))
+                        stiffness={n: harmonic_stiffness(radius, length, size, lam, mu, n,
+                                                         *extra) for n in harmonics},
+                        mass=density * unit_mass(radius, length, size, *extra))
 
 
 def families(harmonics) -> list[tuple[int, str]]:
@@ -256,15 +284,63 @@ def leg_lengths(geometry) -> np.ndarray:
                                    - np.asarray(geometry.base_points, float), axis=1), 12)
 
 
+@dataclass(frozen=True)
+class PartHarmonics:
+    """One part of one leg in a pose: its harmonics, the leg's frame, which leg, where along
+    it the part starts (m from B_i) and its name ("leg" for a uniform leg)."""
+
+    leg: LegHarmonics
+    frame: np.ndarray
+    index: int
+    start: float
+    name: str = "leg"
+
+
+def pose_parts(manipulator, geometry) -> list[list]:
+    """Per leg, its parts (`common.leg_profile.LegPart`, base joint first) at the pose's leg
+    length (rounded, `leg_lengths`: one leg length, one cache key); a part's length is rounded
+    the same way."""
+    lengths = leg_lengths(geometry)
+    profile = getattr(manipulator, "leg_parts", None)
+    out = []
+    for length in lengths:
+        if profile is None:
+            from common.leg_profile import LegPart
+            out.append([LegPart("leg", 0.0, float(length), float(manipulator.leg_diameter))])
+        else:
+            out.append(list(profile(float(length))))
+    return out
+
+
+def part_data(manipulator, geometry, size: float, harmonics,
+              longest_only: bool = False) -> list[PartHarmonics]:
+    """Every part of every leg (base joint first, leg by leg), or, `longest_only`, for each
+    part of the profile the longest leg's only (a longer part with held faces holds a shorter
+    one's admissible fields: its modes are lower, min-max)."""
+    lam, mu, rho = leg_material(manipulator)
+    parts = pose_parts(manipulator, geometry)
+    chosen = [(i, k) for i in range(geometry.leg_count) for k in range(len(parts[i]))]
+    if longest_only:
+        chosen = [(int(np.argmax([round(parts[i][k].end - parts[i][k].start, 12)
+                                  for i in range(geometry.leg_count)])), k)
+                  for k in range(len(parts[0]))]
+    out = []
+    for i, k in chosen:
+        p = parts[i][k]
+        length = float(p.end) if p.start == 0.0 else round(float(p.end - p.start), 12)
+        radius, inner = 0.5 * float(p.outer), 0.5 * float(p.inner)
+        h = part_size(size, radius, inner)
+        out.append(PartHarmonics(leg_harmonics(radius, length, lam, mu, rho, h,
+                                               tuple(harmonics), inner),
+                                 leg_frame(geometry, i), i, float(p.start), p.name))
+    return out
+
+
 def leg_data(manipulator, geometry, size: float, harmonics,
              longest_only: bool = False) -> list:
-    """Per leg (or the longest alone): (LegHarmonics, frame)."""
-    radius = 0.5 * float(manipulator.leg_diameter)
-    lam, mu, rho = leg_material(manipulator)
-    lengths = leg_lengths(geometry)
-    legs = [int(np.argmax(lengths))] if longest_only else range(geometry.leg_count)
-    return [(leg_harmonics(radius, float(lengths[i]), lam, mu, rho, float(size),
-                           tuple(harmonics)), leg_frame(geometry, i)) for i in legs]
+    """Per leg part (`part_data`; one per leg for uniform legs): (LegHarmonics, frame)."""
+    return [(p.leg, p.frame) for p in part_data(manipulator, geometry, size, harmonics,
+                                                longest_only)]
 
 
 def mesh_quality(mesh: MeshTri) -> float:
@@ -277,15 +353,21 @@ def mesh_quality(mesh: MeshTri) -> float:
 
 # P2 nodes of a leg's graded meridian: NODES_PER_AREA R L / h^2 + NODES_PER_CORNER (R / h)^2
 # + NODES_MIN, fitted on 36 meshes (R 15-75 mm, L 0.3-1 m, h 0.2-1.6 R), then raised by 1.5 so
-# that no mesh has more (actual / estimate 0.37-0.84 on the five scenes' legs, 0.1-0.8 d)
+# that no mesh has more (actual / estimate 0.37-0.84 on the five scenes' legs, 0.1-0.8 d).
+# A tube: its wall w = R - r_in for R, at its own size h' = min(h, w / 2) (`part_size`), and
+# its four graded corners twice the two of a solid part.
 NODES_PER_AREA, NODES_PER_CORNER, NODES_MIN = 7.8, 70.0, 255.0
 
 
 def estimate_raw_dofs(assembly, size: float, harmonics=(0, 1)) -> int:
-    """Raw harmonic dofs of the legs of `assembly` (meshing.bodies.Assembly), estimated before
-    meshing (the DOF guard's number, guard.check_mesh_size)."""
-    nodes = sum(NODES_PER_AREA * c.radius * c.length / size**2
-                + NODES_PER_CORNER * (c.radius / size) ** 2 + NODES_MIN
-                for c in assembly.cylinders)
+    """Raw harmonic dofs of the legs' parts of `assembly` (meshing.bodies.Assembly: its
+    cylinders and tubes), estimated before meshing (the DOF guard's number,
+    guard.check_mesh_size)."""
+    nodes = 0.0
+    for c in assembly.cylinders:
+        wall = c.radius - c.inner_radius
+        h = part_size(size, c.radius, c.inner_radius)
+        corners = 2.0 if c.inner_radius > 0 else 1.0
+        nodes += (NODES_PER_AREA * wall * c.length / h**2
+                  + corners * NODES_PER_CORNER * (wall / h) ** 2 + NODES_MIN)
     return int(3 * len(families(harmonics)) * nodes)
-

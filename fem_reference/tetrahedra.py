@@ -65,21 +65,71 @@ class FemResult:
     mass_matrix: object = field(default=None, repr=False)  # raw consistent mass (CSR)
     plate: Plate | None = field(default=None, repr=False)  # the platform (meshed or rigid)
 
+    def _stations(self, leg: int, t: np.ndarray):
+        """Per station fraction t of a leg: (part, its point on the leg axis); the part that
+        contains the point, at a junction the one toward the base (the housing)."""
+        parts = self.assembly.legs[leg]
+        b, a = np.asarray(parts[0].start), np.asarray(parts[-1].end)
+        total = float(np.linalg.norm(a - b))
+        ends = [float(np.linalg.norm(np.subtract(c.end, b))) for c in parts]
+        out = []
+        for tt in t:
+            k = next((k for k, e in enumerate(ends) if tt * total <= e + 1e-12 * total),
+                     len(parts) - 1)
+            out.append((parts[k], b + tt * (a - b)))
+        return out
+
+    def _section_mean(self, part, centres: np.ndarray) -> np.ndarray:
+        """(len(centres), 3, n_modes): the mean displacement over the sections of a hollow part
+        at `centres` on its axis (which lies outside the solid): 2 Gauss-Legendre radii through
+        the wall (weights r dr; exact for a field quadratic through the wall, and clear of the
+        curved surfaces, where the element search of `probes.locate` is affine) times 12
+        angles (the mean over equally spaced angles is exact for the harmonics 0 and 1 that
+        carry a section's rigid motion)."""
+        b, a = np.asarray(part.start), np.asarray(part.end)
+        axis = (a - b) / np.linalg.norm(a - b)
+        x, w = np.polynomial.legendre.leggauss(2)
+        r = part.inner_radius + 0.5 * (x + 1) * part.wall
+        w = w * r / np.sum(w * r)
+        unit = section_arms(axis, 1.0, 12)  # (12, 3)
+        offsets = (r[:, None, None] * unit[None]).reshape(-1, 3)  # (2 * 12, 3)
+        weights = np.repeat(w, len(unit)) / len(unit)
+        pts = (centres[:, None, :] + offsets[None]).reshape(-1, 3)
+        u = evaluate(self.disc, part.name, pts, self.modes_raw).reshape(len(centres),
+                                                                         len(offsets), 3, -1)
+        return np.einsum("k,pkcm->pcm", weights, u)
+
     def leg_axis_displacements(self, fractions) -> np.ndarray:
         """Translation of the leg axis points B_i + t (A_i - B_i), t in `fractions`, per mode:
-        (3 legs, len(fractions), 3, n_modes), base coordinates. Inside the leg the P2 field is
-        interpolated; at t = 0 and t = 1 (the joint centres) the reference points' motion is
-        used (B_i fixed; A_i moving with the platform)."""
+        (3 legs, len(fractions), 3, n_modes), base coordinates. Inside a solid part the P2
+        field is interpolated on the axis; in a hollow part, whose axis lies outside the solid,
+        the section's mean motion (`_section_mean`: a beam's axis displacement); at a junction
+        the housing's side. At t = 0 and t = 1 (the joint centres) the reference points' motion
+        is used (B_i fixed; A_i moving with the platform)."""
         t = station_fractions(fractions)
-        legs = self.assembly.cylinders
+        legs = self.assembly.legs
         out = np.zeros((len(legs), len(t), 3, self.modes_raw.shape[1]))
-        for i, leg in enumerate(legs):
-            b, a = np.asarray(leg.start), np.asarray(leg.end)
+        for i, parts in enumerate(legs):
             inner = (t > 1e-9) & (t < 1 - 1e-9)
             if inner.any():
-                pts = b + t[inner, None] * (a - b)
-                out[i, inner] = evaluate(self.disc, leg.name, pts, self.modes_raw)
-            for end, face in ((0.0, leg.start_face), (1.0, leg.end_face)):
+                stations = self._stations(i, t[inner])
+                values = []
+                for part, x in stations:
+                    if part.hollow:
+                        values.append(self._section_mean(part, x[None])[0])
+                    else:
+                        values.append(None)
+                solid = [k for k, v in enumerate(values) if v is None]
+                if solid:  # one evaluation per part, as uniform legs always had
+                    for part in parts:
+                        ks = [k for k in solid if stations[k][0] is part]
+                        if ks:
+                            pts = np.array([stations[k][1] for k in ks])
+                            for k, v in zip(ks, evaluate(self.disc, part.name, pts,
+                                                         self.modes_raw)):
+                                values[k] = v
+                out[i, inner] = np.stack(values)
+            for end, face in ((0.0, parts[0].start_face), (1.0, parts[-1].end_face)):
                 sel = np.abs(t - end) <= 1e-9
                 if sel.any():
                     out[i, sel] = self.constraints.reference_motion(face, self.modes_raw)[:3]
@@ -88,23 +138,33 @@ class FemResult:
     def leg_axis_twists(self, fractions) -> np.ndarray:
         """Rotation of each leg's sections about its axis (rad) at fractions t, per mode:
         (3 legs, len(fractions), n_modes). Inside the leg, the mean of (e x u) . a / r over
-        `section_arms` (six points) at half the radius (exact for a rigid twist of the
-        section); at the joint centres the face's projected rigid rotation."""
+        `section_arms` (six points) at half the radius of a solid part, at mid-wall of a hollow
+        one (exact for a rigid twist of the section); at the joint centres the face's
+        projected rigid rotation."""
         t = station_fractions(fractions)
-        legs = self.assembly.cylinders
+        legs = self.assembly.legs
         out = np.zeros((len(legs), len(t), self.modes_raw.shape[1]))
-        for i, leg in enumerate(legs):
-            b, a = np.asarray(leg.start), np.asarray(leg.end)
+        for i, parts in enumerate(legs):
+            b, a = np.asarray(parts[0].start), np.asarray(parts[-1].end)
             axis = (a - b) / np.linalg.norm(a - b)
             inner = (t > 1e-9) & (t < 1 - 1e-9)
             if inner.any():
-                centres = b + t[inner, None] * (a - b)
-                arms = section_arms(axis, 0.5 * leg.radius)  # (k, 3)
-                pts = (centres[:, None, :] + arms[None]).reshape(-1, 3)
-                u = evaluate(self.disc, leg.name, pts, self.modes_raw)
-                u = u.reshape(len(centres), len(arms), 3, -1)
-                out[i, inner] = twist_from_section(axis, arms, u)
-            for end, face in ((0.0, leg.start_face), (1.0, leg.end_face)):
+                stations = self._stations(i, t[inner])
+                twist = np.zeros((len(stations), self.modes_raw.shape[1]))
+                for part in parts:
+                    ks = [k for k, (p, _) in enumerate(stations) if p is part]
+                    if not ks:
+                        continue
+                    centres = np.array([stations[k][1] for k in ks])
+                    arm = (0.5 * (part.radius + part.inner_radius) if part.hollow
+                           else 0.5 * part.radius)
+                    arms = section_arms(axis, arm)  # (k, 3)
+                    pts = (centres[:, None, :] + arms[None]).reshape(-1, 3)
+                    u = evaluate(self.disc, part.name, pts, self.modes_raw)
+                    u = u.reshape(len(centres), len(arms), 3, -1)
+                    twist[ks] = twist_from_section(axis, arms, u)
+                out[i, inner] = twist
+            for end, face in ((0.0, parts[0].start_face), (1.0, parts[-1].end_face)):
                 sel = np.abs(t - end) <= 1e-9
                 if sel.any():
                     out[i, sel] = axis @ self.constraints.reference_motion(face,
@@ -163,13 +223,14 @@ def solve_pose_tetrahedra(manipulator, geometry, assembly: Assembly, options: Fe
                        f"max_dofs = {runtime.max_dofs}")
     k, m = stiffness_and_mass(disc, manipulator.material)
     try:
-        cmap = build_constraints(disc, geometry, assembly, options.coupling, options.platform)
+        cmap = build_constraints(disc, geometry, assembly, options.coupling, options.platform,
+                                 stiffness=getattr(manipulator, "stiffness", None))
     except ValueError as exc:
         raise FemError(str(exc)) from None
     t_ = cmap.T
     plate = assembly.plate or platform_plate(manipulator, geometry)
     kq, mq = reduced_matrices(k, m, t_, None if elastic else cmap.columns["platform"], plate,
-                              manipulator, geometry, options)
+                              manipulator, geometry, options, cmap.springs)
     t_asm = time.perf_counter()
 
     try:

@@ -1,16 +1,19 @@
-"""The solid bodies of one pose, as plain geometry: three leg cylinders and the platform plate.
+"""The solid bodies of one pose, as plain geometry: the legs' parts and the platform plate.
 
 Pure numpy, no gmsh: what `meshing.geometry` turns into OpenCASCADE solids, and what the mesh
-cache hashes. Every leg is a solid circular cylinder of diameter d from its R-joint centre B_i
-(base face) to its S-joint centre A_i (top face); the platform is a plate of thickness h centred
-on o with normal R[:, 2] (a disk of radius r2, or the triangle A1A2A3). The bodies touch only at
-the joints: they are meshed separately (no boolean fusion) and joined by the FEM's multipoint
-constraints. SI units throughout.
+cache hashes. A leg is the sequence of its profile's parts (`common.leg_profile`, base joint
+first): the paper's uniform leg is one solid circular cylinder of diameter d from its base joint
+centre B_i (base face) to its platform joint centre A_i (top face), named "leg<i>" as always; a
+stepped leg is a housing and a rod ("leg<i>_housing", "leg<i>_rod"), each a solid cylinder or a
+tube (`Cylinder.inner_radius` > 0), each with its own two end faces. The platform is a plate of
+thickness h centred on o with normal R[:, 2] (a disk of radius r2, or the triangle A1A2A3). The
+bodies touch only at the joints and at a leg's junction: they are meshed separately (no boolean
+fusion) and joined by the FEM's multipoint constraints. SI units throughout.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -23,10 +26,29 @@ class GeometryError(InputError):
 
 @dataclass(frozen=True)
 class Cylinder:
-    name: str  # body name, e.g. "leg1"
-    start: tuple[float, float, float]  # centre of the first end face (B_i), m
-    end: tuple[float, float, float]  # centre of the second end face (A_i), m
-    radius: float  # m
+    """A solid circular cylinder, or a tube when `inner_radius` > 0 (its end faces are then
+    annuli: both their circles are rims)."""
+
+    name: str  # body name, e.g. "leg1", "leg1_housing"
+    start: tuple[float, float, float]  # centre of the first end face (B_i side), m
+    end: tuple[float, float, float]  # centre of the second end face (A_i side), m
+    radius: float  # outer radius, m
+    inner_radius: float = 0.0  # bore radius, m (0: solid)
+
+    def __post_init__(self):
+        r, ri = self.radius, self.inner_radius
+        if ri != 0.0 and not (math.isfinite(ri) and 0.0 < ri < r):
+            raise GeometryError(f"{self.name}: inner radius {ri!r} m, expected 0 <= inner < "
+                                f"outer radius {r!r} m")
+
+    @property
+    def hollow(self) -> bool:
+        return self.inner_radius > 0.0
+
+    @property
+    def wall(self) -> float:
+        """Radial thickness of the material: the radius of a solid cylinder, R - r of a tube."""
+        return self.radius - self.inner_radius
 
     @property
     def start_face(self) -> str:
@@ -44,11 +66,23 @@ class Cylinder:
 
     @property
     def volume(self) -> float:
-        return math.pi * self.radius**2 * self.length
+        return math.pi * (self.radius**2 - self.inner_radius**2) * self.length
 
     @property
     def area(self) -> float:
-        return 2 * math.pi * self.radius * (self.radius + self.length)
+        if not self.hollow:
+            return 2 * math.pi * self.radius * (self.radius + self.length)
+        r, ri = self.radius, self.inner_radius
+        return 2 * math.pi * ((r**2 - ri**2) + (r + ri) * self.length)
+
+    def canonical(self, rounded) -> dict:
+        """The JSON-ready description the mesh cache hashes (a solid one's as before tubes
+        existed, so cached meshes of uniform legs stay valid)."""
+        out = {"name": self.name, "start": rounded(self.start), "end": rounded(self.end),
+               "radius": rounded([self.radius])[0]}
+        if self.hollow:
+            out["inner_radius"] = rounded([self.inner_radius])[0]
+        return out
 
 
 @dataclass(frozen=True)
@@ -80,10 +114,20 @@ class Plate:
 
 @dataclass(frozen=True)
 class Assembly:
-    """The bodies of one pose, in base coordinates. `cylinders[i]` is leg i + 1."""
+    """The bodies of one pose, in base coordinates. `cylinders` are the legs' parts, leg by leg
+    and base joint first; `parts[i]` the indices of leg i's parts in `cylinders` (default: one
+    part per leg, `cylinders[i]` is leg i + 1)."""
 
     cylinders: tuple[Cylinder, ...]
     plate: Plate | None = None
+    parts: tuple[tuple[int, ...], ...] | None = None
+
+    @property
+    def legs(self) -> tuple[tuple[Cylinder, ...], ...]:
+        """Per leg, its parts (solids), base joint first."""
+        if self.parts is None:
+            return tuple((c,) for c in self.cylinders)
+        return tuple(tuple(self.cylinders[k] for k in leg) for leg in self.parts)
 
     @property
     def volume(self) -> float:
@@ -97,8 +141,7 @@ class Assembly:
         """A JSON-ready description, rounded to 1e-12 m so that hashing is stable."""
         def r(x):
             return [round(float(v), 12) for v in np.ravel(x)]
-        out = {"cylinders": [{"name": c.name, "start": r(c.start), "end": r(c.end),
-                              "radius": r([c.radius])[0]} for c in self.cylinders]}
+        out = {"cylinders": [c.canonical(r) for c in self.cylinders]}
         if self.plate is not None:
             p = self.plate
             out["plate"] = {"name": p.name, "centre": r(p.centre), "normal": r(p.normal),
@@ -158,6 +201,40 @@ def leg_cylinders(base_points, platform_points, diameter: float) -> tuple[Cylind
     return tuple(legs)
 
 
+def part_name(index: int, part: str) -> str:
+    """Body name of a part of leg `index` (0-based): "leg1" for a uniform leg's only part,
+    "leg1_housing", "leg1_rod" for a stepped one's."""
+    return leg_name(index) if part == "leg" else f"{leg_name(index)}_{part}"
+
+
+def leg_parts(legs: tuple[Cylinder, ...], profile) -> Assembly:
+    """The legs (checked cylinders B_i -> A_i of the largest diameter, `leg_cylinders`) cut
+    into their profile's parts: `profile(length)` -> `common.leg_profile.LegPart`s, base joint
+    first (the manipulator's `leg_parts`). A leg of one part named "leg" stays the cylinder it
+    was (a solid of the leg's diameter), so uniform legs mesh as before."""
+    cylinders, parts = [], []
+    for i, leg in enumerate(legs):
+        b, a = np.asarray(leg.start, float), np.asarray(leg.end, float)
+        length = float(np.linalg.norm(a - b))
+        pieces = profile(length)
+        if len(pieces) == 1 and pieces[0].name == "leg" and not pieces[0].inner:
+            parts.append((len(cylinders),))
+            cylinders.append(leg if 2 * leg.radius == float(pieces[0].outer)
+                             else replace(leg, radius=0.5 * float(pieces[0].outer)))
+            continue
+        e = (a - b) / length
+        own = []
+        for k, p in enumerate(pieces):
+            start = b if k == 0 else b + float(p.start) * e
+            end = a if k == len(pieces) - 1 else b + float(p.end) * e
+            own.append(len(cylinders))
+            cylinders.append(Cylinder(part_name(i, p.name), tuple(map(float, start)),
+                                      tuple(map(float, end)), 0.5 * float(p.outer),
+                                      0.5 * float(p.inner)))
+        parts.append(tuple(own))
+    return Assembly(tuple(cylinders), None, tuple(parts))
+
+
 def platform_plate(manipulator, geometry) -> Plate:
     """The platform of a pose as a plate: thickness h centred on o with normal R[:, 2]."""
     normal = np.asarray(geometry.rotation, float)[:, 2]
@@ -178,8 +255,16 @@ def platform_plate(manipulator, geometry) -> Plate:
 
 def pose_assembly(manipulator, geometry, elastic_platform: bool = False) -> Assembly:
     """The bodies of a manipulator (`analytical.params.Manipulator`) in one pose
-    (`analytical.kinematics.PoseGeometry`); the plate only for the elastic-platform option."""
+    (`analytical.kinematics.PoseGeometry`); the plate only for the elastic-platform option.
+    The legs are checked for touching with the largest outer diameter of their profile (the
+    manipulator's `leg_diameter`), then cut into their parts (`leg_parts`)."""
     legs = leg_cylinders(geometry.base_points, geometry.platform_points,
                          manipulator.leg_diameter)
     plate = platform_plate(manipulator, geometry) if elastic_platform else None
-    return Assembly(legs, plate)
+    profile = getattr(manipulator, "leg_parts", None)
+    if profile is None:  # a manipulator without a leg profile: uniform solid legs
+        return Assembly(legs, plate)
+    cut = leg_parts(legs, profile)
+    if cut.parts == tuple((i,) for i in range(len(legs))):
+        return Assembly(cut.cylinders, plate)  # uniform legs: as before profiles existed
+    return Assembly(cut.cylinders, plate, cut.parts)

@@ -1,11 +1,14 @@
 """gmsh (OpenCASCADE) script: the bodies of one pose -> second-order tetrahedral mesh.
 
-Each leg is its own solid cylinder B_i -> A_i, the (optional) elastic platform its own plate;
-nothing is fused, so the bodies share no node and are joined only by the FEM's joint
-constraints. Elements are 10-node tetrahedra with curved (geometry-following) mid-edge nodes.
+Each leg part is its own solid cylinder or tube (a uniform leg: one cylinder B_i -> A_i; a
+stepped one: a housing and a rod, `meshing.bodies.leg_parts`), the (optional) elastic platform
+its own plate; nothing is fused, so the bodies share no node and are joined only by the FEM's
+joint constraints. Elements are 10-node tetrahedra with curved (geometry-following) mid-edge nodes.
 
-Size control: a global size h everywhere, graded toward the rims of the joint faces (the edges
-of rigidly coupled faces, where the stress is singular): at a distance r from the nearest rim the
+Size control: a global size h everywhere (in a tube at most its wall thickness, so that a thin
+wall is never spanned by one flat element), graded toward the rims of the joint faces (the
+edges of rigidly coupled faces, where the stress is singular; a tube's end face has two, its
+outer and its inner circle): at a distance r from the nearest rim the
 size is h (r / rim_zone)^a, at least rim_factor h and at most h. With a = 1 the elements near a
 rim are as large as a fixed fraction of their distance to it (geometric layers). Every length
 of the field is h times a function of r that does not depend on h, so meshes at different h
@@ -136,8 +139,23 @@ def gmsh_version() -> str:
     return str(gmsh.__version__)
 
 
+def _add_cylinder(cyl: Cylinder, occ) -> int:
+    """The OCC volume of a cylinder, or of a tube (the outer cylinder less the bore)."""
+    axis = np.subtract(cyl.end, cyl.start)
+    outer = occ.addCylinder(*cyl.start, *axis, cyl.radius)
+    if not cyl.hollow:
+        return outer
+    bore = occ.addCylinder(*cyl.start, *axis, cyl.inner_radius)
+    out, _ = occ.cut([(3, outer)], [(3, bore)])
+    volumes = [t for d, t in out if d == 3]
+    if len(volumes) != 1:
+        raise GmshFailure(f"{cyl.name}: the tube's cut gave {len(volumes)} volumes")
+    return volumes[0]
+
+
 def _face_tags(occ_dim_tags, cylinder: Cylinder, model) -> tuple[int, int]:
-    """The planar end faces of an OCC cylinder: (face at start, face at end)."""
+    """The planar end faces of an OCC cylinder or tube: (face at start, face at end) (an
+    annulus's centre of mass is its centre too)."""
     faces = [t for d, t in model.getBoundary(occ_dim_tags, oriented=False) if d == 2]
     start, end = np.asarray(cylinder.start), np.asarray(cylinder.end)
     found = {}
@@ -149,6 +167,28 @@ def _face_tags(occ_dim_tags, cylinder: Cylinder, model) -> tuple[int, int]:
     if set(found) != {"start", "end"}:
         raise GmshFailure(f"{cylinder.name}: end faces not found among OCC faces {faces}")
     return found["start"], found["end"]
+
+
+def _wall_fields(model, assembly: Assembly, volumes, h: float) -> list[int]:
+    """Per tube thinner than h: a size field of its wall thickness restricted to the tube (its
+    volume, surfaces and curves), so that at least one element spans the wall and none is a
+    flat sliver across it. None for solid parts (their meshes stay as they were)."""
+    fields = []
+    for cyl, (_, vtag) in zip(assembly.cylinders, volumes):
+        if not cyl.hollow or cyl.wall >= h:
+            continue
+        const = model.mesh.field.add("MathEval")
+        model.mesh.field.setString(const, "F", repr(float(cyl.wall)))
+        surfaces = [t for d, t in model.getBoundary([(3, vtag)], oriented=False) if d == 2]
+        curves = sorted({t for s in surfaces
+                         for d, t in model.getBoundary([(2, s)], oriented=False) if d == 1})
+        restrict = model.mesh.field.add("Restrict")
+        model.mesh.field.setNumber(restrict, "InField", const)
+        model.mesh.field.setNumbers(restrict, "VolumesList", [vtag])
+        model.mesh.field.setNumbers(restrict, "SurfacesList", surfaces)
+        model.mesh.field.setNumbers(restrict, "CurvesList", curves)
+        fields.append(restrict)
+    return fields
 
 
 def _add_plate(plate: Plate, occ) -> int:
@@ -244,12 +284,12 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
     model.add("pose")
     h = float(settings.size)
     gmsh.option.setNumber("Mesh.MeshSizeMax", h)
-    gmsh.option.setNumber("Mesh.MeshSizeMin", h * min(1.0, settings.rim_factor))
+    walls = [c.wall for c in assembly.cylinders if c.hollow and c.wall < h]
+    gmsh.option.setNumber("Mesh.MeshSizeMin", min([h] + walls) * min(1.0, settings.rim_factor))
 
     volumes = []  # (name, tag)
     for cyl in assembly.cylinders:
-        axis = np.subtract(cyl.end, cyl.start)
-        volumes.append((cyl.name, occ.addCylinder(*cyl.start, *axis, cyl.radius)))
+        volumes.append((cyl.name, _add_cylinder(cyl, occ)))
     if assembly.plate is not None:
         volumes.append((assembly.plate.name, _add_plate(assembly.plate, occ)))
     occ.synchronize()
@@ -265,6 +305,7 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
         model.setPhysicalName(2, model.addPhysicalGroup(2, [faces[name]], len(volumes) + 1 + k),
                               name)
 
+    size_fields = []
     if settings.rim_factor < 1.0 and settings.rim_zone > 0.0:
         rims = sorted({t for f in faces.values()
                        for d, t in model.getBoundary([(2, f)], oriented=False) if d == 1})
@@ -273,7 +314,14 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
         model.mesh.field.setNumber(dist, "Sampling", 200)
         graded = model.mesh.field.add("MathEval")
         model.mesh.field.setString(graded, "F", rim_size_expression(settings, f"F{dist}"))
-        model.mesh.field.setAsBackgroundMesh(graded)
+        size_fields.append(graded)
+    size_fields += _wall_fields(model, assembly, volumes, h)
+    if len(size_fields) == 1:
+        model.mesh.field.setAsBackgroundMesh(size_fields[0])
+    elif size_fields:
+        smallest = model.mesh.field.add("Min")
+        model.mesh.field.setNumbers(smallest, "FieldsList", size_fields)
+        model.mesh.field.setAsBackgroundMesh(smallest)
 
     model.mesh.generate(3)
 
