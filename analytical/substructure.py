@@ -314,8 +314,8 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
         maps.append(t)
         nodes[i] = geometry.base_points[i] + np.outer(stations[i], geometry.platform_points[i]
                                                       - geometry.base_points[i])
-    for block in springs.values():
-        k_total += block
+    for spring_block in springs.values():
+        k_total += spring_block
     p = slice(n_q - 6, n_q)
     m_total[p, p] += platform_mass_matrix(manipulator, geometry.rotation,
                                           options.platform_inertia)

@@ -57,11 +57,11 @@ def knee(factors, f1, rigid_f1: float) -> float | None:
     return None
 
 
-def shares(scene: Scene, pose, count: int) -> list[dict]:
+def shares(scene: Scene, pose, count: int) -> list[results.EnergyShares]:
     """Each of the first `count` modes' strain energy by part, percent (the run's model)."""
     res = analyse(scene.manipulator, pose, replace(scene.analytical, modes=count))
     parts = strain_energy_shares(res.model, res.modal.shapes)
-    out = []
+    out: list[results.EnergyShares] = []
     for k in range(count):
         row = {part: float(100.0 * parts[part][k]) for part in ENERGY_PARTS}
         out.append(results.EnergyShares(mode=k + 1,
@@ -69,11 +69,12 @@ def shares(scene: Scene, pose, count: int) -> list[dict]:
                                         legs_percent=row["legs"], joints_percent=row["joints"],
                                         drive_percent=row["drive"],
                                         platform_percent=row["platform"],
-                                        largest=max(row, key=row.get)))
+                                        largest=max(row, key=lambda part: row[part])))
     return out
 
 
-def sweep_point(scene: Scene, case, geometry, cache, factor: float | None, count: int) -> dict:
+def sweep_point(scene: Scene, case, geometry, cache, factor: float | None,
+                count: int) -> results.SweepPoint:
     variant = with_drive(scene, factor)
     a = analytical_case(variant, case, variant.analytical)
     fem = fem_case(variant, geometry, cache, variant.fem.mesh_size)
@@ -86,17 +87,18 @@ def sweep_point(scene: Scene, case, geometry, cache, factor: float | None, count
         error_percent=[r["error_percent"] for r in rows])
 
 
-def lowest_modes(scene: Scene, case_names, cache) -> list[dict]:
+def lowest_modes(scene: Scene, case_names, cache) -> list[results.LowestModes]:
     """Per case: the sweep (when the drive is a spring) and the energy shares."""
     springs = scene.manipulator.stiffness
     if springs.rigid:
         return []
     count = scene.analytical.modes
-    out = []
+    out: list[results.LowestModes] = []
     for name in case_names:
         case = scene.case(name)
         geometry = pose_geometry(scene.manipulator, case.pose)
-        sweep, knee_factor, rigid = [], None, None
+        sweep: list[results.SweepPoint] = []
+        knee_factor, rigid = None, None
         if springs.actuator_axial > 0.0:
             rigid = sweep_point(scene, case, geometry, cache, None, count)
             sweep = [sweep_point(scene, case, geometry, cache, f, count) for f in FACTORS]

@@ -1,0 +1,99 @@
+"""What sets the lowest modes (issue 23): the drive's stiffness swept in both models, the knee,
+and the strain energy by part; carried by results.json and shown by the report.
+
+The physics: springs in series, so lowering the drive's stiffness lowers every frequency of both
+models (min-max), towards the mechanism on soft springs; the energy of a mode splits among legs,
+joints and drive and sums to the whole; where the drive is soft its share of mode 1 tends to all.
+"""
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import results
+from runtime.cache import ResultCache
+from scene import load_scene
+from studies.lowest_modes import FACTORS, knee, lowest_modes
+from tests.conftest import ROOT
+
+SCENE = ROOT / "scenes" / "actuator-legs.toml"
+
+
+def test_the_knee_of_two_springs_in_series_is_where_they_are_equal():
+    """f1^2 = 1 / (1 / (c k) + 1 / f0^2): f1 = f0 / sqrt(2) exactly where c k = f0^2."""
+    f0, c = 100.0, 40.0
+    factors = np.array(FACTORS)
+    f1 = 1.0 / np.sqrt(1.0 / (c * factors * 100.0) + 1.0 / f0**2)
+    expected = f0**2 / (c * 100.0)
+    assert knee(factors, f1, f0) == pytest.approx(expected, rel=0.1)  # log interpolation
+    assert knee(factors, np.full(len(factors), f0), f0) is None  # never crossed
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """The study on the shipped realistic scene, one case, at a coarse FEM (the pairing and the
+    trends, not the last digit, are what is checked)."""
+    scene = load_scene(SCENE)
+    scene = replace(scene, fem=scene.fem.with_size(0.04))
+    cache = ResultCache(tmp_path_factory.mktemp("cache"))
+    return lowest_modes(scene, ["level"], cache)
+
+
+def test_lowering_the_drive_stiffness_never_raises_a_frequency_in_either_model(study):
+    (case,) = study
+    for model in ("analytical_hz", "fem_hz"):
+        table = np.array([p[model] for p in case["sweep"]] + [case["rigid_drive"][model]])
+        assert np.all(np.diff(table, axis=0) >= -1e-9 * table[1:]), model
+
+
+def test_both_models_follow_the_sweep_within_the_scenes_tolerance(study):
+    (case,) = study
+    for point in case["sweep"]:
+        assert max(abs(e) for e in point["error_percent"]) < 1.0, point["factor"]
+
+
+def test_the_strain_energy_of_every_mode_is_shared_out_whole(study):
+    (case,) = study
+    for row in case["shares"]:
+        total = sum(row[f"{p}_percent"] for p in ("legs", "joints", "drive", "platform"))
+        assert total == pytest.approx(100.0, abs=1e-6)
+        assert row["platform_percent"] == 0.0  # a rigid platform stores none
+    assert case["sets_lowest"] == case["shares"][0]["largest"]
+
+
+def test_a_soft_drive_holds_the_energy_of_the_lowest_mode(tmp_path):
+    scene = load_scene(SCENE)
+    springs = scene.manipulator.stiffness.scaled(1e-3, {"actuator_axial"})
+    soft = replace(scene, manipulator=replace(scene.manipulator, stiffness=springs))
+    from studies.lowest_modes import shares
+    rows = shares(soft, soft.case("level").pose, 3)
+    assert all(r["drive_percent"] > 95.0 for r in rows)
+
+
+def test_results_carry_the_study_and_the_report_shows_it(study, tmp_path):
+    """The fixture's results with this scene's springs and the study: the schema admits them,
+    and the report has the section, its figure and both tables."""
+    from reports.build import build_report
+    from tests.test_report import FIXTURES, RESULTS
+
+    data = json.loads(RESULTS.read_text())
+    data["scene"]["manipulator"]["stiffness"]["actuator_axial_n_per_um"] = 160.0
+    data["scene"]["manipulator"]["leg"].update(
+        housing_length_mm=420.0, housing_outer_diameter_mm=110.0, housing_inner_diameter_mm=80.0,
+        rod_outer_diameter_mm=60.0, rod_inner_diameter_mm=40.0)
+    data["studies"]["lowest_modes"] = json.loads(json.dumps(study))
+    results.validated(data, "test")
+    (tmp_path / "results.json").write_text(json.dumps(data))
+    shutil.copytree(FIXTURES / "modes", tmp_path / "modes")
+    html, _ = build_report(tmp_path / "results.json", tmp_path)
+    page = html.read_text(encoding="utf-8")
+    assert "What sets the lowest modes" in page and "stiffness_sweep_level.png" in page
+    assert "leg_profile.png" in page and "drive axial stiffness" in page
+    assert "Strain energy of every mode by part" in page
+    knee_text = "the knee at" if study[0]["knee_n_per_um"] else "does not reach the knee"
+    assert knee_text in page and not math.isnan(study[0]["shares"][0]["frequency_hz"])
