@@ -90,10 +90,12 @@ def cylinder_mesh(diameter: float, length: float, mesh: ZoneMesh, inner_diameter
                             inner_radius=inner_diameter / 2)
     else:
         cylinder = Cylinder("zone", (0.0, 0.0, 0.0), (float(length), 0.0, 0.0), diameter / 2)
-    # a tube's wall gets two elements across at least, however thin
+    # a tube's elements are at most its wall thick (quadratic through the wall; measured on a
+    # 100/70 mm zone under a clamped tube: half that size moves f1 by 0.004 %, at 2.5 times
+    # the dofs and time)
     size = mesh.size * diameter
     if inner_diameter:
-        size = min(size, (diameter - inner_diameter) / 4)
+        size = min(size, (diameter - inner_diameter) / 2)
     settings = MeshSettings(size=size, rim_factor=mesh.rim_factor,
                             rim_zone=mesh.rim_zone * diameter)
     return build_mesh(Assembly((cylinder,)), settings)

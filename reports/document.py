@@ -100,6 +100,8 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
     couplings = coupling_tables(results, c)
     hard = hard_cases_table(results, c)
     lowest = [{"case": study["case"], "sets": study["sets_lowest"], "study": study,
+               "knees": [(j + 1, k, f) for j, (k, f) in enumerate(
+                   zip(study["knee_n_per_um"], study["knee_factors"])) if k is not None],
                "sweep": sweep_table(results, c, ci) if study["sweep"] else None,
                "shares": shares_table(results, c, ci),
                "fig": _figure(figs.get("sweeps", {}).get(study["case"]))}

@@ -126,7 +126,7 @@ def make_figures(results: dict, results_path: Path, fig_dir: Path,
     figs["sweeps"] = {}
     for study in results["studies"]["lowest_modes"]:
         if study["sweep"]:
-            path = inside(fig_dir, f"stiffness_sweep_{stems.get(study['case'], 'case')}.png")
+            path = inside(fig_dir, f"stiffness_sweep_{file_stem(study['case'], 'case name')}.png")
             plan.add(real_machine.stiffness_sweep, path, study, path)
             figs["sweeps"][study["case"]] = path
     plan.draw(cache_dir, workers)

@@ -44,7 +44,8 @@ def leg_profile(manipulator: dict, path: Path) -> None:
 
 def stiffness_sweep(study: dict, path: Path) -> None:
     """f1-f6 of both models against the drive's stiffness (log), the rigid drive's as dashed
-    lines, the scene's value and the knee marked."""
+    lines, the scene's value and each mode's knee (a cross at 1/sqrt(2) of its rigid-drive
+    frequency) marked."""
     sweep = study["sweep"]
     k = np.array([p["actuator_n_per_um"] for p in sweep])
     fig, ax = plt.subplots(figsize=(WIDTH, 3.0))
@@ -59,15 +60,15 @@ def stiffness_sweep(study: dict, path: Path) -> None:
     scene = next(p["actuator_n_per_um"] for p in sweep if p["factor"] == 1.0)
     ax.axvline(scene, color="0.3", lw=0.8, ls=":")
     ax.text(scene, ax.get_ylim()[1], " the scene's", va="top", fontsize=7)
-    if study["knee_n_per_um"] is not None:
-        ax.axvline(study["knee_n_per_um"], color="C3", lw=0.8)
-        ax.text(study["knee_n_per_um"], ax.get_ylim()[0], " knee", va="bottom", color="C3",
-                fontsize=7)
+    for j, k_knee in enumerate(study["knee_n_per_um"]):  # each mode's knee, on its line
+        if k_knee is not None and study["rigid_drive"]:
+            ax.plot([k_knee], [study["rigid_drive"]["analytical_hz"][j] / np.sqrt(2.0)], "x",
+                    color=MODE_COLOURS[j % len(MODE_COLOURS)], ms=6)
     ax.set_xscale("log")
     ax.set_xlabel("drive axial stiffness $k_a$ (N/µm)")
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(f"{study['case']}: lines the analytical model, circles the FEM, dashed the "
-                 "rigid drive", loc="left")
+                 "rigid drive, crosses the knees", loc="left")
     ax.legend(ncol=3, frameon=False, loc="lower right")
     save(fig, path)
 

@@ -201,8 +201,8 @@ class LowestModes(TypedDict):
     fem_size_mm: FiniteFloat
     sweep: list[SweepPoint]  # empty: the drive is rigid
     rigid_drive: SweepPoint | None
-    knee_factor: FiniteFloat | None  # f1 = f1(rigid drive) / sqrt(2) there; None: not crossed
-    knee_n_per_um: FiniteFloat | None
+    knee_factors: list[FiniteFloat | None]  # per mode: f = f(rigid drive) / sqrt(2) there
+    knee_n_per_um: list[FiniteFloat | None]  # the same in N/um; None: not crossed in the sweep
     shares: list[EnergyShares]  # at the scene's stiffness
     sets_lowest: str  # the part holding most of mode 1's strain energy
 

@@ -6,9 +6,10 @@ legs. Which of them sets a mode is read two ways, per case:
 
 - the sweep: f1-f6 of both models with the scene's actuator stiffness k_a scaled by 0.01 to
   100 (the FEM at the run's mesh size, modes paired by shape), beside the rigid drive. Where
-  f1 is 1/sqrt(2) of its rigid-drive value, the drive and the rest of the machine are equally
-  compliant for that mode (springs in series: 1/f^2 = 1/f_drive^2 + 1/f_structure^2): the
-  knee, above which the structure takes over;
+  a mode's frequency is 1/sqrt(2) of its rigid-drive value, the drive and the rest of the
+  machine are equally compliant for it (springs in series: 1/f^2 = 1/f_drive^2 +
+  1/f_structure^2): its knee, above which the structure takes over. A mode the drive never
+  halves in the sweep (set by the joints or the legs) has no knee;
 - the energy: the share of each mode's strain energy x^T K x in the legs, the joint springs,
   the drive and the platform (`analytical.modal.strain_energy_shares`, the run's analytical
   model at the scene's values; the platform is rigid in both models, its share 0 by
@@ -45,10 +46,10 @@ def with_drive(scene: Scene, factor: float | None) -> Scene:
     return replace(scene, manipulator=replace(scene.manipulator, stiffness=springs))
 
 
-def knee(factors, f1, rigid_f1: float) -> float | None:
-    """The factor at which f1 / f1(rigid drive) crosses 1/sqrt(2), interpolated in log k_a;
+def knee(factors, f, rigid_f: float) -> float | None:
+    """The factor at which f / f(rigid drive) crosses 1/sqrt(2), interpolated in log k_a;
     None when the sweep does not cross it."""
-    ratio = np.asarray(f1) / rigid_f1
+    ratio = np.asarray(f) / rigid_f
     logs = np.log10(factors)
     for k in range(len(ratio) - 1):
         if (ratio[k] - KNEE) * (ratio[k + 1] - KNEE) <= 0.0 and ratio[k] != ratio[k + 1]:
@@ -98,18 +99,19 @@ def lowest_modes(scene: Scene, case_names, cache) -> list[results.LowestModes]:
         case = scene.case(name)
         geometry = pose_geometry(scene.manipulator, case.pose)
         sweep: list[results.SweepPoint] = []
-        knee_factor, rigid = None, None
+        knees: list[float | None] = []
+        rigid = None
         if springs.actuator_axial > 0.0:
             rigid = sweep_point(scene, case, geometry, cache, None, count)
             sweep = [sweep_point(scene, case, geometry, cache, f, count) for f in FACTORS]
-            knee_factor = knee(FACTORS, [p["analytical_hz"][0] for p in sweep],
-                               rigid["analytical_hz"][0])
+            knees = [knee(FACTORS, [p["analytical_hz"][j] for p in sweep],
+                          rigid["analytical_hz"][j]) for j in range(count)]
         energy = shares(scene, case.pose, count)
         out.append(results.LowestModes(
             case=name, fem_size_mm=1e3 * scene.fem.mesh_size, sweep=sweep, rigid_drive=rigid,
-            knee_factor=knee_factor,
-            knee_n_per_um=(None if knee_factor is None
-                           else knee_factor * springs.actuator_axial / 1e6),
+            knee_factors=knees,
+            knee_n_per_um=[None if k is None else k * springs.actuator_axial / 1e6
+                           for k in knees],
             shares=energy, sets_lowest=energy[0]["largest"]))
     return out
 
