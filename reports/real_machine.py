@@ -57,7 +57,7 @@ def stiffness_sweep(study: dict, path: Path) -> None:
         ax.plot(k, [p["fem_hz"][j] for p in sweep], "o", color=colour, ms=3, mfc="none")
         if study["rigid_drive"]:
             ax.axhline(study["rigid_drive"]["analytical_hz"][j], color=colour, lw=0.6, ls="--")
-    scene = next(p["actuator_n_per_um"] for p in sweep if p["factor"] == 1.0)
+    scene = sweep[0]["actuator_n_per_um"] / sweep[0]["factor"]  # the scene's own k_a
     ax.axvline(scene, color="0.3", lw=0.8, ls=":")
     ax.text(scene, ax.get_ylim()[1], " the scene's", va="top", fontsize=7)
     for j, k_knee in enumerate(study["knee_n_per_um"]):  # each mode's knee, on its line
