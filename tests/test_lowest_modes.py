@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 import results
+import studies.lowest_modes as lowest_modes_module
 from runtime.cache import ResultCache
 from scene import load_scene
-import studies.lowest_modes as lowest_modes_module
 from studies.lowest_modes import FACTORS, knee, lowest_modes
 from tests.conftest import ROOT
 
