@@ -98,9 +98,10 @@ def leg_stations(manipulator: Manipulator, options: ModelOptions, zones, lengths
     lengths = np.asarray(lengths, float)
     chain = leg_chain(manipulator, options)
     s = options.elements
-    if chain.segments == s:  # the paper's leg: s equal elements (as before, to the last bit)
+    paper = not manipulator.leg.stepped and chain.split is None
+    if paper and zones is None:  # the paper's leg: s equal elements (as before, to the bit)
         return np.broadcast_to(np.linspace(0.0, 1.0, s + 1), lengths.shape + (s + 1,))
-    if chain.segments == s + 2 and zones is not None:  # the paper's leg between two zones
+    if paper:  # the paper's leg between two zones
         lz = zones["leg"].length / lengths[..., None]
         inner = lz + np.linspace(0.0, 1.0, s + 1) * (1.0 - 2.0 * lz)
         return np.concatenate([np.zeros(lengths.shape + (1,)), inner,

@@ -28,6 +28,7 @@ import results
 from analytical.kinematics import pose_geometry
 from analytical.modal import ENERGY_PARTS, strain_energy_shares
 from analytical.model import analyse
+from common.stiffness import MIN_SPRING
 from scene import Scene
 from solvers.compare import analytical_case, error_table, fem_case
 
@@ -44,6 +45,12 @@ def with_drive(scene: Scene, factor: float | None) -> Scene:
     springs = (replace(springs, actuator_axial=0.0) if factor is None
                else springs.scaled(factor, {DRIVE}))
     return replace(scene, manipulator=replace(scene.manipulator, stiffness=springs))
+
+
+def swept(k_a: float) -> tuple[float, ...]:
+    """The factors of the sweep for a drive of stiffness k_a: FACTORS, less those that would
+    take it below the softest spring a scene may declare (`common.stiffness.MIN_SPRING`)."""
+    return tuple(f for f in FACTORS if f * k_a >= MIN_SPRING)
 
 
 def knee(factors, f, rigid_f: float) -> float | None:
@@ -103,8 +110,9 @@ def lowest_modes(scene: Scene, case_names, cache) -> list[results.LowestModes]:
         rigid = None
         if springs.actuator_axial > 0.0:
             rigid = sweep_point(scene, case, geometry, cache, None, count)
-            sweep = [sweep_point(scene, case, geometry, cache, f, count) for f in FACTORS]
-            knees = [knee(FACTORS, [p["analytical_hz"][j] for p in sweep],
+            factors = swept(springs.actuator_axial)
+            sweep = [sweep_point(scene, case, geometry, cache, f, count) for f in factors]
+            knees = [knee(factors, [p["analytical_hz"][j] for p in sweep],
                           rigid["analytical_hz"][j]) for j in range(count)]
         energy = shares(scene, case.pose, count)
         out.append(results.LowestModes(

@@ -35,6 +35,15 @@ def test_the_knee_of_two_springs_in_series_is_where_they_are_equal():
     assert knee(factors, np.full(len(factors), f0), f0) is None  # never crossed
 
 
+def test_a_soft_drive_is_swept_only_as_low_as_a_scene_may_declare():
+    """A scene may declare a drive of 2 kN/m; 0.01 of it is no spring a scene could hold (and
+    the study would stop on it): the sweep starts where the drive is still admissible."""
+    from common.stiffness import MIN_SPRING
+    from studies.lowest_modes import swept
+    assert swept(160e6) == FACTORS  # the shipped scene's 160 N/um: the whole sweep
+    assert swept(2 * MIN_SPRING) == (1.0, 3.0, 10.0, 30.0, 100.0)
+
+
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
     """The study on the shipped realistic scene, one case, at a coarse FEM (the pairing and the
