@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .errors import InputError
-from .settings import MAX_LENGTH, MIN_PART, check_settings, setting
+from .settings import MAX_LENGTH, MIN_PART, check_settings, declared, setting
 
 ENDS = ("base", "platform")
 # A part is at least this many of its diameters long: a tube or rod, not a ring, with room for
@@ -143,6 +143,5 @@ class LegProfile:
         return LegPart("rod", 0.0, 0.0, self.rod_outer_diameter, self.rod_inner_diameter)
 
     def scaled(self, k: float) -> "LegProfile":
-        return LegProfile(*(k * getattr(self, n) for n in (
-            "housing_length", "housing_outer_diameter", "housing_inner_diameter",
-            "rod_outer_diameter", "rod_inner_diameter")))
+        """The same profile with every length multiplied by `k`."""
+        return LegProfile(**{name: k * getattr(self, name) for name, _, _ in declared(self)})

@@ -26,7 +26,7 @@ import numpy as np
 
 from .errors import InputError
 from .joints import JOINTS
-from .settings import check_settings, setting
+from .settings import check_settings, declared, setting
 
 # Plausible springs at the edge: a bearing or drive softer than 1e-3 N/um (1 kN/m) carries no
 # machine; above 1e13 N/um a spring is rigid to every digit of a double (a steel leg's axial
@@ -61,20 +61,16 @@ class Stiffness:
 
     def __post_init__(self) -> None:
         check_settings(self)
-        for name, value in self.values().items():
+        for name, spec, _ in declared(self):
+            value = getattr(self, name)
             if 0.0 < value < MIN_SPRING:
-                unit = "N m/urad" if name.endswith("rotational") else "N/um"
-                raise InputError(f"stiffness.{self.key(name)} = {value / 1e6:g}: expected 0 "
-                                 f"(rigid) or at least {MIN_SPRING / 1e6:g} {unit}")
-
-    @staticmethod
-    def key(name: str) -> str:
-        return name + ("_nm_per_urad" if name.endswith("rotational") else "_n_per_um")
+                raise InputError(f"stiffness.{spec.scene_key(name)} = {spec.edge(value):g}: "
+                                 f"expected 0 (rigid) or at least {spec.edge(MIN_SPRING):g} "
+                                 f"{spec.unit}")
 
     def values(self) -> dict[str, float]:
-        return {n: getattr(self, n) for n in (
-            "actuator_axial", "base_joint_translational", "base_joint_rotational",
-            "platform_joint_translational", "platform_joint_rotational")}
+        """Every spring by field name, SI (the declaration's order)."""
+        return {name: getattr(self, name) for name, _, _ in declared(self)}
 
     @property
     def rigid(self) -> bool:
