@@ -31,6 +31,20 @@ has no trustworthy order: then `order` is None, `status` says why, the extrapola
 finest result, and the bound is widened, not shrunk: every size's error is |f_h - f_finest|
 plus the largest change between successive sizes carried to the finest size as the tail of a
 sequence converging at P_THEORY, |largest change| / ((h_{n-1} / h_n)^P_THEORY - 1).
+
+Beside it, the Grid Convergence Index (Roache 1994; the procedure of Celik et al., J. Fluids
+Eng. 130:078001, 2008), per mode, from the three finest sizes (fine first: h1 < h2 < h3,
+r21 = h2 / h1, r32 = h3 / h2, e21 = f2 - f1, e32 = f3 - f2): the observed order solves
+    p = |ln|e32 / e21| + ln((r21^p - s) / (r32^p - s))| / ln r21,   s = sign(e32 / e21),
+capped at the element's formal order (P_FIT_MAX = 4, as Roache advises: an order above it is
+pre-asymptotic); the limit is f1 + (f1 - f2) / (r21^p - 1) and the GCI of the finest size
+GCI_fine = 1.25 |f1 - f2| / |f1| / (r21^p - 1), i.e. 1.25 times its distance to that limit; the GCI
+of every size is 1.25 times its own distance to it (the second size's is Roache's GCI_coarse).
+Where the three finest sizes give no order (oscillating or stalled differences, or no root), the
+two-mesh GCI stands in: safety factor 3 at the theory order P_THEORY on the largest change of
+the three, carried to the finest size. `two_mesh_gci` is that two-mesh form for studies that
+solve two sizes only. The stated error of a size is the larger of the two estimates
+(`RefinementStudy.stated_errors`): the fidelity choice and the reported error use it.
 """
 from __future__ import annotations
 
@@ -59,6 +73,19 @@ class ModeConvergence:
 
 
 MIN_SIZES = 3  # a fitted order and a limit need three sizes at least
+GCI_SAFETY_THREE = 1.25  # Roache's safety factor with an observed order (three meshes)
+GCI_SAFETY_TWO = 3.0  # ... with an assumed order (two meshes, or no observed order)
+
+
+@dataclass
+class ModeGci:
+    """One mode's Grid Convergence Index over the sizes of a study."""
+
+    order: float  # the order the GCI used: observed (capped at P_FIT_MAX), or P_THEORY
+    safety_factor: float  # GCI_SAFETY_THREE with an observed order, else GCI_SAFETY_TWO
+    extrapolated_hz: float
+    relative_error: list[float]  # per size, coarse -> fine: safety * |f_h - limit| / |f_h|
+    observed_order: float | None = None  # Celik's order before the cap; None without one
 
 
 def sequence_problem(sizes) -> str | None:
@@ -162,6 +189,57 @@ def richardson(h, f, noise: float = 1e-9) -> ModeConvergence:
     return ModeConvergence(float(p), f_inf, errs, status, triplets, float(p_obs))
 
 
+def celik_order(h, f) -> float | None:
+    """Celik's observed order from three sizes coarse -> fine (None without one: a zero or a
+    sign-changing difference, or no root of the fixed point)."""
+    (h3, h2, h1), (f3, f2, f1) = h, f
+    e21, e32 = f2 - f1, f3 - f2
+    if e21 == 0 or e32 == 0 or e32 / e21 < 0:
+        return None
+    r21, r32 = h2 / h1, h3 / h2
+    if math.isclose(r21, r32, rel_tol=1e-12):
+        p = math.log(abs(e32 / e21)) / math.log(r21)
+        return p if p > 0 else None
+
+    def g(p):
+        return p - abs(math.log(abs(e32 / e21))
+                       + math.log((r21**p - 1.0) / (r32**p - 1.0))) / math.log(r21)
+
+    lo, hi = 1e-3, 20.0
+    if g(lo) * g(hi) > 0:
+        return None
+    return float(brentq(g, lo, hi, xtol=1e-12))
+
+
+def gci(h, f) -> ModeGci:
+    """One mode's GCI over sizes h (coarse -> fine, >= 2) from its three finest sizes, or its two
+    when the study has two or the three give no order (module docstring)."""
+    h = np.asarray(h, float)
+    f = np.asarray(f, float)
+    if len(h) < 2:
+        raise InputError(f"sizes = {h.tolist()}: a grid convergence index needs two sizes")
+    p_obs = celik_order(h[-3:], f[-3:]) if len(h) >= 3 else None
+    finest = float(f[-1])
+    ratio = h[-2] / h[-1]
+    if p_obs is not None:
+        p, safety = min(p_obs, P_FIT_MAX), GCI_SAFETY_THREE
+        limit = finest + (finest - f[-2]) / (ratio**p - 1.0)
+        errs = [float(safety * abs(x - limit) / abs(x)) for x in f]
+    else:
+        p, safety = P_THEORY, GCI_SAFETY_TWO
+        tail = float(np.abs(np.diff(f[-3:])).max()) / (ratio**p - 1.0)
+        limit = finest
+        errs = [float(safety * (abs(x - finest) + tail) / abs(x)) for x in f]
+    return ModeGci(float(p), safety, float(limit), errs, p_obs)
+
+
+def two_mesh_gci(fine_hz, coarse_hz, ratio: float) -> np.ndarray:
+    """The two-mesh GCI (%) of the fine solutions of sizes h and ratio * h: safety factor 3 at
+    the theory order, 3 |f_h - f_H| / |f_h| / (ratio^P_THEORY - 1)."""
+    fine, coarse = np.asarray(fine_hz, float), np.asarray(coarse_hz, float)
+    return 100 * GCI_SAFETY_TWO * np.abs(fine - coarse) / np.abs(fine) / (ratio**P_THEORY - 1)
+
+
 @dataclass
 class RefinementStudy:
     sizes: list[float]  # nominal mesh sizes, m
@@ -171,6 +249,7 @@ class RefinementStudy:
     raw_dofs: list[int]
     timings: list[dict]
     modes: list[ModeConvergence]
+    gci: list[ModeGci] = field(default_factory=list)
 
     @property
     def orders(self) -> list[float | None]:
@@ -185,8 +264,18 @@ class RefinementStudy:
         """(n_sizes, n_modes) estimated relative error of every size and mode."""
         return np.array([m.relative_error for m in self.modes]).T
 
+    @property
+    def gci_errors(self) -> np.ndarray:
+        """(n_sizes, n_modes) GCI of every size and mode."""
+        return np.array([g.relative_error for g in self.gci]).T
+
+    @property
+    def stated_errors(self) -> np.ndarray:
+        """(n_sizes, n_modes) the stated error: the larger of Richardson's estimate and the GCI."""
+        return np.maximum(self.relative_errors, self.gci_errors)
+
     def max_error(self, size_index: int) -> float:
-        return float(self.relative_errors[size_index].max())
+        return float(self.stated_errors[size_index].max())
 
     def to_dict(self) -> dict:
         return {
@@ -202,6 +291,10 @@ class RefinementStudy:
             "status": [m.status for m in self.modes],
             "extrapolated_hz": self.extrapolated_hz,
             "relative_error": self.relative_errors.tolist(),
+            "gci": self.gci_errors.tolist(),
+            "gci_order": [g.order for g in self.gci],
+            "gci_safety_factor": [g.safety_factor for g in self.gci],
+            "stated_error": self.stated_errors.tolist(),
             "max_relative_error": [self.max_error(k) for k in range(len(self.sizes))],
         }
 
@@ -220,6 +313,7 @@ def study_from_values(sizes, frequencies_hz, dofs, raw_dofs, timings,
         raw_dofs=[int(x) for x in raw_dofs],
         timings=[dict(t) for t in timings],
         modes=[richardson(h_eff, freqs[:, k]) for k in range(freqs.shape[1])],
+        gci=[gci(h_eff, freqs[:, k]) for k in range(freqs.shape[1])],
     )
 
 

@@ -221,8 +221,13 @@ def _meridian(radius: float, length: float, size: float, inner: float) -> Meridi
 def harmonic_stiffness(radius: float, length: float, size: float, lam: float, mu: float,
                        n: int, inner: float = 0.0) -> sp.csr_matrix:
     """K_n = w_n int B^T D B r dr dz of one part (read-only, remembered per process)."""
-    m = _meridian(radius, length, size, inner)
-    values, grads, r, w = _element_arrays(m.basis)
+    return meridian_stiffness(_meridian(radius, length, size, inner).basis, lam, mu, n)
+
+
+def meridian_stiffness(basis: Basis, lam: float, mu: float, n: int) -> sp.csr_matrix:
+    """K_n = w_n int B^T D B r dr dz of harmonic n on any meridian (a P2 basis on a mesh of
+    r >= 0, x = r, y = z): dofs 3 s + c, c = (r, t, z); w_0 = 2 pi, w_n = pi."""
+    values, grads, r, w = _element_arrays(basis)
     d = np.zeros((6, 6))
     d[:3, :3] = lam
     d[[0, 1, 2], [0, 1, 2]] += 2 * mu
@@ -230,19 +235,24 @@ def harmonic_stiffness(radius: float, length: float, size: float, lam: float, mu
     b = _strain_operator(values, grads, r, n)
     weight = 2 * math.pi if n == 0 else math.pi
     ke = weight * np.einsum("eqsa,st,eqtb,eq->eab", b, d, b, w, optimize=True)
-    nodes = m.basis.element_dofs  # (6, ne) scalar nodes -> (18, ne) dofs 3 s + c, node-major
+    nodes = basis.element_dofs  # (6, ne) scalar nodes -> (18, ne) dofs 3 s + c, node-major
     dofs = (3 * nodes[:, None, :] + np.arange(3)[None, :, None]).reshape(-1, nodes.shape[1])
-    return _sparse(dofs, ke, 3 * m.n_scalar)
+    return _sparse(dofs, ke, 3 * basis.N)
 
 
 @functools.lru_cache(maxsize=64)
 def unit_mass(radius: float, length: float, size: float, inner: float = 0.0) -> sp.csr_matrix:
     """pi int N^T N r dr dz on dofs 3 s + c, density 1 (read-only, remembered per process):
     the scalar P2 mass times the 3 x 3 identity."""
-    m = _meridian(radius, length, size, inner)
-    values, _, _, w = _element_arrays(m.basis)
-    scalar = _sparse(m.basis.element_dofs,
-                     np.einsum("aeq,beq,eq->eab", values, values, w, optimize=True), m.n_scalar)
+    return meridian_mass(_meridian(radius, length, size, inner).basis)
+
+
+def meridian_mass(basis: Basis) -> sp.csr_matrix:
+    """pi int N^T N r dr dz on dofs 3 s + c of any meridian, density 1 (harmonic n >= 1's
+    mass; n = 0's is twice it)."""
+    values, _, _, w = _element_arrays(basis)
+    scalar = _sparse(basis.element_dofs,
+                     np.einsum("aeq,beq,eq->eab", values, values, w, optimize=True), basis.N)
     out = math.pi * sp.kron(scalar, sp.identity(3), format="csr")
     out.data.setflags(write=False)
     return out

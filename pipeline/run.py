@@ -176,7 +176,7 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
 
     step("FEM reference")
     fem = fem_case(scene, geometry, cache, mesh_size)
-    fem_error = reference = None
+    fem_error = fem_gci = reference = None
     refinement_study = None
     if refinement:
         step("FEM refinement study")
@@ -185,9 +185,13 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
         if mesh_size in refinement_study["sizes_m"]:
             k = refinement_study["sizes_m"].index(mesh_size)
             fem_error = np.asarray(refinement_study["estimated_error_percent"][k])
-        else:
-            fem_error = 100 * np.abs(np.asarray(fem.record["frequencies_hz"][:count])
-                                     / reference - 1)
+            fem_gci = refinement_study["gci_percent"][k]
+        else:  # a size outside the study: its distances to the two limits
+            f_h = np.asarray(fem.record["frequencies_hz"][:count])
+            gci = (100 * np.asarray(refinement_study["gci_safety_factor"])
+                   * np.abs(f_h - np.asarray(refinement_study["gci_extrapolated_hz"])) / f_h)
+            fem_error = np.maximum(100 * np.abs(f_h / reference - 1), gci)
+            fem_gci = gci.tolist()
 
     step("analytical models")
     analytical = analytical_case(scene, case, scene.analytical)
@@ -204,6 +208,7 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
         mac_matrix=mac_matrix(analytical.station_shapes[:, :count],
                               fem.station_shapes[:, :count]).tolist(),
         fem_estimated_error_percent=None if fem_error is None else fem_error.tolist(),
+        fem_gci_percent=fem_gci,
         fem_reference_hz=None if reference is None else reference.tolist(),
         fem_refinement=refinement_study,
         models=None, element_convergence=None, fem_variants=None, fem_variant_errors=None,

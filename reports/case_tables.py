@@ -108,19 +108,23 @@ def refinement_table(results: dict, i: int, c: Cells) -> dict | None:
     n = len(ref["frequencies_hz"][0])
     q = f"/cases/{i}/fem_refinement"
     labels = ["h (mm)", "h eff. (mm)", "dofs", "time (s)"]
-    labels += [f"f{k + 1} (Hz)" for k in range(n)] + ["est. error max (%)"]
+    labels += [f"f{k + 1} (Hz)" for k in range(n)] + ["GCI max (%)", "est. error max (%)"]
     rows = [[c.num(f"{q}/sizes_m/{r}", 1, scale=1000.0),
              c.num(f"{q}/effective_sizes_m/{r}", 1, scale=1000.0),
              c.num(f"{q}/dofs/{r}", None), c.num(f"{q}/seconds/{r}", 1)]
             + [c.num(f"{q}/frequencies_hz/{r}/{k}", 2) for k in range(n)]
-            + [c.num(f"{q}/estimated_error_percent_max/{r}", 3)]
+            + [c.num(f"{q}/gci_percent_max/{r}", 3),
+               c.num(f"{q}/estimated_error_percent_max/{r}", 3)]
             for r, _ in enumerate(ref["sizes_m"])]
 
     def extra(label: str, cells: list[dict]) -> list[dict]:
-        return [c.text(literal=label, cls="text label")] + [cell("")] * 3 + cells + [cell("")]
+        return [c.text(literal=label, cls="text label")] + [cell("")] * 3 + cells + [cell("")] * 2
 
     rows.append(extra("h → 0", [c.num(f"{q}/extrapolated_hz/{k}", 2) for k in range(n)]))
     rows.append(extra("order p", [c.num(f"{q}/observed_order/{k}", 2) for k in range(n)]))
+    rows.append(extra("GCI: h → 0", [c.num(f"{q}/gci_extrapolated_hz/{k}", 2)
+                                     for k in range(n)]))
+    rows.append(extra("GCI: order p", [c.num(f"{q}/gci_order/{k}", 2) for k in range(n)]))
     if any(s != "ok" for s in ref["status"]):
         rows.append(extra("status", [c.text(f"{q}/status/{k}", cls="text small")
                                      for k in range(n)]))

@@ -202,7 +202,14 @@ class Refinement(TypedDict):
     orders_by_triplet: list[list[FiniteFloat | None]]
     status: list[str]  # ok, order bounded by theory, non-monotone, order out of range, converged
     extrapolated_hz: Frequencies
-    estimated_error_percent: list[list[FiniteFloat]]  # [size][mode]
+    richardson_error_percent: list[list[FiniteFloat]]  # [size][mode], Richardson's estimate
+    gci_percent: list[list[FiniteFloat]]  # [size][mode], grid convergence index (Roache)
+    gci_order: list[FiniteFloat]  # per mode: the order the GCI used
+    gci_observed_order: list[FiniteFloat | None]  # per mode: Celik's, from the 3 finest sizes
+    gci_safety_factor: list[FiniteFloat]  # per mode: 1.25 (observed order) or 3 (assumed)
+    gci_extrapolated_hz: Frequencies
+    gci_percent_max: list[FiniteFloat]  # per size, over the modes
+    estimated_error_percent: list[list[FiniteFloat]]  # [size][mode]: max(Richardson, GCI)
     estimated_error_percent_max: list[FiniteFloat]
 
 
@@ -245,7 +252,8 @@ class Case(TypedDict):
     pairs: list[Pair]
     paper: Paper | None
     mac_matrix: list[list[FiniteFloat]]  # [analytical mode][FEM mode]
-    fem_estimated_error_percent: list[FiniteFloat] | None
+    fem_estimated_error_percent: list[FiniteFloat] | None  # max(Richardson, GCI) of its size
+    fem_gci_percent: list[FiniteFloat] | None  # grid convergence index of its size, per mode
     fem_reference_hz: Frequencies | None
     fem_refinement: Refinement | None
     models: dict[str, ModelVariant] | None

@@ -108,7 +108,8 @@ class ValidationPose(TypedDict):
     error: str | None  # why the pose could not be solved (then the rest is null)
     fem_hz: Hz | None  # the finer of the two meshes
     fem_limit_hz: Frequencies | None  # Richardson's step between them at order 1.42
-    fem_estimated_error_percent: list[FiniteFloat] | None  # two-mesh estimate, per mode
+    fem_estimated_error_percent: list[FiniteFloat] | None  # max(two-mesh Richardson, GCI)
+    fem_gci_percent: list[FiniteFloat] | None  # two-mesh GCI (safety factor 3), per mode
     fem_seconds: FiniteFloat | None
     slenderness: list[FiniteFloat] | None  # shortest and longest leg, in leg diameters
     models: dict[str, list[FiniteFloat | None]] | None  # error vs the FEM limit per mode, %;

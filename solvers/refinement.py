@@ -35,7 +35,9 @@ def prefetch_fem(scene: Scene, geometries: list, sizes, cache: ResultCache, work
 def fem_refinement(scene: Scene, geometry, cache: ResultCache,
                    sizes: tuple[float, ...]) -> dict:
     """Solve at every size (each through the cache) and extrapolate every frequency
-    (Richardson with the observed order, fem_reference.convergence): a results.Refinement."""
+    (Richardson with the observed order, and the grid convergence index, GCI:
+    fem_reference.convergence): a results.Refinement. Its `estimated_error_percent`, the error
+    every consumer states and chooses by, is the larger of the two."""
     from fem_reference.convergence import study_from_values
     from meshing.bodies import pose_assembly
 
@@ -56,5 +58,12 @@ def fem_refinement(scene: Scene, geometry, cache: ResultCache,
         orders_by_triplet=[m.orders_by_triplet for m in study.modes],
         status=[m.status for m in study.modes],
         extrapolated_hz=study.extrapolated_hz,
-        estimated_error_percent=(100 * study.relative_errors).tolist(),
+        richardson_error_percent=(100 * study.relative_errors).tolist(),
+        gci_percent=(100 * study.gci_errors).tolist(),
+        gci_order=[g.order for g in study.gci],
+        gci_observed_order=[g.observed_order for g in study.gci],
+        gci_safety_factor=[g.safety_factor for g in study.gci],
+        gci_extrapolated_hz=[g.extrapolated_hz for g in study.gci],
+        gci_percent_max=(100 * study.gci_errors.max(axis=1)).tolist(),
+        estimated_error_percent=(100 * study.stated_errors).tolist(),
         estimated_error_percent_max=[100 * study.max_error(k) for k in range(len(sizes))])
