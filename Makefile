@@ -2,6 +2,7 @@
 #   make          set up (first time) and run the validation of the default scene into out/
 #   make test     set up (first time) and run the test suite
 #   make lint     the linter (ruff) and the type checker (mypy), as CI runs them
+#   make verify   the solid FEM against published benchmarks (pytest -m verification)
 #   make bench    timing benchmarks (medians of repeated runs) into out/bench.json
 #   make report   rebuild out/report.html and out/report.pdf from out/results.json
 #   make clean-cache  empty the result, mesh, timing and figure caches (out/ stays)
@@ -16,7 +17,7 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run setup test lint bench report readme docs clean clean-cache update-baselines
+.PHONY: run setup test verify lint bench report readme docs clean clean-cache update-baselines
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -31,6 +32,9 @@ run: $(STAMP)
 
 test: $(STAMP)
 	$(PYTHON) -m pytest
+
+verify: $(STAMP)
+	$(PYTHON) -m pytest -m verification
 
 lint: $(STAMP)
 	$(PYTHON) -m ruff check .

@@ -75,6 +75,9 @@ class ModeConvergence:
 MIN_SIZES = 3  # a fitted order and a limit need three sizes at least
 GCI_SAFETY_THREE = 1.25  # Roache's safety factor with an observed order (three meshes)
 GCI_SAFETY_TWO = 3.0  # ... with an assumed order (two meshes, or no observed order)
+# the root search of Celik's order: orders far above P_FIT_MAX occur on closely spaced sizes
+# (a ratio of 1.08 between effective sizes): such an order is found, then capped
+CELIK_ORDER_MAX = 200.0
 
 
 @dataclass
@@ -205,7 +208,7 @@ def celik_order(h, f) -> float | None:
         return p - abs(math.log(abs(e32 / e21))
                        + math.log((r21**p - 1.0) / (r32**p - 1.0))) / math.log(r21)
 
-    lo, hi = 1e-3, 20.0
+    lo, hi = 1e-3, CELIK_ORDER_MAX
     if g(lo) * g(hi) > 0:
         return None
     return float(brentq(g, lo, hi, xtol=1e-12))

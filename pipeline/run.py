@@ -245,7 +245,8 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
                                    height_calibration=None, angle_conventions=[],
                                    workspace=None, joint_orders=[],
                                    joint_couplings=[], workspace_validation=None,
-                                   hard_cases=[], lowest_modes=[]),
+                                   hard_cases=[], lowest_modes=[],
+                                   fem_verification=None),
             fidelity=None,
             fixture_note=None)
         mode_files = {}

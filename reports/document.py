@@ -30,6 +30,7 @@ from .study_tables import (
     hard_cases_table,
     joint_order_tables,
     speed_table,
+    verification_table,
 )
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -64,7 +65,7 @@ def case_context(results: dict, i: int, figs: dict, c: Cells) -> dict:
 
 SECTION_ORDER = ("summary", "fidelity", "scene", "comparison", "convergence", "modes", "speed",
                  "workspace", "validation", "lowest-modes", "joint-orders", "joint-couplings",
-                 "hard-cases", "studies", "other")
+                 "hard-cases", "verification", "studies", "other")
 
 
 def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
@@ -83,7 +84,8 @@ STUDY_SECTIONS = {"convergence": "convergence studies", "speed": "speed vs error
                   "workspace": "workspace maps", "validation": "workspace validation",
                   "joint-orders": "both joint orders",
                   "joint-couplings": "both joint-face couplings", "hard-cases": "hard cases",
-                  "lowest-modes": "what sets the lowest modes"}
+                  "lowest-modes": "what sets the lowest modes",
+                  "verification": "verification of the FEM against published benchmarks"}
 
 
 def context(results: dict, results_path: Path, figs: dict) -> dict:
@@ -99,6 +101,7 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
     joint_orders = joint_order_tables(results, c)
     couplings = coupling_tables(results, c)
     hard = hard_cases_table(results, c)
+    verification = verification_table(results, c)
     lowest = [{"case": study["case"], "sets": study["sets_lowest"], "study": study,
                "knees": [(j + 1, k, f) for j, (k, f) in enumerate(
                    zip(study["knee_n_per_um"], study["knee_factors"])) if k is not None],
@@ -125,7 +128,7 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
             "validation": bool(results["studies"]["workspace_validation"]),
             "joint-orders": bool(joint_orders), "joint-couplings": bool(couplings),
             "hard-cases": bool(hard), "studies": bool(conventions or calibration),
-            "lowest-modes": bool(lowest),
+            "lowest-modes": bool(lowest), "verification": bool(verification),
             "other": bool(other)}),
         "cases": cases, "main_cases": main, "other_cases": other,
         "tables": setup_tables(results, c),
@@ -136,6 +139,8 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
             f"{h:g}" for h in (studies["joint_couplings"][0]["readings"][0]["fem_sizes_mm"]
                                if studies["joint_couplings"] else [])),
         "hard_cases": hard,
+        "verification_table": verification,
+        "verification": results["studies"].get("fem_verification"),
         "lowest_modes": lowest,
         "fig_leg_profile": _figure(figs.get("leg_profile")),
         "hard_failed": [r for r in results["studies"]["hard_cases"] if not r["passed"]],

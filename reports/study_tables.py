@@ -153,3 +153,27 @@ def hard_cases_table(results: dict, c: Cells) -> dict | None:
         return None
     return {"head": [head("case", "claim", "tolerance", "measured", "unit", "")],
             "rows": rows, "cls": "hardcases"}
+
+
+def verification_table(results: dict, c: Cells) -> dict | None:
+    """Every reference mode of every published benchmark the FEM was run on: the reference,
+    the finest mesh's answer, the deviation, the observed order, the stated error, the band."""
+    record = results["studies"].get("fem_verification")
+    if not record:
+        return None
+    rows = []
+    for i, case in enumerate(record["cases"]):
+        q = f"/studies/fem_verification/cases/{i}"
+        for k, mode in enumerate(case["modes"]):
+            m = f"{q}/modes/{k}"
+            fine = len(mode["hz"]) - 1
+            ok = mode["within_tolerance"] and (mode["bounded"] or bool(case["bound_note"]))
+            rows.append([c.text(f"{q}/name") if k == 0 else cell("", "text"),
+                         c.text(f"{m}/label"), c.num(f"{m}/reference_hz", 3),
+                         c.num(f"{m}/hz/{fine}", 3), c.sci(f"{m}/deviation_percent"),
+                         c.num(f"{m}/observed_order", 2), c.sci(f"{m}/stated_error_percent"),
+                         c.num(f"{q}/tolerance_percent", 3),
+                         cell("passes" if ok else "FAILS", "text")])
+    return {"head": [head("benchmark", "mode", "reference (Hz)", "FEM, finest (Hz)",
+                          "deviation (%)", "order", "stated error (%)", "tolerance (%)", "")],
+            "rows": rows, "cls": "verification"}

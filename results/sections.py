@@ -21,6 +21,7 @@ SECTIONS: dict[str, tuple[str, str] | None] = {
     "joint_couplings": ("joint-couplings", "Joint faces: rigid and distributing couplings"),
     "hard_cases": ("hard-cases", "Hard cases: numerical stability and physics checks"),
     "lowest_modes": ("lowest-modes", "What sets the lowest modes: drive, joints and legs"),
+    "fem_verification": ("verification", "Verifying the referee: published benchmarks"),
 }
 
 

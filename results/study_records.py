@@ -161,6 +161,58 @@ class HardCase(TypedDict):
 
 
 @with_config(STRICT)
+class BenchmarkMode(TypedDict):
+    """One reference mode of a published benchmark, solved at every size (verification)."""
+    label: str
+    reference_hz: Frequency
+    hz: list[FiniteFloat]  # per size, coarse -> fine
+    deviation_percent: FiniteFloat  # finest size against the reference, signed
+    observed_order: FiniteFloat | None
+    richardson_error_percent: FiniteFloat
+    gci_percent: FiniteFloat
+    stated_error_percent: FiniteFloat  # max(Richardson, GCI) of the finest size
+    within_tolerance: bool
+    bounded: bool  # |deviation| <= stated error
+    note: str | None
+
+
+@with_config(STRICT)
+class BenchmarkCheck(TypedDict):
+    what: str
+    value: FiniteFloat
+    limit: FiniteFloat
+    passed: bool
+
+
+@with_config(STRICT)
+class Benchmark(TypedDict):
+    """A published free-vibration benchmark run by the project's own FEM (verification/)."""
+    name: str
+    title: str
+    source: str
+    discretisation: str  # "tetrahedra" or "harmonic"
+    what: str
+    reference_uncertainty_percent: FiniteFloat | None
+    tolerance_percent: FiniteFloat
+    tolerance_reason: str
+    sizes_m: list[FiniteFloat]
+    dofs: list[int]
+    seconds: list[FiniteFloat]
+    modes: list[BenchmarkMode]
+    checks: list[BenchmarkCheck]
+    bound_note: str | None
+    passed: bool
+
+
+@with_config(STRICT)
+class FemVerification(TypedDict):
+    """The solid FEM checked against published benchmarks (studies.fem_verification)."""
+    cases: list[Benchmark]
+    passed: bool
+    seconds: FiniteFloat  # when computed (the record may come from the result cache)
+
+
+@with_config(STRICT)
 class ReachableWorkspace(TypedDict):
     """The machine's reachable workspace, computed before any expensive work (studies.reachable),
     and every way a study adapted its poses to it."""
@@ -219,6 +271,7 @@ class Studies(TypedDict):
     workspace_validation: WorkspaceValidation | None
     hard_cases: list[HardCase]  # empty: not run (the CI profile)
     lowest_modes: list[LowestModes]  # empty: no spring in the scene, or the CI profile
+    fem_verification: FemVerification | None  # None: not run (the CI profile)
 
 
 @with_config(STRICT)

@@ -16,6 +16,7 @@ from . import (
     couplings,
     element_convergence,
     fem_idealisations,
+    fem_verification,
     hard_cases,
     joint_orders,
     lowest_modes,
@@ -41,6 +42,7 @@ STUDIES: tuple[Study, ...] = (
     couplings.STUDY,
     hard_cases.STUDY,
     lowest_modes.STUDY,
+    fem_verification.STUDY,
 )
 
 

@@ -11,6 +11,7 @@ from . import (
                scene_docs,
                update_baselines,
                validate,
+               verify,
                workspace,
 )
 from .registry import Command
@@ -20,6 +21,7 @@ COMMANDS: tuple[Command, ...] = (
     fem.COMMAND,
     workspace.COMMAND,
     validate.COMMAND,
+    verify.COMMAND,
     cache.COMMAND,
     check_baselines.COMMAND,
     readme.COMMAND,

@@ -1,0 +1,61 @@
+"""`rps verify`: the solid FEM against published free-vibration benchmarks (NAFEMS and closed
+forms), each at three mesh sizes; writes DIR/verification.json and prints the table."""
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..args import cache_dir, cache_option
+from .registry import Command
+
+
+def add_arguments(v: argparse.ArgumentParser) -> None:
+    v.add_argument("--out", metavar="DIR", type=Path, default=Path("out"),
+                   help="output directory of verification.json (default: out)")
+    cache_option(v)
+    v.add_argument("--json", action="store_true", help="print the record as one JSON object")
+
+
+def table_lines(record: dict) -> list[str]:
+    """One line per reference mode: reference, finest answer, deviation, order, stated error."""
+    head = (f"{'benchmark':<14} {'mode':<34} {'ref (Hz)':>10} {'FEM (Hz)':>10} {'dev %':>8} "
+            f"{'order':>6} {'stated %':>9} {'tol %':>6}  ok")
+    lines = [head, "-" * len(head)]
+    for case in record["cases"]:
+        for m in case["modes"]:
+            order = "-" if m["observed_order"] is None else f"{m['observed_order']:.2f}"
+            ok = "yes" if m["within_tolerance"] and (m["bounded"] or case["bound_note"]) else "NO"
+            lines.append(f"{case['name']:<14} {m['label'][:34]:<34} {m['reference_hz']:>10.3f} "
+                         f"{m['hz'][-1]:>10.3f} {m['deviation_percent']:>+8.3f} {order:>6} "
+                         f"{m['stated_error_percent']:>9.3g} {case['tolerance_percent']:>6.3g}"
+                         f"  {ok}")
+        for c in case["checks"]:
+            lines.append(f"{case['name']:<14} check: {c['what']} ({c['value']:.3g}, limit "
+                         f"{c['limit']:.3g}): {'passed' if c['passed'] else 'FAILED'}")
+    verdict = "all passed" if record["passed"] else "FAILED"
+    lines.append(f"{len(record['cases'])} benchmarks, {verdict} "
+                 f"({record['seconds']:.0f} s when computed)")
+    return lines
+
+
+def run(args: argparse.Namespace) -> int:
+    from common.atomic import write_json_atomic
+    from common.paths import inside
+    from runtime.cache import ResultCache
+    from studies.fem_verification import verification_record
+
+    record = verification_record(ResultCache(cache_dir(args)))
+    path = inside(args.out, "verification.json")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_json_atomic(path, record)
+    if args.json:
+        print(json.dumps(record))
+    else:
+        print("\n".join(table_lines(record)))
+        print(f"wrote {path}")
+    return 0 if record["passed"] else 1
+
+
+COMMAND = Command("verify", "the solid FEM against published free-vibration benchmarks",
+                  add_arguments, run)

@@ -1,0 +1,41 @@
+"""Scene study: the solid FEM, the referee of every comparison, checked against published
+free-vibration benchmarks (`verification/`: NAFEMS FV52 and FV41, closed forms of the torsion
+of a tube and of a thin ring's flexure, a free-free solid) at three mesh sizes each, with the
+deviation from each reference, the observed order and the project's stated error
+(results.studies.fem_verification).
+
+The benchmarks do not depend on the scene: the record is computed once per version of the FEM
+code (the result cache keys it by the sources of `verification/` and the model packages) and
+then read back, so a run pays for it only when the referee itself changed.
+"""
+from __future__ import annotations
+
+import time
+
+from runtime.cache import ResultCache
+
+from .registry import Context, Study
+
+MODULES = ("verification",)
+
+
+def verification_record(cache: ResultCache) -> dict:
+    """results.FemVerification, through the result cache."""
+    from verification import run_all
+
+    def compute():
+        start = time.perf_counter()
+        cases = run_all()
+        return {"cases": cases, "passed": all(c["passed"] for c in cases),
+                "seconds": time.perf_counter() - start}, {}
+
+    value, _, _ = cache.get_or_compute("fem-verification", {}, compute,
+                                       required=("cases", "passed"), modules=MODULES)
+    return value
+
+
+def run(ctx: Context) -> dict:
+    return verification_record(ctx.cache)
+
+
+STUDY = Study("fem_verification", "scene", run)
