@@ -9,8 +9,17 @@ from dataclasses import dataclass, field
 
 from .axisymmetric import area_effective_size, rectangle_basis, solve_harmonic
 from .cases import STEEL, Case, ring_closed_form_hz
-from .shapes import RIGID_RATIO, component_fractions, kth_of_kind, pair_split, rigid_count
-from .solids import mid_plane_edges, plate_mesh, solve_solid
+from .shapes import (
+    RIGID_RATIO,
+    component_fractions,
+    dominant_harmonic,
+    harmonic_content,
+    kth_of_kind,
+    pair_split,
+    rigid_count,
+    torsion_share,
+)
+from .solids import mid_plane_edges, plate_mesh, solve_solid, tube_mesh
 
 # A repeated pair (two modes equal by the body's symmetry) may split on an unstructured mesh by
 # its asymmetry: measured below 1.3e-4 on the FV52 plate at 0.7-0.35 m; 1e-3 still tells such a
@@ -43,6 +52,9 @@ class Outcome:
     effective_size: float
     hz: dict[str, float]
     checks: list[Check] = field(default_factory=list)
+    # label -> (this discretisation's Hz, an independent one's): checked after the refinement
+    # against this one's stated error at the finest size (`run.compare_checks`)
+    compare: dict[str, tuple[float, float]] = field(default_factory=dict)
 
 
 def _rigid_checks(hz, expected: int, where: str) -> list[Check]:
@@ -139,8 +151,50 @@ def solve_ring(case: Case, size: float) -> Outcome:
     return Outcome(dofs, area_effective_size(basis, t * t), hz, checks)
 
 
+def tube_kinds(xyz, vectors) -> list[str]:
+    """The kind of every mode of a 3D tube about z: "torsion" (harmonic 0, u_t share > 0.9),
+    "axisymmetric" (harmonic 0, u_t share < 0.1), else "n = <its dominant harmonic>"."""
+    dominant = dominant_harmonic(harmonic_content(xyz, vectors))
+    share = torsion_share(xyz, vectors)
+    out = []
+    for n, s in zip(dominant, share):
+        if n == 0 and s > 0.9:
+            out.append("torsion")
+        elif n == 0 and s < 0.1:
+            out.append("axisymmetric")
+        else:
+            out.append(f"n = {n}")
+    return out
+
+
+def solve_fv41_3d(case: Case, size: float) -> Outcome:
+    """The free FV41 tube in 3D P2 tetrahedra: six rigid modes, the torsional and first
+    axisymmetric modes by shape, the lowest n = 1 and n = 2 pairs (their split, and their mean
+    beside the harmonic solver's value at n = 1, 2 on a fine meridian: `Outcome.compare`)."""
+    p = case.parameters
+    mesh = tube_mesh(p["inner"], p["outer"], p["length"], size)
+    modes = solve_solid(mesh, STEEL, p["n_modes"])
+    kinds = tube_kinds(modes.node_xyz, modes.vectors)
+    hz = _pick(case, modes.hz, kinds)
+    checks = _rigid_checks(modes.hz, 6, "free body")
+    compare = {}
+    basis = rectangle_basis(p["inner"], p["outer"], 0.0, p["length"], p["harmonic_size"])
+    for n in (1, 2):
+        pair = [float(modes.hz[kth_of_kind(modes.hz, kinds, f"n = {n}", k)]) for k in (1, 2)]
+        checks.append(Check(f"relative split of the lowest n = {n} pair",
+                            pair_split(*pair), p["pair_split_limit"]))
+        harmonic = solve_harmonic(basis, STEEL, n, 4 if n == 1 else 2).hz
+        compare[f"lowest n = {n} pair (mean) against the harmonic solver at n = {n}"] = (
+            0.5 * (pair[0] + pair[1]), float(harmonic[2 if n == 1 else 0]))
+    checks.append(Check("smallest scaled Jacobian of the curved mesh (>= 0.1, the project's "
+                        "floor)", modes.min_scaled_jacobian, 0.1, ">="))
+    volume = tube_volume(p["inner"], p["outer"], p["length"])
+    return Outcome(modes.dofs, effective_size_3d(volume, len(modes.node_xyz)), hz, checks,
+                   compare)
+
+
 SOLVERS = {"fv52": solve_fv52, "fv41": solve_fv41, "fv41-torsion": solve_fv41_torsion,
-           "ring": solve_ring}
+           "ring": solve_ring, "fv41-3d": solve_fv41_3d}
 
 
 def effective_size_3d(volume: float, n_nodes: int) -> float:
