@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-FLOORS = ("common", "meshing", "fem_reference", "joint_ends", "analytical", "scene", "results",
-          "runtime", "solvers", "studies", "pipeline", "reports", "rps")
+FLOORS = ("common", "meshing", "fem_reference", "verification", "joint_ends", "analytical",
+          "scene", "results", "runtime", "solvers", "studies", "pipeline", "reports", "rps")
 MAX_LINES = 450
 
 

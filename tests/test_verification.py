@@ -1,0 +1,89 @@
+"""The solid FEM against published free-vibration benchmarks (verification/): one marked test
+per case (`pytest -m verification`), and fast unmarked tests of the machinery (the record's
+structure on a cheap case, pairing by shape on a tiny problem)."""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import verification
+from verification import run as vrun
+from verification.cases import FV41_TORSION
+from verification.shapes import RIGID_RATIO, component_fractions, kth_of_kind, rigid_count
+
+MODE_KEYS = {"label": str, "reference_hz": float, "hz": list, "deviation_percent": float,
+             "stated_error_percent": float, "richardson_error_percent": float,
+             "gci_percent": float, "within_tolerance": bool, "bounded": bool}
+CASE_KEYS = {"name", "title", "source", "discretisation", "what",
+             "reference_uncertainty_percent", "tolerance_percent", "tolerance_reason",
+             "sizes_m", "dofs", "seconds", "modes", "checks", "bound_note", "passed"}
+
+
+def assert_record(record: dict) -> None:
+    """The record has exactly the documented keys and types, and is JSON-ready."""
+    assert set(record) == CASE_KEYS
+    assert record["discretisation"] in ("tetrahedra", "harmonic")
+    n = len(record["sizes_m"])
+    assert n >= 3 and len(record["dofs"]) == n and len(record["seconds"]) == n
+    assert all(a > b for a, b in zip(record["sizes_m"], record["sizes_m"][1:]))
+    for mode in record["modes"]:
+        assert set(mode) == set(MODE_KEYS) | {"observed_order", "note"}
+        for key, kind in MODE_KEYS.items():
+            assert isinstance(mode[key], kind), (key, mode[key])
+        assert len(mode["hz"]) == n
+        assert mode["observed_order"] is None or isinstance(mode["observed_order"], float)
+        assert mode["stated_error_percent"] == max(mode["richardson_error_percent"],
+                                                   mode["gci_percent"])
+    for check in record["checks"]:
+        assert set(check) == {"what", "value", "limit", "passed"}
+    json.dumps(record)
+
+
+def test_a_cheap_case_gives_a_complete_record(monkeypatch):
+    """The torsion case at coarse sizes: every key and type, the closed form met."""
+    coarse = vrun.replace_sizes(FV41_TORSION, (1.0, 0.5, 0.25))
+    monkeypatch.setattr(vrun, "CASE_LIST", (coarse,))
+    record = vrun.run_case("fv41-torsion")
+    assert_record(record)
+    assert record["sizes_m"] == [1.0, 0.5, 0.25]
+    assert abs(record["modes"][0]["deviation_percent"]) < 1e-3
+
+
+def test_pairing_by_shape_picks_the_mode_of_its_kind():
+    """Three dofs-per-node toy spectrum: a rigid mode, then a z mode, then an x mode, then a z
+    mode: the first "in-plane" (x) mode is the third of the list, whatever its index."""
+    hz = np.array([1e-6, 10.0, 11.0, 12.0])
+    vectors = np.zeros((6, 4))
+    vectors[[0, 3], 0] = 1.0  # rigid, along x
+    vectors[[2, 5], 1] = 1.0  # z
+    vectors[[0, 3], 2] = [1.0, -1.0]  # x
+    vectors[[2, 5], 3] = [1.0, -1.0]  # z
+    fz = component_fractions(vectors, np.eye(6))[2]
+    kinds = ["bending" if x > 0.5 else "in-plane" for x in fz]
+    assert rigid_count(hz)[0] == 1 and rigid_count(hz)[2] == pytest.approx(RIGID_RATIO * 10)
+    assert kth_of_kind(hz, kinds, "in-plane", 1) == 2
+    assert kth_of_kind(hz, kinds, "bending", 2) == 3
+    with pytest.raises(LookupError):
+        kth_of_kind(hz, kinds, "in-plane", 2)
+
+
+def test_the_cases_are_declared_in_order():
+    assert verification.CASES == ("fv52", "fv41", "fv41-torsion", "ring", "fv41-3d")
+
+
+@pytest.mark.verification
+@pytest.mark.parametrize("name", verification.CASES)
+def test_case_passes(name):
+    record = verification.run_case(name)
+    assert_record(record)
+    failing = [m["label"] for m in record["modes"] if not vrun.mode_passes(
+        vrun.case_named(name), record["modes"].index(m), m)]
+    assert not failing, failing
+    assert all(c["passed"] for c in record["checks"]), record["checks"]
+    assert record["passed"]
