@@ -172,7 +172,7 @@ def verification_table(results: dict, c: Cells) -> dict | None:
                          c.text(f"{m}/label"), c.num(f"{m}/reference_hz", 3),
                          c.num(f"{m}/hz/{fine}", 3), c.sci(f"{m}/deviation_percent"),
                          c.num(f"{m}/observed_order", 2), c.sci(f"{m}/stated_error_percent"),
-                         c.num(f"{q}/tolerance_percent", 3),
+                         c.num(f"{m}/tolerance_percent", 3),
                          cell("passes" if ok else "FAILS", "text")])
     return {"head": [head("benchmark", "mode", "reference (Hz)", "FEM, finest (Hz)",
                           "deviation (%)", "order", "stated error (%)", "tolerance (%)", "")],

@@ -10,8 +10,6 @@ then read back, so a run pays for it only when the referee itself changed.
 """
 from __future__ import annotations
 
-import time
-
 from runtime.cache import ResultCache
 
 from .registry import Context, Study
@@ -19,17 +17,11 @@ from .registry import Context, Study
 MODULES = ("verification",)
 
 
-def verification_record(cache: ResultCache) -> dict:
-    """results.FemVerification, through the result cache."""
+def verification_record(cache: ResultCache, progress=None) -> dict:
+    """results.FemVerification ({"cases", "passed", "seconds"}), through the result cache."""
     from verification import run_all
 
-    def compute():
-        start = time.perf_counter()
-        cases = run_all()
-        return {"cases": cases, "passed": all(c["passed"] for c in cases),
-                "seconds": time.perf_counter() - start}, {}
-
-    value, _, _ = cache.get_or_compute("fem-verification", {}, compute,
+    value, _, _ = cache.get_or_compute("fem-verification", {}, lambda: (run_all(progress), {}),
                                        required=("cases", "passed"), modules=MODULES)
     return value
 

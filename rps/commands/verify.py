@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 from ..args import cache_dir, cache_option
@@ -28,11 +29,13 @@ def table_lines(record: dict) -> list[str]:
             ok = "yes" if m["within_tolerance"] and (m["bounded"] or case["bound_note"]) else "NO"
             lines.append(f"{case['name']:<14} {m['label'][:34]:<34} {m['reference_hz']:>10.3f} "
                          f"{m['hz'][-1]:>10.3f} {m['deviation_percent']:>+8.3f} {order:>6} "
-                         f"{m['stated_error_percent']:>9.3g} {case['tolerance_percent']:>6.3g}"
+                         f"{m['stated_error_percent']:>9.3g} {m['tolerance_percent']:>6.3g}"
                          f"  {ok}")
         for c in case["checks"]:
-            lines.append(f"{case['name']:<14} check: {c['what']} ({c['value']:.3g}, limit "
-                         f"{c['limit']:.3g}): {'passed' if c['passed'] else 'FAILED'}")
+            values = c["value"] if isinstance(c["value"], list) else [c["value"]]
+            lines.append(f"{case['name']:<14} check {'passed' if c['passed'] else 'FAILED'}: "
+                         f"{c['what']}: {', '.join(f'{v:.3g}' for v in values)} "
+                         f"(limit {c['limit']:.3g})")
     verdict = "all passed" if record["passed"] else "FAILED"
     lines.append(f"{len(record['cases'])} benchmarks, {verdict} "
                  f"({record['seconds']:.0f} s when computed)")
@@ -45,7 +48,9 @@ def run(args: argparse.Namespace) -> int:
     from runtime.cache import ResultCache
     from studies.fem_verification import verification_record
 
-    record = verification_record(ResultCache(cache_dir(args)))
+    record = verification_record(ResultCache(cache_dir(args)),
+                                 progress=lambda name: print(f"benchmark {name} ...",
+                                                             file=sys.stderr, flush=True))
     path = inside(args.out, "verification.json")
     path.parent.mkdir(parents=True, exist_ok=True)
     write_json_atomic(path, record)
