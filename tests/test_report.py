@@ -35,7 +35,8 @@ SECTIONS = ("1 Summary", "2 Fidelity: what the scene asked, what was chosen",
             "9 The model against the FEM over the workspace", "10 Both joint orders",
             "11 Joint faces: rigid and distributing couplings",
             "12 Hard cases: numerical stability and physics checks",
-            "13 Reading the paper: angle conventions and height calibration", "14 Other cases")
+            "13 Verifying the referee: published benchmarks",
+            "14 Reading the paper: angle conventions and height calibration", "15 Other cases")
 NUMBER = re.compile(r"^[+\-\u2212]?[\d\u2009]+(\.\d+)?(e[+\-\u2212]?\d+)?$")
 
 
@@ -187,12 +188,12 @@ def _ci_profile(results: dict) -> dict:
     ci["studies"] = {"reachable_workspace": results["studies"]["reachable_workspace"],
                      "height_calibration": None, "angle_conventions": [], "workspace": None,
                      "joint_orders": [], "joint_couplings": [], "workspace_validation": None,
-                     "hard_cases": [], "lowest_modes": []}
+                     "hard_cases": [], "lowest_modes": [], "fem_verification": None}
     ci["cases"] = [c for c in ci["cases"] if c["name"] in ("case1", "case2")]
     for case in ci["cases"]:
         for key in ("fem_refinement", "models", "element_convergence", "fem_variants",
                     "fem_variant_errors", "speed_vs_error", "fem_estimated_error_percent",
-                    "fem_reference_hz"):
+                    "fem_gci_percent", "fem_reference_hz"):
             case[key] = None
         for pair in case["pairs"]:
             for key in ("fem_estimated_error_percent", "f_reference_hz",
@@ -404,3 +405,33 @@ def test_tables_drop_the_paper_columns_without_paper_rows():
     assert "paper" not in case_markdown(bare)
     rows = case_csv(bare).splitlines()
     assert len(rows) == len(case["pairs"]) + 1 and all(r.count(",") == 5 for r in rows)
+
+
+def test_the_verification_section_shows_every_benchmark_mode(built):
+    """Every reference mode of every published benchmark, with its source cited and its
+    deviation, order, stated error and band read from results.studies.fem_verification."""
+    import html as html_lib
+    record = built["results"]["studies"]["fem_verification"]
+    assert record and len(record["cases"]) >= 5
+    srcs = {c["attrs"]["data-src"] for c in built["page"].cells if "data-src" in c["attrs"]}
+    text = html_lib.unescape(built["html"].read_text(encoding="utf-8"))
+    for i, case in enumerate(record["cases"]):
+        assert case["source"] in text and case["tolerance_reason"] in text
+        for k, _ in enumerate(case["modes"]):
+            for key in ("reference_hz", "deviation_percent", "stated_error_percent",
+                        "tolerance_percent"):
+                assert f"/studies/fem_verification/cases/{i}/modes/{k}/{key}" in srcs
+
+
+def test_the_refinement_tables_state_the_gci_beside_richardson(built):
+    srcs = {c["attrs"]["data-src"] for c in built["page"].cells if "data-src" in c["attrs"]}
+    for i, case in enumerate(built["results"]["cases"]):
+        ref = case["fem_refinement"]
+        if not ref or f"/cases/{i}/fem_refinement/sizes_m/0" not in srcs:
+            continue  # no refinement table for this case (the other cases have none)
+        for r, _ in enumerate(ref["sizes_m"]):
+            assert f"/cases/{i}/fem_refinement/gci_percent_max/{r}" in srcs
+        # the stated error is the larger of the two estimates, mode by mode
+        for rich, grid, stated in zip(ref["richardson_error_percent"], ref["gci_percent"],
+                                      ref["estimated_error_percent"]):
+            assert stated == [max(a, b) for a, b in zip(rich, grid)]
