@@ -29,6 +29,7 @@ import studies
 from analytical.kinematics import pose_geometry
 from common.paths import distinct_stems, inside
 from common.settings import declared
+from fem_reference.convergence import two_mesh_error, two_mesh_gci, two_mesh_limit
 from fem_reference.export import write_mode_collection
 from results.tables import write_tables
 from runtime.cache import ROOT, ResultCache
@@ -39,6 +40,7 @@ from solvers.pairing import mac_matrix
 from solvers.refinement import fem_refinement
 from studies.fidelity import validate_fidelity
 from studies.reachable import check as check_workspace
+from studies.workspace_validation import coarse_size
 
 PROJECT = "rps-elastodynamics"
 
@@ -192,6 +194,15 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
                    * np.abs(f_h - np.asarray(refinement_study["gci_extrapolated_hz"])) / f_h)
             fem_error = np.maximum(100 * np.abs(f_h / reference - 1), gci)
             fem_gci = gci.tolist()
+    else:  # no refinement study (the CI profile): the run's size and the next coarser one
+        step("FEM at a coarser size")
+        coarse = coarse_size(scene, mesh_size)
+        pair = (fem.record["frequencies_hz"][:count],
+                fem_case(scene, geometry, cache, coarse).record["frequencies_hz"][:count],
+                coarse / mesh_size)
+        gci = two_mesh_gci(*pair)
+        fem_error, fem_gci = np.maximum(two_mesh_error(*pair), gci), gci.tolist()
+        reference = two_mesh_limit(*pair)
 
     step("analytical models")
     analytical = analytical_case(scene, case, scene.analytical)

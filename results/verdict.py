@@ -57,7 +57,8 @@ def case_verdict(case: dict, conventions: bool = False) -> list[str]:
         tail = ("so the discrepancies above are the beam model's, not the mesh's"
                 if fem_err < 0.5 * worst_all else
                 "comparable to the discrepancies, so part of them may be the mesh's")
-        out.append(f"The FEM's own estimated discretisation error (Richardson extrapolation) "
+        out.append(f"The FEM's own estimated discretisation error (the larger of Richardson's "
+                   f"extrapolation and the grid convergence index) "
                    f"is at most {_pct(fem_err)}, {tail}.")
     else:
         out.append("No mesh-refinement study for this case: the FEM's own discretisation error "

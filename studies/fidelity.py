@@ -117,7 +117,7 @@ def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
         size = scene.fem.mesh_size if scene.fem_size_given else scene.fem_study.ci_mesh_size
         fem = FemChoice(size, None, True,
                         f"h = {size * 1e3:.3g} mm without a refinement study (CI profile): "
-                        "the FEM's own error is not estimated")
+                        "not chosen by its error; each case states a two-mesh estimate")
     return replace(scene, fem=scene.fem.with_size(fem.size)), fem, refinements
 
 

@@ -30,7 +30,7 @@ from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
 from analytical.reach import layer_band, max_tilts, regular_radii
 from common.settings import as_dict
-from fem_reference.convergence import P_THEORY, two_mesh_gci
+from fem_reference.convergence import two_mesh_error, two_mesh_gci, two_mesh_limit
 from runtime.cache import ResultCache
 from solvers.compare import analytical_case, error_table, fem_case, in_parallel
 
@@ -128,21 +128,6 @@ def coarse_size(scene, size: float) -> float:
     sequence above `size`, or 1.25 size beyond it."""
     coarser = [h for h in scene.fem_study.refinement if h > size * (1 + 1e-9)]
     return min(coarser) if coarser else size * 1.25
-
-
-def two_mesh_limit(fine_hz, coarse_hz, ratio: float, order: float = P_THEORY) -> np.ndarray:
-    """The FEM's h -> 0 limit from sizes h and ratio * h (Richardson's step at `order`):
-    f_h - (f_H - f_h) / ((H / h)^p - 1)."""
-    fine, coarse = np.asarray(fine_hz, float), np.asarray(coarse_hz, float)
-    return fine - (coarse - fine) / (ratio**order - 1)
-
-
-def two_mesh_error(fine_hz, coarse_hz, ratio: float, order: float = P_THEORY):
-    """Estimated relative error (%) of the fine solution from two sizes h and ratio * h:
-    |f_h - f_H| / ((H / h)^p - 1) / f_h, Richardson with the singular-rim order p (the lowest
-    order these meshes show, so the estimate errs on the large side)."""
-    fine, coarse = np.asarray(fine_hz, float), np.asarray(coarse_hz, float)
-    return 100 * np.abs(fine - coarse) / (ratio**order - 1) / fine
 
 
 # the modules a pose's result is computed with, beyond the model packages (its cache key)
