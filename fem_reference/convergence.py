@@ -194,7 +194,8 @@ def richardson(h, f, noise: float = 1e-9) -> ModeConvergence:
 
 def celik_order(h, f) -> float | None:
     """Celik's observed order from three sizes coarse -> fine (None without one: a zero or a
-    sign-changing difference, or no root of the fixed point)."""
+    sign-changing difference, i.e. oscillating convergence, s = -1, for which the GCI takes the
+    two-mesh form; or no positive root: data no power law f_inf + C h^p can produce)."""
     (h3, h2, h1), (f3, f2, f1) = h, f
     e21, e32 = f2 - f1, f3 - f2
     if e21 == 0 or e32 == 0 or e32 / e21 < 0:
@@ -204,9 +205,10 @@ def celik_order(h, f) -> float | None:
         p = math.log(abs(e32 / e21)) / math.log(r21)
         return p if p > 0 else None
 
-    def g(p):
-        return p - abs(math.log(abs(e32 / e21))
-                       + math.log((r21**p - 1.0) / (r32**p - 1.0))) / math.log(r21)
+    def g(p):  # Celik's fixed point with s = 1, without the absolute values that would let
+        # a diverging sequence (e32 / e21 below what any power law gives) through
+        return (p * math.log(r21) - math.log(e32 / e21)
+                - math.log((r21**p - 1.0) / (r32**p - 1.0)))
 
     lo, hi = 1e-3, CELIK_ORDER_MAX
     if g(lo) * g(hi) > 0:

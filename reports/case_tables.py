@@ -125,6 +125,11 @@ def refinement_table(results: dict, i: int, c: Cells) -> dict | None:
     rows.append(extra("GCI: h → 0", [c.num(f"{q}/gci_extrapolated_hz/{k}", 2)
                                      for k in range(n)]))
     rows.append(extra("GCI: order p", [c.num(f"{q}/gci_order/{k}", 2) for k in range(n)]))
+    last = len(ref["sizes_m"]) - 1
+    rows.append(extra("GCI of the finest (%)", [c.sci(f"{q}/gci_percent/{last}/{k}")
+                                                for k in range(n)]))
+    rows.append(extra("est. error of the finest (%)",
+                      [c.sci(f"{q}/estimated_error_percent/{last}/{k}") for k in range(n)]))
     if any(s != "ok" for s in ref["status"]):
         rows.append(extra("status", [c.text(f"{q}/status/{k}", cls="text small")
                                      for k in range(n)]))

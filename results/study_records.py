@@ -1,7 +1,7 @@
 """The records of the studies and the fidelity choice (`results.schema` assembles the file)."""
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 from pydantic import FiniteFloat, with_config
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
@@ -174,6 +174,8 @@ class BenchmarkMode(TypedDict):
     tolerance_percent: FiniteFloat  # the band of |deviation|: the mode's own, or the case's
     within_tolerance: bool
     bounded: bool  # |deviation| <= stated error
+    counted: bool  # false: shown, left out of the benchmark's verdict (the note says why)
+    passed: bool  # within tolerance, and bounded or explained by the reference's uncertainty
     note: str | None
 
 
@@ -182,7 +184,9 @@ class BenchmarkCheck(TypedDict):
     what: str
     value: FiniteFloat | list[FiniteFloat]  # one value, or one per size (coarse -> fine)
     limit: FiniteFloat
+    op: Literal["<=", ">=", "=="]  # value op limit
     passed: bool
+    counted: bool  # false: a measured limitation, shown, left out of the verdict
 
 
 @with_config(STRICT)

@@ -23,16 +23,24 @@ from fem_reference.convergence import (
 
 
 def test_celik_worked_example_reattachment_length():
-    """Celik et al., J. Fluids Eng. 130:078001 (2008), Table 1, column phi = x_r / H: grids of
-    18,000 / 8,000 / 4,500 cells (h = N^(-1/3) in 2D-per-unit form as the paper uses),
-    phi = 6.063 / 5.972 / 5.863; the table gives phi_ext21 = 6.1685 and GCI_fine21 = 2.2 %.
-    (Its printed p = 1.53 does not reproduce its own phi_ext21, which needs p = 2.30 at these
-    ratios; the limit and the GCI are what is checked.)"""
-    h = np.array([4500.0, 8000.0, 18000.0]) ** (-1.0 / 3.0)
+    """Celik et al., J. Fluids Eng. 130:078001 (2008), Table 1, column phi = x_r / H (a 2D
+    flow: h = N^(-1/2)): grids of 18,000 / 8,000 / 4,500 cells, phi = 6.063 / 5.972 / 5.863;
+    the table gives p = 1.53, phi_ext21 = 6.1685 and GCI_fine21 = 2.2 %."""
+    h = np.array([4500.0, 8000.0, 18000.0]) ** (-1.0 / 2.0)
     g = gci(h, [5.863, 5.972, 6.063])
     assert g.safety_factor == GCI_SAFETY_THREE
+    assert g.observed_order == pytest.approx(1.53, abs=0.005)
     assert g.extrapolated_hz == pytest.approx(6.1685, abs=5e-5)
     assert 100 * g.relative_error[-1] == pytest.approx(2.2, abs=0.05)
+
+
+def test_a_diverging_sequence_has_no_observed_order():
+    """Differences that shrink more slowly than any power law allows at these size ratios
+    (e32 / e21 = 0.5 < 0.9) are no convergence: no order, the two-mesh form stands in."""
+    h = np.array([0.04, 0.032, 0.025])
+    f = [10.0, 10.01, 10.03]  # the finer, the farther apart
+    assert celik_order(h, f) is None
+    assert gci(h, f).safety_factor == GCI_SAFETY_TWO
 
 
 @pytest.mark.parametrize("p", [1.0, P_THEORY, 2.0, 3.5])
