@@ -32,7 +32,7 @@ from fem_reference.model import FemError, solve_pose
 from pipeline.baselines import check_command, load_baseline
 from runtime.cache import ResultCache
 from solvers.compare import fem_case, fem_options, fem_runtime
-from tests.conftest import PAPER_SCENE, ROOT
+from tests.conftest import PAPER_SCENE, ROOT, copied
 
 FIXTURES = ROOT / "tests" / "fixtures"
 ENV = dict(os.environ, PYTHONPATH=str(ROOT), OPENBLAS_NUM_THREADS="1")
@@ -70,11 +70,13 @@ def scene_copy(tmp_path: Path, name: str, ci_cases: list[str]) -> Path:
 
 
 @pytest.fixture(scope="module")
-def warm(tmp_path_factory):
-    """A CI-profile run of the paper's scene and the cache it filled."""
+def warm(paper_ci_run, tmp_path_factory):
+    """A CI-profile run of the paper's scene and the cache it filled (the session's, copied:
+    these tests write into the cache)."""
     base = tmp_path_factory.mktemp("warm")
-    results = run.validate(str(PAPER_SCENE), base / "out", base / "cache", profile="ci")
-    return SimpleNamespace(out=base / "out", cache=base / "cache", results=results)
+    return SimpleNamespace(out=copied(paper_ci_run.out, base / "out"),
+                           cache=copied(paper_ci_run.cache, base / "cache"),
+                           results=paper_ci_run.results)
 
 
 def copy_of(folder: Path, target: Path) -> Path:

@@ -8,12 +8,12 @@ import pytest
 
 import pipeline.run as run
 from results import SCHEMA_VERSION
-from tests.conftest import PAPER_SCENE
+from tests.conftest import PAPER_SCENE, copied
 
 pytestmark = pytest.mark.slow  # whole validation runs (CI profile): tens of seconds each
 
 
-def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
+def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch, paper_ci_run):
     out = tmp_path / "out"
     out.mkdir()
     (out / "results.json").write_text('{"previous": true}')
@@ -27,6 +27,7 @@ def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
         return real(*args, **kwargs)
 
     monkeypatch.setattr(run, "run_case", interrupt_on_second)
+    copied(paper_ci_run.cache, tmp_path / "cache")  # warm: the interruption is the point
     with pytest.raises(KeyboardInterrupt):
         run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci")
     assert json.loads((out / "results.json").read_text()) == {"previous": True}
@@ -34,15 +35,11 @@ def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch):
     assert sorted(p.name for p in out.iterdir()) == ["results.json"]
 
 
-def test_ci_profile_run_writes_the_contract(tmp_path, monkeypatch):
-    import joint_ends.cache
-
-    default = tmp_path / "default-cache"  # the solid end zones went here whatever --cache was
-    monkeypatch.setattr(joint_ends.cache, "cache_root", lambda: default)
-    out = tmp_path / "out"
-    results = run.validate(str(PAPER_SCENE), out, tmp_path / "cache", profile="ci")
+def test_ci_profile_run_writes_the_contract(paper_ci_run):
+    out, results = paper_ci_run.out, paper_ci_run.results
     # every cache under the run's cache directory: the fidelity step assembles solid end zones
-    assert list((tmp_path / "cache" / "joint_ends").glob("*.npz")) and not default.exists()
+    assert list((paper_ci_run.cache / "joint_ends").glob("*.npz"))
+    assert not paper_ci_run.default_zones.exists()
     on_disk = json.loads((out / "results.json").read_text())
     assert [c["name"] for c in on_disk["cases"]] == ["case1", "case2"]
     for case in on_disk["cases"]:
@@ -67,11 +64,10 @@ def test_ci_profile_run_writes_the_contract(tmp_path, monkeypatch):
     assert everywhere <= fidelity["analytical"]["worst_error_percent"] + 1e-9
 
 
-def test_exported_platform_motion_moves_the_platform_joints_as_the_legs_end(tmp_path):
+def test_exported_platform_motion_moves_the_platform_joints_as_the_legs_end(paper_ci_run):
     """Each model's platform motion per mode (translation of o, rotation) carries the S joints
     of the platform exactly where the beam model's leg axes end: u(A_i) = t + w x (A_i - o)."""
-    run.validate(str(PAPER_SCENE), tmp_path / "out", tmp_path / "cache", profile="ci")
-    results = json.loads((tmp_path / "out" / "results.json").read_text())
+    results = json.loads((paper_ci_run.out / "results.json").read_text())
     for case in results["cases"]:
         a = case["analytical"]
         motion = np.asarray(a["platform_motion"])
