@@ -159,8 +159,9 @@ def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> dict:
     import tempfile
 
     from runtime.cache import ResultCache
+    from solvers.refinement import coarse_size
     from solvers.settings import speed_settings
-    from studies.workspace_validation import SMALL, coarse_size, run_study
+    from studies.workspace_validation import SMALL, run_study
 
     models = speed_settings(scene)
     samples: dict[int, list[float]] = {w: [] for w in workers}

@@ -29,7 +29,6 @@ import studies
 from analytical.kinematics import pose_geometry
 from common.paths import distinct_stems, inside
 from common.settings import declared
-from fem_reference.convergence import two_mesh_error, two_mesh_gci, two_mesh_limit
 from fem_reference.export import write_mode_collection
 from results.tables import write_tables
 from runtime.cache import ROOT, ResultCache
@@ -37,10 +36,9 @@ from runtime.outdir import staged_output
 from scene import Case, Scene, load_scene
 from solvers.compare import STATIONS, analytical_case, error_table, fem_case, with_cache_dir
 from solvers.pairing import mac_matrix
-from solvers.refinement import fem_refinement
+from solvers.refinement import fem_refinement, two_mesh
 from studies.fidelity import validate_fidelity
 from studies.reachable import check as check_workspace
-from studies.workspace_validation import coarse_size
 
 PROJECT = "rps-elastodynamics"
 
@@ -192,13 +190,9 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
         fem_gci = refinement_study["gci_percent"][k]
     else:  # no refinement study (the CI profile): the run's size and the next coarser one
         step("FEM at a coarser size")
-        coarse = coarse_size(scene, mesh_size)
-        pair = (fem.record["frequencies_hz"][:count],
-                fem_case(scene, geometry, cache, coarse).record["frequencies_hz"][:count],
-                coarse / mesh_size)
-        gci = two_mesh_gci(*pair)
-        fem_error, fem_gci = np.maximum(two_mesh_error(*pair), gci), gci.tolist()
-        reference = two_mesh_limit(*pair)
+        both = two_mesh(scene, geometry, cache, mesh_size, count)
+        fem_error, fem_gci = np.asarray(both.estimated_error_percent), both.gci_percent
+        reference = np.asarray(both.limit_hz)
 
     step("analytical models")
     analytical = analytical_case(scene, case, scene.analytical)

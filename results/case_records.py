@@ -223,6 +223,8 @@ class ModelVariant(AnalyticalRecord):
 class FemVariant(FemRecord):
     pairs: list[Pair]  # against the case's FEM: "analytical" here is the variant
     shift_percent: list[FiniteFloat]
+    estimated_error_percent: list[FiniteFloat]  # its own, two meshes: max(Richardson, GCI)
+    gci_percent: list[FiniteFloat]  # its two-mesh GCI (factor 3), per mode
 
 
 @with_config(STRICT)

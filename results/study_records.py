@@ -66,6 +66,8 @@ class JointOrderReading(TypedDict):
     scene_order: bool
     error: str | None  # why this order could not be solved
     fem_hz: Hz | None
+    fem_estimated_error_percent: list[FiniteFloat] | None  # two-mesh: max(Richardson, GCI)
+    fem_gci_percent: list[FiniteFloat] | None  # two-mesh GCI (factor 3), per mode
     models: dict[str, JointOrderModel] | None
 
 
@@ -90,6 +92,7 @@ class CouplingReading(TypedDict):
     fem_sizes_mm: list[FiniteFloat]  # the refinement study behind the limit
     fem_limit_hz: Frequencies | None  # Richardson limit h -> 0
     fem_finest_error_percent: list[FiniteFloat] | None  # stated error of the finest mesh
+    fem_finest_gci_percent: list[FiniteFloat] | None  # its grid convergence index
     models: dict[str, CouplingModel] | None
 
 
@@ -237,6 +240,8 @@ class SweepPoint(TypedDict):
     actuator_n_per_um: FiniteFloat  # 0: rigid
     analytical_hz: Frequencies  # the run's model, ascending
     fem_hz: Frequencies  # the FEM at the run's mesh size, ascending
+    fem_estimated_error_percent: list[FiniteFloat]  # two-mesh: max(Richardson, GCI), per mode
+    fem_gci_percent: list[FiniteFloat]  # two-mesh GCI (factor 3), per mode
     error_percent: list[FiniteFloat]  # analytical vs FEM, per FEM mode, paired by shape
 
 

@@ -62,7 +62,7 @@ def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: s
             entry = results.CouplingReading(
                 coupling=coupling, scene_coupling=coupling == scene.fem.coupling, error=None,
                 fem_sizes_mm=[1e3 * h for h in sizes], fem_limit_hz=None,
-                fem_finest_error_percent=None, models=None)
+                fem_finest_error_percent=None, fem_finest_gci_percent=None, models=None)
             try:
                 refinement = fem_refinement(variant, geometry, cache, sizes)
             except (ValueError, RuntimeError) as exc:
@@ -72,6 +72,7 @@ def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: s
             limit = np.asarray(refinement["extrapolated_hz"])
             entry["fem_limit_hz"] = limit.tolist()
             entry["fem_finest_error_percent"] = refinement["estimated_error_percent"][-1]
+            entry["fem_finest_gci_percent"] = refinement["gci_percent"][-1]
             finest = fem_case(variant, geometry, cache, sizes[-1])
             entry["models"] = {}
             for label, options in models(variant, chosen_label).items():

@@ -1,13 +1,14 @@
 """Case study: the FEM's own idealisations against its default (an elastic plate, distributing
-joint faces, tetrahedral legs), each paired by shape with the default FEM
-(results.cases[].fem_variants; a variant that cannot be solved is named with its reason)."""
+joint faces, tetrahedral legs), each paired by shape with the default FEM and with its own
+two-mesh error (results.cases[].fem_variants; a variant that cannot be solved is named with
+its reason)."""
 from __future__ import annotations
 
 from dataclasses import replace
 
 import results
-from solvers.compare import error_table, fem_case
-from solvers.refinement import prefetch_fem
+from solvers.compare import error_table
+from solvers.refinement import coarse_size, prefetch_fem, two_mesh
 
 from .registry import CaseContext, Context, Study
 
@@ -30,18 +31,20 @@ def run(ctx: Context, cc: CaseContext) -> dict:
     variants, errors = {}, {}
     for label, kwargs in FEM_VARIANTS.items():
         try:
-            v = fem_case(scene, cc.geometry, ctx.cache, scene.fem.mesh_size, **kwargs,
-                         max_dofs=MAX_DOFS)
+            both = two_mesh(scene, cc.geometry, ctx.cache, scene.fem.mesh_size, count,
+                            **kwargs, max_dofs=MAX_DOFS)
         except (ValueError, RuntimeError) as exc:
             errors[label] = " ".join(str(exc).split())
             if f"above max_dofs = {MAX_DOFS}" in errors[label]:
                 errors[label] += " (the budget of this side study: not solved)"
             continue
         # paired by shape with the default FEM: an elastic plate adds modes of its own
-        shifted = error_table(v, cc.fem, count)
+        shifted = error_table(both.fine, cc.fem, count)
         variants[label] = results.FemVariant(
-            **v.reported(count), pairs=shifted,
-            shift_percent=[r["error_percent"] for r in shifted])
+            **both.fine.reported(count), pairs=shifted,
+            shift_percent=[r["error_percent"] for r in shifted],
+            estimated_error_percent=both.estimated_error_percent,
+            gci_percent=both.gci_percent)
     return {"fem_variants": variants, "fem_variant_errors": errors}
 
 
@@ -50,8 +53,8 @@ def prefetch(ctx: Context, geometries: list) -> None:
     scene = ctx.scene
     for idealisation in FEM_VARIANTS.values():
         prefetch_fem(replace(scene, fem=replace(scene.fem, **idealisation)), geometries,
-                     (scene.fem.mesh_size,), ctx.cache, ctx.workers, ctx.scheduler,
-                     max_dofs=MAX_DOFS)
+                     (scene.fem.mesh_size, coarse_size(scene, scene.fem.mesh_size)), ctx.cache,
+                     ctx.workers, ctx.scheduler, max_dofs=MAX_DOFS)
 
 
 STUDY = Study("fem_variants", "case", run, prefetch=prefetch)

@@ -16,7 +16,7 @@ from analytical.params import Pose
 from runtime.cache import ResultCache
 from scene import Scene
 from solvers.compare import analytical_case, error_table, fem_case
-from solvers.refinement import prefetch_fem
+from solvers.refinement import coarse_size, prefetch_fem
 from solvers.settings import model_variants, speed_settings
 from solvers.timing import seconds_per_pose
 from studies.choice import (
@@ -184,7 +184,7 @@ def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
                                          scheduler)
     models = candidate_settings(scene) | {
         wv.PAPER_MODEL: model_variants(scene)[wv.PAPER_MODEL]}
-    coarse = wv.coarse_size(scene, fem.size)
+    coarse = coarse_size(scene, fem.size)
     seconds = _fem_seconds_of(refinements, fem.size, coarse)
 
     def announce(plan):

@@ -14,7 +14,8 @@ import results
 from analytical.kinematics import pose_geometry
 from runtime.cache import ResultCache
 from scene import Scene
-from solvers.compare import analytical_case, error_table, fem_case, model_reading
+from solvers.compare import analytical_case, error_table, model_reading
+from solvers.refinement import two_mesh
 
 from .registry import Context, Study
 
@@ -48,15 +49,19 @@ def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict
                 base_joint=base, platform_joint=top,
                 scene_order=(base, top) == (scene.manipulator.base_joint,
                                             scene.manipulator.platform_joint),
-                error=None, fem_hz=None, models=None)
+                error=None, fem_hz=None, fem_estimated_error_percent=None,
+                fem_gci_percent=None, models=None)
             try:
                 geometry = pose_geometry(m, case.pose)
-                fem = fem_case(ordered, geometry, cache, scene.fem.mesh_size)
+                both = two_mesh(ordered, geometry, cache, scene.fem.mesh_size, count)
             except (ValueError, RuntimeError) as exc:
                 entry["error"] = " ".join(str(exc).split())
                 readings.append(entry)
                 continue
+            fem = both.fine
             entry["fem_hz"] = fem.record["frequencies_hz"][:count]
+            entry["fem_estimated_error_percent"] = both.estimated_error_percent
+            entry["fem_gci_percent"] = both.gci_percent
             entry["models"] = {}
             for label, settings in MODELS.items():
                 a = analytical_case(ordered, case, replace(scene.analytical, **settings))

@@ -30,7 +30,8 @@ from analytical.modal import ENERGY_PARTS, strain_energy_shares
 from analytical.model import analyse
 from common.stiffness import MIN_SPRING
 from scene import Scene
-from solvers.compare import analytical_case, error_table, fem_case
+from solvers.compare import analytical_case, error_table
+from solvers.refinement import two_mesh
 
 from .registry import Context, Study, floats
 
@@ -85,13 +86,16 @@ def sweep_point(scene: Scene, case, geometry, cache, factor: float | None,
                 count: int) -> results.SweepPoint:
     variant = with_drive(scene, factor)
     a = analytical_case(variant, case, variant.analytical)
-    fem = fem_case(variant, geometry, cache, variant.fem.mesh_size)
+    both = two_mesh(variant, geometry, cache, variant.fem.mesh_size, count)
+    fem = both.fine
     rows = sorted(error_table(a, fem, count), key=lambda r: r["fem_mode"])
     springs = variant.manipulator.stiffness
     return results.SweepPoint(
         factor=factor, actuator_n_per_um=springs.actuator_axial / 1e6,
         analytical_hz=floats(a.record["frequencies_hz"][:count]),
         fem_hz=floats(fem.record["frequencies_hz"][:count]),
+        fem_estimated_error_percent=both.estimated_error_percent,
+        fem_gci_percent=both.gci_percent,
         error_percent=[r["error_percent"] for r in rows])
 
 

@@ -9,8 +9,8 @@ Design of at least 100 poses over the regular workspace (the paper's Fig. 6 regi
 At each pose the FEM runs at the scene's chosen size and one size coarser; Richardson's step
 between the two at the singular-rim order 1.42 gives the pose's FEM limit (`two_mesh_limit`)
 and the fine mesh's estimated error: the larger of its distance to that limit
-(`two_mesh_error`) and Roache's two-mesh grid convergence index (three times it,
-`fem_reference.convergence.two_mesh_gci`), both in the results. Every
+and Roache's two-mesh grid convergence index (three times it; `solvers.refinement.two_mesh`),
+both in the results. Every
 analytical model is paired with the fine mesh by shape and its error taken against the limit:
 the model's discretisation-free target, not a mesh that is itself 0.1-0.2 % stiff. Since the
 observed orders of these graded meshes are at or above 1.42, the step at 1.42 reaches at least
@@ -30,9 +30,9 @@ from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
 from analytical.reach import layer_band, max_tilts, regular_radii
 from common.settings import as_dict
-from fem_reference.convergence import two_mesh_error, two_mesh_gci, two_mesh_limit
 from runtime.cache import ResultCache
-from solvers.compare import analytical_case, error_table, fem_case, in_parallel
+from solvers.compare import analytical_case, error_table, in_parallel
+from solvers.refinement import two_mesh
 
 from .registry import Study
 
@@ -123,15 +123,9 @@ def design_with_dropped(m: Manipulator, size: DesignSize = FULL) -> tuple[list[d
     return poses, dropped
 
 
-def coarse_size(scene, size: float) -> float:
-    """The second, coarser mesh of every pose: the next size of the scene's refinement
-    sequence above `size`, or 1.25 size beyond it."""
-    coarser = [h for h in scene.fem_study.refinement if h > size * (1 + 1e-9)]
-    return min(coarser) if coarser else size * 1.25
-
-
 # the modules a pose's result is computed with, beyond the model packages (its cache key)
 TASK_CODE = ("studies.workspace_validation", "solvers.compare", "solvers.pairing",
+             "solvers.refinement",
              "results", "scene")
 
 
@@ -141,15 +135,8 @@ def validate_pose(task: dict) -> dict:
     cache = ResultCache(task["cache_dir"])
     count = scene.fidelity.modes
     geometry = pose_geometry(scene.manipulator, pose)
-    fine = fem_case(scene, geometry, cache, task["size"])
-    coarse = fem_case(scene, geometry, cache, task["coarse_size"])
-    pair = (fine.record["frequencies_hz"][:count], coarse.record["frequencies_hz"][:count],
-            task["coarse_size"] / task["size"])
-    gci = two_mesh_gci(*pair)
-    errors = np.maximum(two_mesh_error(*pair), gci)
-    limit = two_mesh_limit(fine.record["frequencies_hz"][:count],
-                           coarse.record["frequencies_hz"][:count],
-                           task["coarse_size"] / task["size"])
+    both = two_mesh(scene, geometry, cache, task["size"], count, coarse=task["coarse_size"])
+    fine, limit = both.fine, np.asarray(both.limit_hz)
     models = {}
     case = _PoseCase(pose)
     for label, options in task["models"].items():
@@ -161,8 +148,8 @@ def validate_pose(task: dict) -> dict:
     leg = np.asarray(geometry.leg_lengths) / scene.manipulator.leg_diameter
     return {"error": None, "fem_hz": fine.record["frequencies_hz"][:count],
             "fem_limit_hz": limit.tolist(),
-            "fem_estimated_error_percent": errors.tolist(),
-            "fem_gci_percent": gci.tolist(),
+            "fem_estimated_error_percent": both.estimated_error_percent,
+            "fem_gci_percent": both.gci_percent,
             "fem_seconds": fine.record["timings"].get("total"),
             "slenderness": [float(leg.min()), float(leg.max())],
             "models": models}

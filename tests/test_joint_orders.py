@@ -18,6 +18,11 @@ def test_both_joint_orders_agree_between_the_models(scene, tmp_path):
         worst = {}
         for reading in case["readings"]:
             assert reading["error"] is None, reading["error"]
+            # the FEM of either order states its own two-mesh error, GCI included
+            assert reading["fem_estimated_error_percent"] == [
+                max(e, g) for e, g in zip(reading["fem_estimated_error_percent"],
+                                          reading["fem_gci_percent"])]
+            assert 0 < max(reading["fem_gci_percent"]) < 0.5
             timo = np.abs(reading["models"]["Timoshenko, s=3"]["error_percent"])
             assert min(reading["models"]["Timoshenko, s=3"]["mac"]) > 0.99
             worst[(reading["base_joint"], reading["platform_joint"])] = timo.max()
