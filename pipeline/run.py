@@ -36,7 +36,7 @@ from runtime.outdir import staged_output
 from scene import Case, Scene, load_scene
 from solvers.compare import STATIONS, analytical_case, error_table, fem_case, with_cache_dir
 from solvers.pairing import mac_matrix
-from solvers.refinement import fem_refinement, two_mesh
+from solvers.refinement import fem_refinement, size_index, study_sizes, two_mesh
 from studies.fidelity import validate_fidelity
 from studies.reachable import check as check_workspace
 
@@ -182,10 +182,10 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
         step("FEM refinement study")
         # the run's own size is one of the study's (as the fidelity step's), so its error is
         # the study's statement for it
-        sizes = tuple(sorted(set(refinement) | {mesh_size}, reverse=True))
+        sizes = study_sizes(refinement, mesh_size)
         refinement_study = fem_refinement(scene, geometry, cache, sizes)
         reference = np.asarray(refinement_study["extrapolated_hz"])
-        k = refinement_study["sizes_m"].index(mesh_size)
+        k = size_index(sizes, mesh_size)
         fem_error = np.asarray(refinement_study["estimated_error_percent"][k])
         fem_gci = refinement_study["gci_percent"][k]
     else:  # no refinement study (the CI profile): the run's size and the next coarser one

@@ -3,6 +3,7 @@ two-mesh estimate of a solve that has no study, and the cache filled ahead on th
 workers (every study that needs the FEM limit or the FEM's error asks here)."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -11,6 +12,22 @@ import results as schema
 from runtime.cache import ResultCache
 from scene import Scene
 from solvers.compare import Solve, fem_case, in_parallel
+
+
+def study_sizes(refinement, size: float | None = None) -> tuple[float, ...]:
+    """The sizes of a refinement study (m, coarse -> fine): the scene's sequence, with `size`
+    (the run's own) added unless it already is one of them (to 1e-9: a size read in mm and a
+    size computed in leg diameters may differ in the last bit, and two sizes that close would
+    make the extrapolation divide by ~0)."""
+    sizes = [float(h) for h in refinement]
+    if size is not None and not any(math.isclose(size, h, rel_tol=1e-9) for h in sizes):
+        sizes.append(float(size))
+    return tuple(sorted(sizes, reverse=True))
+
+
+def size_index(sizes, size: float) -> int:
+    """Where `size` is in a study's `sizes` (to 1e-9, as `study_sizes` added it)."""
+    return next(k for k, h in enumerate(sizes) if math.isclose(size, h, rel_tol=1e-9))
 
 
 def coarse_size(scene: Scene, size: float) -> float:

@@ -16,7 +16,7 @@ from analytical.params import Pose
 from runtime.cache import ResultCache
 from scene import Scene
 from solvers.compare import analytical_case, error_table, fem_case
-from solvers.refinement import coarse_size, prefetch_fem
+from solvers.refinement import coarse_size, prefetch_fem, size_index, study_sizes
 from solvers.settings import model_variants, speed_settings
 from solvers.timing import seconds_per_pose
 from studies.choice import (
@@ -78,8 +78,9 @@ class Fidelity:
 
 def _fem_seconds(fid: Fidelity) -> float | None:
     size = fid.scene.fem.mesh_size
-    times = [study["seconds"][study["sizes_m"].index(size)]
-             for study in fid.refinements.values() if size in study["sizes_m"]]
+    times = [study["seconds"][size_index(study["sizes_m"], size)]
+             for study in fid.refinements.values()
+             if any(math.isclose(size, h, rel_tol=1e-9) for h in study["sizes_m"])]
     return float(np.median(times)) if times else None
 
 
@@ -93,8 +94,8 @@ def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
     tol = scene.fidelity.tolerance_percent
     refinements = {}
     if refine:
-        sizes = tuple(sorted(set(scene.fem_study.refinement) | (
-            {scene.fem.mesh_size} if scene.fem_size_given else set()), reverse=True))
+        sizes = study_sizes(scene.fem_study.refinement,
+                            scene.fem.mesh_size if scene.fem_size_given else None)
         step("FEM refinement studies")
         prefetch_fem(scene, [pose_geometry(scene.manipulator, scene.case(n).pose)
                              for n in case_names], sizes, cache, workers, scheduler)
@@ -106,7 +107,7 @@ def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
                                                cache, sizes)
         errors = [study["estimated_error_percent"] for study in refinements.values()]
         if scene.fem_size_given:
-            k = sizes.index(scene.fem.mesh_size)
+            k = size_index(sizes, scene.fem.mesh_size)
             worst = max(max(e[k]) for e in errors)
             fem = FemChoice(scene.fem.mesh_size, worst, worst <= FEM_ERROR_SHARE * tol,
                             f"h = {scene.fem.mesh_size * 1e3:.3g} mm as the scene asks, "
@@ -207,8 +208,8 @@ def _fem_seconds_of(refinements: dict, *sizes) -> float | None:
     total = []
     for study in refinements.values():
         try:
-            total.append(sum(study["seconds"][study["sizes_m"].index(h)] for h in sizes))
-        except ValueError:
+            total.append(sum(study["seconds"][size_index(study["sizes_m"], h)] for h in sizes))
+        except StopIteration:
             return None
     return float(np.median(total)) if total else None
 
@@ -240,8 +241,7 @@ def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache,
     reference = np.asarray(fem_result.record["frequencies_hz"][:count])
     if full:
         step("workspace worst pose: FEM refinement study")
-        sizes = tuple(sorted(set(scene.fem_study.refinement) | {sized.fem.mesh_size},
-                             reverse=True))
+        sizes = study_sizes(scene.fem_study.refinement, sized.fem.mesh_size)
         prefetch_fem(sized, [geometry], sizes, cache, workers, scheduler)
         reference = np.asarray(fem_refinement(sized, geometry, cache, sizes)["extrapolated_hz"])
     where = (f"workspace worst pose (z = {worst['height_mm']:.0f} mm, tilt = "

@@ -46,3 +46,18 @@ def test_analytical_choice_is_the_fastest_meeting_the_tolerance_over_every_case(
 def test_fidelity_settings_are_validated(kwargs, needle):
     with pytest.raises(ValueError, match=needle):
         FidelitySettings(**kwargs)
+
+
+def test_the_runs_own_size_joins_its_refinement_study_once():
+    """A size read in mm (0.032 m) and one computed in leg diameters (0.32 x 0.1 m) are the
+    same size: the study gets it once (two sizes a bit apart would make Richardson's step
+    divide by ~0), and a size between the sequence's is inserted in order."""
+    from solvers.refinement import size_index, study_sizes
+
+    design = (0.4 * 0.1, 0.32 * 0.1, 0.25 * 0.1, 0.2 * 0.1)
+    read = 0.032 * (1 + 1e-12)  # the same size, its last bits from another path
+    assert read != design[1]
+    assert study_sizes(design, read) == tuple(sorted(design, reverse=True))
+    assert size_index(study_sizes(design, read), read) == 1
+    assert study_sizes(design, 0.03) == (design[0], design[1], 0.03, design[2], design[3])
+    assert study_sizes(design, 0.01)[-1] == 0.01 and study_sizes(design) == design
