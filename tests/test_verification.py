@@ -74,7 +74,20 @@ def test_pairing_by_shape_picks_the_mode_of_its_kind():
 
 
 def test_the_cases_are_declared_in_order():
-    assert verification.CASES == ("fv52", "fv41", "fv41-torsion", "ring", "fv41-3d")
+    assert verification.CASES == ("fv52", "fv41", "fv41-torsion", "ring", "fv41-3d", "fv42")
+
+
+def test_the_sphere_s_exact_radial_frequencies_are_its_frequency_equation_s_roots():
+    """FV42's reference: the roots of the free hollow sphere's radial frequency equation,
+    checked against the values NAFEMS publishes for modes 1-3 (to their 5 figures) and
+    against a thin shell's breathing limit, f = sqrt(2 E / rho / (1 - nu)) / (2 pi R)."""
+    from verification.cases import STEEL, sphere_radial_hz
+
+    assert [round(sphere_radial_hz(k), 1) for k in (1, 2)] == [369.9, 838.0]
+    assert sphere_radial_hz(3) == pytest.approx(1451.2, abs=0.05)
+    e, rho, nu = STEEL.youngs_modulus, STEEL.density, 0.3
+    thin = np.sqrt(2 * e / rho / (1 - nu)) / (2 * np.pi * 5.0)
+    assert sphere_radial_hz(1, 4.99, 5.01) == pytest.approx(thin, rel=1e-4)
 
 
 @pytest.mark.verification

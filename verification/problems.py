@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .axisymmetric import area_effective_size, rectangle_basis, solve_harmonic
+from .axisymmetric import area_effective_size, rectangle_basis, shell_basis, solve_harmonic
 from .cases import STEEL, Case, ring_closed_form_hz
 from .shapes import (
     RIGID_RATIO,
@@ -16,6 +16,7 @@ from .shapes import (
     harmonic_content,
     kth_of_kind,
     pair_split,
+    radial_uniformity,
     rigid_count,
     torsion_share,
 )
@@ -195,8 +196,28 @@ def solve_fv41_3d(case: Case, size: float) -> Outcome:
                    compare)
 
 
+def solve_fv42(case: Case, size: float) -> Outcome:
+    """The free hollow sphere at harmonic n = 0, (u_r, u_z), its meridian meeting the axis: one
+    rigid mode (the translation along the axis); the breathing modes are the ones whose kinetic
+    energy is almost all (> 0.9) a uniform radial motion (`shapes.radial_uniformity`)."""
+    p = case.parameters
+    basis = shell_basis(p["inner"], p["outer"], size)
+    modes = solve_harmonic(basis, STEEL, 0, p["n_modes"], components=(0, 2), axis=True)
+    share = radial_uniformity(basis.doflocs.T, modes.vectors, modes.mass)
+    kinds = ["radial" if x > 0.9 else "other" for x in share]
+    hz = _pick(case, modes.hz, kinds)
+    area = 0.5 * math.pi * (p["outer"] ** 2 - p["inner"] ** 2)
+    checks = _rigid_checks(modes.hz, 1, "n = 0, (u_r, u_z), axis regular")
+    picked = [x for x, kind in zip(share, kinds) if kind == "radial"][:len(case.modes)]
+    checks.append(Check("smallest uniform-radial energy share of the picked modes (the others': "
+                        "below 0.1)", min(picked), 0.99, ">="))
+    checks.append(Check("largest uniform-radial energy share of the other modes",
+                        max(x for x, kind in zip(share, kinds) if kind == "other"), 0.1))
+    return Outcome(modes.dofs, area_effective_size(basis, area), hz, checks)
+
+
 SOLVERS = {"fv52": solve_fv52, "fv41": solve_fv41, "fv41-torsion": solve_fv41_torsion,
-           "ring": solve_ring, "fv41-3d": solve_fv41_3d}
+           "ring": solve_ring, "fv41-3d": solve_fv41_3d, "fv42": solve_fv42}
 
 
 def effective_size_3d(volume: float, n_nodes: int) -> float:

@@ -119,3 +119,22 @@ def closed_form_torsion_hz(m: int, length: float, shear_modulus: float, density:
     """The m-th free-free torsional frequency of a circular shaft or tube: m / (2 L)
     sqrt(G / rho) (Saint-Venant torsion is exact for circular sections)."""
     return m / (2.0 * length) * math.sqrt(shear_modulus / density)
+
+
+def radial_uniformity(rz: np.ndarray, vectors: np.ndarray, mass: sp.spmatrix) -> np.ndarray:
+    """Per mode of a body of revolution about a centre (harmonic 0, meridian nodes `rz`, dofs
+    3 s + c): the share of its kinetic energy in a uniform radial motion U(rho) e_rho, i.e. in
+    the mean over each sphere rho = const (nodes grouped by rho to 1e-9) of the radial
+    displacement; 1 for the breathing modes of a sphere, ~0 for every other mode."""
+    rho = np.hypot(rz[:, 0], rz[:, 1])
+    e_rho = rz / rho[:, None]
+    weights = np.abs(np.asarray(mass.diagonal())[0::3])
+    levels = np.unique(np.round(rho, 9), return_inverse=True)[1]
+    out = []
+    for v in vectors.T:
+        u = np.stack([v[0::3], v[2::3]], axis=1)
+        radial = (u * e_rho).sum(axis=1)
+        mean = (np.bincount(levels, weights * radial) / np.bincount(levels, weights))[levels]
+        total = np.sum(weights * (u**2).sum(axis=1))
+        out.append(float(np.sum(weights * mean**2) / total) if total > 0 else 0.0)
+    return np.asarray(out)
