@@ -186,6 +186,7 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
         refinement_study = fem_refinement(scene, geometry, cache, sizes)
         reference = np.asarray(refinement_study["extrapolated_hz"])
         k = size_index(sizes, mesh_size)
+        assert k is not None  # study_sizes put it there
         fem_error = np.asarray(refinement_study["estimated_error_percent"][k])
         fem_gci = refinement_study["gci_percent"][k]
     else:  # no refinement study (the CI profile): the run's size and the next coarser one

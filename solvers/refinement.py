@@ -25,9 +25,13 @@ def study_sizes(refinement, size: float | None = None) -> tuple[float, ...]:
     return tuple(sorted(sizes, reverse=True))
 
 
-def size_index(sizes, size: float) -> int:
-    """Where `size` is in a study's `sizes` (to 1e-9, as `study_sizes` added it)."""
-    return next(k for k, h in enumerate(sizes) if math.isclose(size, h, rel_tol=1e-9))
+def size_index(sizes, size: float) -> int | None:
+    """Where `size` is in a study's `sizes` (to 1e-9, as `study_sizes` added it); None when it
+    is not one of them."""
+    for k, h in enumerate(sizes):
+        if math.isclose(size, h, rel_tol=1e-9):
+            return k
+    return None
 
 
 def coarse_size(scene: Scene, size: float) -> float:

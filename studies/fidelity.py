@@ -78,9 +78,8 @@ class Fidelity:
 
 def _fem_seconds(fid: Fidelity) -> float | None:
     size = fid.scene.fem.mesh_size
-    times = [study["seconds"][size_index(study["sizes_m"], size)]
-             for study in fid.refinements.values()
-             if any(math.isclose(size, h, rel_tol=1e-9) for h in study["sizes_m"])]
+    found = [(study, size_index(study["sizes_m"], size)) for study in fid.refinements.values()]
+    times = [study["seconds"][k] for study, k in found if k is not None]
     return float(np.median(times)) if times else None
 
 
@@ -108,6 +107,7 @@ def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
         errors = [study["estimated_error_percent"] for study in refinements.values()]
         if scene.fem_size_given:
             k = size_index(sizes, scene.fem.mesh_size)
+            assert k is not None  # study_sizes put it there
             worst = max(max(e[k]) for e in errors)
             fem = FemChoice(scene.fem.mesh_size, worst, worst <= FEM_ERROR_SHARE * tol,
                             f"h = {scene.fem.mesh_size * 1e3:.3g} mm as the scene asks, "
@@ -205,12 +205,14 @@ def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
 
 
 def _fem_seconds_of(refinements: dict, *sizes) -> float | None:
+    """The median over the cases of the seconds of the FEM solves at `sizes` together; None
+    when a study lacks one of the sizes."""
     total = []
     for study in refinements.values():
-        try:
-            total.append(sum(study["seconds"][size_index(study["sizes_m"], h)] for h in sizes))
-        except StopIteration:
+        where = [size_index(study["sizes_m"], h) for h in sizes]
+        if any(k is None for k in where):
             return None
+        total.append(sum(study["seconds"][k] for k in where if k is not None))
     return float(np.median(total)) if total else None
 
 

@@ -61,3 +61,14 @@ def test_the_runs_own_size_joins_its_refinement_study_once():
     assert size_index(study_sizes(design, read), read) == 1
     assert study_sizes(design, 0.03) == (design[0], design[1], 0.03, design[2], design[3])
     assert study_sizes(design, 0.01)[-1] == 0.01 and study_sizes(design) == design
+
+
+def test_the_fem_seconds_of_sizes_outside_a_study_are_unknown_not_an_error():
+    """The workspace sweep's coarse mesh (1.25 h beyond the sequence) was timed by no study:
+    its seconds are None; sizes of the study are summed (to 1e-9) and the median taken."""
+    from studies.fidelity import _fem_seconds_of
+
+    studies = {"a": {"sizes_m": [0.04, 0.032], "seconds": [1.0, 2.0]},
+               "b": {"sizes_m": [0.04, 0.032], "seconds": [3.0, 4.0]}}
+    assert _fem_seconds_of(studies, 0.04, 0.05) is None
+    assert _fem_seconds_of(studies, 0.04 * (1 + 1e-12), 0.032) == 5.0
