@@ -54,7 +54,8 @@ from .substructure import (
 class LegMapBasis:
     """T_i(arm, d, e) = constant + sum_k arm_k * per_arm[k] + sum_k d_k * per_direction[k]
     + sum_k e_k * per_axis[k], restricted to `columns` of q (the leg's own coordinates and the
-    platform's); e is the leg's axis (the drive's stretch moves along it)."""
+    platform's); e is the drive's direction (its stretch moves along it: the leg's axis in a
+    3-RPS, the rail in a 3-PRS)."""
 
     columns: np.ndarray  # (c,) indices into q
     constant: np.ndarray  # (6(s+1), c)
@@ -178,7 +179,7 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
             directions = _directions(poses.joint_axes[:, i], options.r_joint_coordinate)
         except SingularJointMap as exc:
             raise ModalError(str(exc)) from None
-        axes = poses.leg_frames[:, i, :, 0]  # the leg's axis B_i -> A_i, limb x
+        axes = poses.drive_axes[:, i]  # the drive's direction (the leg's axis; a rail)
         t = basis.evaluate(arms[:, i], directions, axes)  # leg DOFs from q, Eqs. (10)-(21)
         limb_to_base = np.swapaxes(poses.leg_frames[:, i], 1, 2)[:, None]
         local = (limb_to_base @ t.reshape(n, 2 * (s + 1), 3, -1)).reshape(t.shape)  # Eq. (6)

@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from .architecture import height_range
 from .model import natural_frequencies
 from .params import Manipulator, ModelOptions, Pose
 
@@ -33,7 +34,7 @@ def calibrate_height(manipulator: Manipulator, pose: Pose, target_hz,
                      options: ModelOptions, bounds: tuple[float, float] | None = None
                      ) -> HeightCalibration:
     """Height (m) at which the model best reproduces `target_hz` in the minimax sense."""
-    lo, hi = bounds or (manipulator.actuator_min, manipulator.actuator_max)
+    lo, hi = bounds or height_range(manipulator)
 
     def cost(height: float) -> float:
         return float(np.abs(worst_deviation(manipulator, replace(pose, height=height),

@@ -30,6 +30,7 @@ import numpy as np
 from common.errors import InputError
 from common.joints import JOINTS, JointType
 
+from .architecture import actuation, height_reach, is_prs, leg_ends
 from .params import Manipulator, Pose
 
 _EVEN_SPACING = np.array([0.0, 2 * math.pi / 3, 4 * math.pi / 3])
@@ -108,6 +109,8 @@ class PoseGeometry:
     leg_frames: np.ndarray  # (3, 3, 3) limb-to-base rotations R_i; columns x_i, y_i, z_i
     s_joint_angles: np.ndarray  # (3,) alpha_i: leg axis vs the S joint's body normal, rad
     r_joint_angles: np.ndarray  # (3,) beta_i: leg axis vs the R joint's body normal, rad
+    drive_axes: np.ndarray  # (3, 3) unit direction of each leg's drive (the leg; a rail)
+    actuation: np.ndarray  # (3,) the locked actuators (leg lengths; slider travels), m
     base_joint: str = "R"
     platform_joint: str = "S"
 
@@ -140,6 +143,8 @@ class PoseGeometry:
             leg_frames=np.einsum("ab,ibc->iac", g, self.leg_frames),
             s_joint_angles=self.s_joint_angles.copy(),
             r_joint_angles=self.r_joint_angles.copy(),
+            drive_axes=self.drive_axes @ g.T,
+            actuation=self.actuation.copy(),
             base_joint=self.base_joint,
             platform_joint=self.platform_joint,
         )
@@ -154,7 +159,7 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
     m = manipulator
     if not (math.isfinite(pose.height) and pose.height > 0):
         raise PoseError(f"height = {pose.height!r} m: the platform must be above the base")
-    reach = m.actuator_max + m.base_radius + m.platform_radius
+    reach = height_reach(m) + m.base_radius + m.platform_radius
     if pose.height > 1e3 * reach:  # beyond any leg by orders of magnitude (and overflow)
         raise PoseError(f"height = {pose.height!r} m: no leg of this manipulator reaches it")
     for name in ("azimuth", "tilt"):
@@ -180,8 +185,12 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
         z_seen = -(pose.height + rot[2, 0] * xy[0] + rot[2, 1] * xy[1]) / rot[2, 2]
         centre = -rot @ np.array([xy[0], xy[1], z_seen])
         axes = tangent @ rot.T  # fixed in the platform, tangent to its circle at A_i
-    base_points = m.base_radius * radial
     platform_points = centre + (m.platform_radius * radial) @ rot.T  # Eq. (3): Oo + R oA_i
+    ends = leg_ends(m, platform_points[None], radial)  # the architecture's base ends
+    if not ends.closes[0]:
+        raise PoseError(f"a leg of {m.leg_length * 1e3:g} mm (leg_length_mm) cannot reach its "
+                        "platform joint from any point of its rail")
+    base_points = ends.base_points[0]
     legs = platform_points - base_points  # B_i A_i, Eq. (3)
     lengths = np.linalg.norm(legs, axis=1)
     if np.any(lengths < 1e-12):
@@ -202,14 +211,17 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
     s_angles = np.arccos(np.clip(x_axes @ s_normal, -1.0, 1.0))
     # beta_i: signed rotation of the leg about the R axis from the normal of the R joint's
     # body (positive leans outward)
-    if m.axis_end == "base":
-        outward, upward = np.einsum("ij,ij->i", x_axes, radial), x_axes[:, 2]
+    if m.axis_end == "base":  # from the base joint's body normal n (z; a rail), in its plane
+        normals = ends.base_normals[0]
+        outward = np.einsum("ij,ij->i", x_axes, np.cross(tangent, normals))
+        upward = np.einsum("ij,ij->i", x_axes, normals)
     else:
         outward = np.einsum("ij,ij->i", x_axes, radial @ rot.T)
         upward = x_axes @ platform_normal
     r_angles = np.arctan2(outward, upward)
     geom = PoseGeometry(rot, centre, base_points, platform_points, axes, lengths, frames,
-                        s_angles, r_angles, m.base_joint, m.platform_joint)
+                        s_angles, r_angles, ends.drive_axes[0], ends.actuation[0],
+                        m.base_joint, m.platform_joint)
     if check_limits:
         check_joint_limits(manipulator, geom)
         check_clearances(manipulator, geom)
@@ -217,16 +229,20 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
 
 
 def check_joint_limits(manipulator: Manipulator, geom: PoseGeometry) -> None:
-    """Eq. (25): L_min <= L_i <= L_max, |alpha_i| <= alpha_max, |beta_i| <= beta_max."""
+    """Eq. (25): L_min <= L_i <= L_max (a 3-PRS: s_min <= s_i <= s_max),
+    |alpha_i| <= alpha_max, |beta_i| <= beta_max."""
     m = manipulator
     tol = 1e-12
-    for i, length in enumerate(geom.leg_lengths):
-        if length < m.actuator_min - tol or length > m.actuator_max + tol:
-            above = length > m.actuator_max
+    act = actuation(m)
+    for i, value in enumerate(geom.actuation):
+        if value < act.low - tol or value > act.high + tol:
+            above = value > act.high
+            what = (f"leg {i + 1} would be {value * 1e3:.1f} mm long" if not is_prs(m) else
+                    f"slider {i + 1} would travel {value * 1e3:.1f} mm")
             raise PoseError(
-                f"leg {i + 1} would be {length * 1e3:.1f} mm long, outside the actuator "
-                "range: " + (f"above actuator_max_mm = {m.actuator_max * 1e3:g}" if above else
-                   f"below actuator_min_mm = {m.actuator_min * 1e3:g}")
+                f"{what}, outside the {act.limit_name}: "
+                + (f"above {act.high_key} = {act.high * 1e3:g}" if above else
+                   f"below {act.low_key} = {act.low * 1e3:g}")
             )
     for i, a in enumerate(geom.s_joint_angles):
         if abs(a) > m.s_joint_max + tol:

@@ -1,4 +1,4 @@
-"""Physical parameters of a 3-RPS manipulator, a pose, and the analytical model's fidelity.
+"""Physical parameters of a 3-RPS or 3-PRS manipulator, a pose, and the analytical model's fidelity.
 
 Everything here is in SI units (m, kg, Pa, rad). Scene files speak millimetres and degrees;
 `scene` converts once, at the edge, and hands these plain dataclasses inward.
@@ -24,6 +24,7 @@ from common.settings import (
 )
 from common.stiffness import Stiffness
 
+from .architecture import ARCHITECTURES, RAIL_ANGLE_RANGE, is_prs
 from .beam import SHEAR_COEFFICIENTS
 
 BEAM_THEORIES = ("euler-bernoulli", "timoshenko")
@@ -73,7 +74,8 @@ _POSITIVE = dict(minimum=0.0, exclusive_minimum=True)
 
 @dataclass(frozen=True)
 class Manipulator:
-    """Geometry and material of a 3-RPS manipulator (paper Section 2).
+    """Geometry and material of a 3-RPS manipulator (paper Section 2), or of a 3-PRS
+    (`architecture`: sliders on rails carry the revolute joints; `analytical.architecture`).
 
     The base joints B_i lie on the base circle of radius `base_radius`; the platform joints A_i
     lie on the platform circle of radius `platform_radius`, both at the polar angles
@@ -106,9 +108,9 @@ class Manipulator:
                                   doc='plate outline: "disk" of radius r2, or the "triangle" '
                                   "A1A2A3")
     actuator_min: float = setting(0.2, unit="mm", scene_required=True, **_PART,
-                                  doc="L_min, shortest leg (Eq. 25)")  # m
+                                  doc="L_min, shortest leg (Eq. 25; a 3-RPS only)")  # m
     actuator_max: float = setting(1.0, unit="mm", scene_required=True, **_PART,
-                                  doc="L_max, longest leg (Eq. 25)")  # m
+                                  doc="L_max, longest leg (Eq. 25; a 3-RPS only)")  # m
     s_joint_max: float = setting(math.radians(45.0), unit="deg", scene_required=True,
                                  maximum=math.pi / 2, **_POSITIVE,
                                  doc="alpha_max, largest angle between a leg and the normal of "
@@ -117,6 +119,23 @@ class Manipulator:
                                  maximum=math.pi / 2, **_POSITIVE,
                                  doc="beta_max, largest rotation of a revolute joint from the "
                                  "normal of its body (Eq. 25)")  # rad
+    architecture: str = setting("3-RPS", kind=str, choices=ARCHITECTURES,
+                                doc='"3-RPS" (revolute joints on the base, prismatic legs; the '
+                                'paper) or "3-PRS" (a slider on a rail from each B_i carries the '
+                                "revolute joint, legs of fixed length)")
+    rail_angle: float = setting(math.pi / 2, unit="deg", minimum=RAIL_ANGLE_RANGE[0],
+                                maximum=RAIL_ANGLE_RANGE[1],
+                                doc="3-PRS: inclination of every rail from the base plane, in "
+                                "the vertical plane through O and B_i (90: vertical; below 90 "
+                                "it leans away from the axis as it rises, above 90 towards it)")
+    leg_length: float = setting(0.0, unit="mm", minimum=0.0, maximum=MAX_LENGTH,
+                                doc="3-PRS: the fixed length of every leg, joint centre to "
+                                "joint centre")  # m
+    slider_min: float = setting(0.0, unit="mm", minimum=0.0, maximum=MAX_LENGTH,
+                                doc="3-PRS: lowest travel of every slider along its rail, from "
+                                "the rail's foot B_i")  # m
+    slider_max: float = setting(0.0, unit="mm", minimum=0.0, maximum=MAX_LENGTH,
+                                doc="3-PRS: highest travel of every slider along its rail")  # m
     base_joint: str = setting("R", kind=str, choices=JOINT_TYPES,
                               doc="joint at the base end of every leg (the paper's equations: "
                               "R)")
@@ -131,6 +150,15 @@ class Manipulator:
             raise InputError(f"base_joint = {self.base_joint!r}, platform_joint = "
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
+        if is_prs(self):
+            if (self.base_joint, self.platform_joint) != ("R", "S"):
+                raise InputError(f"base_joint = {self.base_joint!r}, platform_joint = "
+                                 f"{self.platform_joint!r} with architecture = '3-PRS': its "
+                                 "revolute joint sits on the slider, the spherical joint on "
+                                 "the platform (R, S)")
+            # a 3-PRS leg has one length: the legs' length range is [L, L]
+            object.__setattr__(self, "actuator_min", self.leg_length)
+            object.__setattr__(self, "actuator_max", self.leg_length)
 
     def leg_parts(self, length: float) -> tuple[LegPart, ...]:
         """The parts of a leg `length` long, base joint first (`common.leg_profile`)."""
@@ -158,6 +186,9 @@ class Manipulator:
             platform_thickness=self.platform_thickness * k,
             actuator_min=self.actuator_min * k,
             actuator_max=self.actuator_max * k,
+            leg_length=self.leg_length * k,
+            slider_min=self.slider_min * k,
+            slider_max=self.slider_max * k,
             leg=self.leg.scaled(k),
         )
 
@@ -231,13 +262,14 @@ def _distance_on_circle(radius: float, a: float, b: float) -> float:
 def check_manipulator(m: Manipulator) -> None:
     """Raise ValueError naming the first non-physical or implausible parameter: its scene key,
     its value and the expected range in the scene file's unit, on one line."""
+    actuator = ({"leg_length": m.leg_length, "slider_max": m.slider_max} if is_prs(m) else
+                {"actuator_min": m.actuator_min, "actuator_max": m.actuator_max})
     positive = {
         "base_radius": m.base_radius,
         "platform_radius": m.platform_radius,
         "leg_diameter": m.leg_diameter,
         "platform_thickness": m.platform_thickness,
-        "actuator_min": m.actuator_min,
-        "actuator_max": m.actuator_max,
+        **actuator,
         "youngs_modulus": m.material.youngs_modulus,
         "shear_modulus": m.material.shear_modulus,
         "density": m.material.density,
@@ -249,11 +281,14 @@ def check_manipulator(m: Manipulator) -> None:
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             key = next(s for n, s, _ in declared(cls) if n == name).scene_key(name)
             raise InputError(f"{key} = {value!r} (SI): must be a finite positive number")
-    if m.actuator_min >= m.actuator_max:
-        raise InputError(
-            f"{_named(Manipulator, 'actuator_min', m.actuator_min)} is not below "
-            f"{_named(Manipulator, 'actuator_max', m.actuator_max)}"
-        )
+    low, high = ("slider_min", "slider_max") if is_prs(m) else ("actuator_min", "actuator_max")
+    if getattr(m, low) >= getattr(m, high):
+        raise InputError(f"{_named(Manipulator, low, getattr(m, low))} is not below "
+                         f"{_named(Manipulator, high, getattr(m, high))}")
+    if is_prs(m) and m.leg.stepped:
+        raise InputError(f"leg.housing_length_mm = {m.leg.housing_length * 1e3:g} with "
+                         "architecture = '3-PRS': its legs are links of fixed length, not "
+                         "actuators (a housing and a rod belong to a 3-RPS's prismatic legs)")
     mat = m.material
     low, high = YOUNGS_MODULUS_RANGE
     if not low <= mat.youngs_modulus <= high:
@@ -303,8 +338,9 @@ def _check_proportions(m: Manipulator) -> None:
     d = m.leg_diameter
     if m.leg.stepped:
         _check_profile(m)
+    shortest = "leg_length" if is_prs(m) else "actuator_min"
     if m.actuator_min < d:
-        raise InputError(f"{_named(Manipulator, 'actuator_min', m.actuator_min)}: the shortest "
+        raise InputError(f"{_named(Manipulator, shortest, getattr(m, shortest))}: the shortest "
                          f"leg is shorter than its diameter "
                          f"{_named(Manipulator, 'leg_diameter', d)}; expected at least "
                          f"{d * 1e3:g} mm (a leg, not a disk)")

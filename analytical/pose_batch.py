@@ -14,6 +14,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from .architecture import actuation, height_reach, leg_ends
 from .kinematics import CLEARANCE_TOLERANCE, PoseGeometry, clearances, pose_geometry
 from .params import Manipulator, Pose
 
@@ -37,6 +38,8 @@ class PoseBatch:
     leg_frames: np.ndarray  # (N, 3, 3, 3) limb-to-base rotations R_i, columns x_i, y_i, z_i
     s_joint_angles: np.ndarray  # (N, 3) rad
     r_joint_angles: np.ndarray  # (N, 3) rad
+    drive_axes: np.ndarray  # (N, 3, 3) unit direction of each leg's drive
+    actuation: np.ndarray  # (N, 3) the locked actuators (leg lengths; slider travels), m
     feasible: np.ndarray  # (N,) bool: closure, every limit of Eq. (25), no interpenetration
     base_joint: str = "R"
     platform_joint: str = "S"
@@ -55,7 +58,8 @@ class PoseBatch:
         return PoseGeometry(self.rotation[n], self.platform_centre[n], self.base_points[n],
                             self.platform_points[n], self.joint_axes[n], self.leg_lengths[n],
                             self.leg_frames[n], self.s_joint_angles[n], self.r_joint_angles[n],
-                            self.base_joint, self.platform_joint)
+                            self.drive_axes[n], self.actuation[n], self.base_joint,
+                            self.platform_joint)
 
 
 def _rotation_z(angle: np.ndarray) -> np.ndarray:
@@ -92,15 +96,15 @@ def pose_batch(manipulator: Manipulator, heights, azimuths, tilts) -> PoseBatch:
     angles = np.asarray(m.leg_angles, float)
     spacing = np.mod(angles - angles[0], 2 * math.pi) - np.array([0.0, 2.0, 4.0]) * math.pi / 3
     if np.abs(spacing).max() > 1e-9:  # legs not 120 degrees apart: pose_geometry's error
-        pose_geometry(m, Pose(m.actuator_max), check_limits=False)
+        pose_geometry(m, Pose(height_reach(m)), check_limits=False)
     layout_angle = float(angles[0])
     radial = np.stack([np.cos(angles), np.sin(angles), np.zeros(3)], axis=1)
     tangent = np.stack([-np.sin(angles), np.cos(angles), np.zeros(3)], axis=1)
-    reach = m.actuator_max + m.base_radius + m.platform_radius
+    reach = height_reach(m) + m.base_radius + m.platform_radius
     valid = (np.isfinite(z) & (z > 0) & (z <= 1e3 * reach) & np.isfinite(phi)
              & np.isfinite(theta))
     given = (z, phi, theta)
-    z, phi, theta = (np.where(valid, a, d) for a, d in ((z, m.actuator_max), (phi, 0.0),
+    z, phi, theta = (np.where(valid, a, d) for a, d in ((z, height_reach(m)), (phi, 0.0),
                                                          (theta, 0.0)))
     rot = _rotation_z(phi) @ _rotation_y(theta) @ _rotation_z(-phi)
     rot_t = np.swapaxes(rot, 1, 2)
@@ -113,8 +117,10 @@ def pose_batch(manipulator: Manipulator, heights, azimuths, tilts) -> PoseBatch:
         z_seen = -(z + rot[:, 2, 0] * xy[:, 0] + rot[:, 2, 1] * xy[:, 1]) / rot[:, 2, 2]
         centre = -np.einsum("nij,nj->ni", rot, np.column_stack([xy, z_seen]))
         axes = tangent @ rot_t
-    base_points = np.broadcast_to(m.base_radius * radial, (len(z), 3, 3))
     platform_points = centre[:, None, :] + (m.platform_radius * radial) @ rot_t
+    ends = leg_ends(m, platform_points, radial)  # the architecture's base ends
+    valid &= ends.closes
+    base_points = ends.base_points
     legs = platform_points - base_points
     lengths = np.linalg.norm(legs, axis=2)
     valid &= np.all(lengths >= 1e-12, axis=1)
@@ -126,21 +132,23 @@ def pose_batch(manipulator: Manipulator, heights, azimuths, tilts) -> PoseBatch:
     s_normal = (platform_normal if m.axis_end == "base"
                 else np.broadcast_to([0.0, 0.0, 1.0], (len(z), 3)))
     s_angles = np.arccos(np.clip(np.einsum("nij,nj->ni", x_axes, s_normal), -1.0, 1.0))
-    if m.axis_end == "base":
-        outward = np.einsum("nij,ij->ni", x_axes, radial)
-        upward = x_axes[:, :, 2]
+    if m.axis_end == "base":  # from the base joint's body normal n (z; a rail), in its plane
+        normals = ends.base_normals
+        outward = np.einsum("nij,nij->ni", x_axes, np.cross(tangent, normals))
+        upward = np.einsum("nij,nij->ni", x_axes, normals)
     else:
         outward = np.einsum("nij,nij->ni", x_axes, radial @ rot_t)
         upward = np.einsum("nij,nj->ni", x_axes, platform_normal)
     r_angles = np.arctan2(outward, upward)
     tol = LIMIT_TOLERANCE
+    act = actuation(m)
     feasible = (valid & np.all(off_plane <= CLOSURE_TOLERANCE, axis=1)
-                & np.all((lengths >= m.actuator_min - tol) & (lengths <= m.actuator_max + tol),
+                & np.all((ends.actuation >= act.low - tol) & (ends.actuation <= act.high + tol),
                          axis=1)
                 & np.all(np.abs(s_angles) <= m.s_joint_max + tol, axis=1)
                 & np.all(np.abs(r_angles) <= m.r_joint_max + tol, axis=1))
     apart = clearances(m, base_points, platform_points, rot, centre)
     feasible &= np.all([c >= -CLEARANCE_TOLERANCE for c in apart.values()], axis=0)
     return PoseBatch(*given, rot, centre, np.array(base_points), platform_points,
-                     np.array(axes), lengths, frames, s_angles, r_angles, feasible,
-                     m.base_joint, m.platform_joint)
+                     np.array(axes), lengths, frames, s_angles, r_angles, ends.drive_axes,
+                     ends.actuation, feasible, m.base_joint, m.platform_joint)

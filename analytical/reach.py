@@ -1,7 +1,8 @@
 """The reachable workspace of a machine: the one definition every study takes its poses from.
 
 A pose (height z, tilt azimuth phi, tilt theta) is reachable when the inverse kinematics closes
-(Eqs. 1-3), every limit of Eq. (25) holds (actuator range, S- and R-joint angles) and no bodies
+(Eqs. 1-3), every limit of Eq. (25) holds (actuator range or slider stroke, S- and R-joint
+angles) and no bodies
 interpenetrate (`kinematics.clearances`: legs apart, legs reaching the platform from below, the
 plate above the base). `pose_batch.feasible` evaluates exactly that rule for many poses and
 `kinematics.pose_geometry` raises on it for one; everything here is built on them, nothing keeps
@@ -26,14 +27,15 @@ import numpy as np
 
 from common.errors import InputError
 
+from .architecture import actuation, height_reach, is_prs, rail_shortfall
 from .kinematics import PoseError, clearances, pose_geometry
 from .params import Manipulator, Pose
 from .pose_batch import pose_batch
 
 MAX_TILT = math.radians(89.0)
-LAYER_INSET = 0.05  # layers stay this fraction of L_max inside the level band ...
+LAYER_INSET = 0.05  # layers stay this fraction of the height reach (L_max) inside the band ...
 LAYER_INSET_SHARE = 0.25  # ... or this share of the band's width, if the band is narrower
-GRID = 2001  # heights scanned for the level band, (0, L_max]
+GRID = 2001  # heights scanned for the level band, (0, height reach] (a 3-RPS: L_max)
 BAND_TOLERANCE = 1e-12  # m: the level band's ends, by bisection
 SAMPLE_TILT = 0.6  # rad: random poses draw |tilt| up to this
 SAMPLE_ROUNDS = 200  # rounds of 4 x count draws at most
@@ -76,13 +78,16 @@ def violations(m: Manipulator, heights, azimuths, tilts) -> dict[str, np.ndarray
     """How far every pose is beyond each limit, relative (positive: violated), by the scene
     key of the limit or the name of the clearance."""
     b = pose_batch(m, heights, azimuths, tilts)
-    scale = m.actuator_max
+    scale = height_reach(m)
+    act = actuation(m)
     out = {
-        "actuator_min_mm": (m.actuator_min - b.leg_lengths.min(axis=1)) / scale,
-        "actuator_max_mm": (b.leg_lengths.max(axis=1) - m.actuator_max) / scale,
+        act.low_key: (act.low - b.actuation.min(axis=1)) / scale,
+        act.high_key: (b.actuation.max(axis=1) - act.high) / scale,
         "s_joint_max_deg": np.abs(b.s_joint_angles).max(axis=1) / m.s_joint_max - 1,
         "r_joint_max_deg": np.abs(b.r_joint_angles).max(axis=1) / m.r_joint_max - 1,
     }
+    if is_prs(m):  # a leg too short to reach its platform joint from the rail's line
+        out["leg_length_mm"] = rail_shortfall(m, b.platform_points) / scale
     apart = clearances(m, b.base_points, b.platform_points, b.rotation, b.platform_centre)
     out.update({f"{name} clearance": -value / scale for name, value in apart.items()})
     return out
@@ -100,7 +105,8 @@ def level_band(manipulator: Manipulator) -> LevelBand:
     limits leave several), its ends to BAND_TOLERANCE. Raises WorkspaceError naming the limit
     that binds at the height closest to reachable when no level pose is."""
     m = manipulator
-    z = np.linspace(m.actuator_max / GRID, m.actuator_max, GRID)  # level legs are >= z long
+    top = height_reach(m)  # no platform joint reaches higher
+    z = np.linspace(top / GRID, top, GRID)
     ok = _level_ok(m, z)
     if not ok.any():
         worst = np.max(np.stack(list(violations(m, z, 0.0, 0.0).values())), axis=0)
@@ -118,9 +124,9 @@ def level_band(manipulator: Manipulator) -> LevelBand:
     first, last = int(starts[k]), int(stops[k]) - 1
     low = _bisect(m, z[first - 1], z[first]) if first > 0 else 0.0
     high = _bisect(m, z[last + 1], z[last]) if last < GRID - 1 else float(z[-1])
-    below = binding_limit(m, max(low - 1e-6 * m.actuator_max, 1e-12), 0.0, 0.0)[0] \
+    below = binding_limit(m, max(low - 1e-6 * top, 1e-12), 0.0, 0.0)[0] \
         if first > 0 else "height > 0"
-    above = binding_limit(m, high + 1e-6 * m.actuator_max, 0.0, 0.0)[0]
+    above = binding_limit(m, high + 1e-6 * top, 0.0, 0.0)[0]
     return LevelBand(low, high, below, above)
 
 
@@ -140,7 +146,7 @@ def layer_band(manipulator: Manipulator) -> tuple[float, float]:
     inside each end (a quarter of the band's width if it is narrower), so every layer's level
     pose is reachable with room to tilt."""
     band = level_band(manipulator)
-    inset = min(LAYER_INSET * manipulator.actuator_max, LAYER_INSET_SHARE * band.width)
+    inset = min(LAYER_INSET * height_reach(manipulator), LAYER_INSET_SHARE * band.width)
     return band.low + inset, band.high - inset
 
 

@@ -206,8 +206,8 @@ def _leg_map(layout: LegLayout, leg: int, joints, arm: np.ndarray, r_form: str,
 
     Per leg, q holds the base joint's coordinates, the interior nodes' six, the drive's
     stretch delta and the platform joint's coordinates (`LegLayout`); every leg has the same
-    joints. `axis` is the leg's unit axis B_i -> A_i (base frame), along which the drive's
-    node moves by delta.
+    joints. `axis` is the unit direction of the leg's drive (base frame: the leg's axis
+    B_i -> A_i in a 3-RPS, the rail in a 3-PRS), along which the drive's node moves by delta.
     """
     base, top = joints
     first = leg * layout.count
@@ -301,7 +301,7 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
         arm = geometry.platform_points[i] - geometry.platform_centre
         joints = geometry.leg_joints(i)
         t = _leg_map(layout, i, joints, arm, options.r_joint_coordinate,
-                     geometry.leg_frames[i][:, 0])
+                     geometry.drive_axes[i])
         local = _to_limb_frame(t, geometry.leg_frames[i])  # u_i = T_i^T T q, Eqs. (5)-(6)
         cols = np.flatnonzero(np.any(local != 0.0, axis=0))  # this leg's and the platform's
         local = local[:, cols]

@@ -22,7 +22,9 @@ idealisation the analytical model carries identically; `common.stiffness`):
   independent coordinates (no mass, no stiffness of its own), to which the housing's top face
   is tied; the rod's bottom face is tied to R = H + delta e (delta: 1 coordinate along the leg
   axis e, energy 1/2 k_a delta^2) when the drive's stiffness k_a > 0, else to H itself.
-- F_b, a uniform leg with a drive spring k_a > 0: its base face is tied to J_b + delta e.
+- F_b, a uniform leg with a drive spring k_a > 0: its base face is tied to J_b + delta e,
+  e the drive's direction (`geometry.drive_axes`: the leg's axis, or a 3-PRS's rail, the
+  slider's drive acting between the base and the slider that carries J_b).
 
 Every spring is registered on the `ConstraintBuilder` (`springs`: coordinates and matrix);
 `ConstraintBuilder.spring_matrix` adds them to the reduced stiffness K_q. Nothing here has
@@ -162,8 +164,9 @@ class LegPoints:
         return point
 
     def axial(self, i: int, k: int) -> tuple:
-        """(cols, 6 x 1) of the drive's delta along leg i's axis (junction k)."""
-        e = np.asarray(self.geometry.leg_directions[i], float)
+        """(cols, 6 x 1) of the drive's delta along leg i's drive direction (junction k):
+        the leg's axis, or the rail of a 3-PRS (`geometry.drive_axes`)."""
+        e = np.asarray(self.geometry.drive_axes[i], float)
         return self.cols["delta"][i][k:k + 1], np.concatenate([e, np.zeros(3)])[:, None]
 
     def face_points(self, i: int, starts: list, phi, psi, plat, body_translation

@@ -26,6 +26,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 import results as schema
 import studies
+from analytical.architecture import actuation, is_prs, leg_length_range
 from analytical.kinematics import pose_geometry
 from common.paths import distinct_stems, inside
 from common.settings import declared
@@ -83,6 +84,7 @@ def git_commit() -> str | None:
 
 def scene_summary(scene: Scene, path: str) -> dict:
     m = scene.manipulator
+    act = actuation(m)
     return schema.SceneSummary(
         name=scene.name,
         path=path,
@@ -94,7 +96,11 @@ def scene_summary(scene: Scene, path: str) -> dict:
             platform_thickness_mm=m.platform_thickness * 1e3,
             platform_shape=m.platform_shape,
             leg_angles_deg=[math.degrees(a) for a in m.leg_angles],
-            actuator_range_mm=[m.actuator_min * 1e3, m.actuator_max * 1e3],
+            architecture=m.architecture,
+            actuator=act.quantity,
+            actuator_range_mm=[act.low * 1e3, act.high * 1e3],
+            leg_length_range_mm=[x * 1e3 for x in leg_length_range(m)],
+            rail_angle_deg=math.degrees(m.rail_angle) if is_prs(m) else None,
             s_joint_max_deg=math.degrees(m.s_joint_max),
             r_joint_max_deg=math.degrees(m.r_joint_max),
             base_joint=m.base_joint,
@@ -138,6 +144,7 @@ def pose_summary(scene: Scene, case: Case) -> dict:
         base_points_mm=(g.base_points * 1e3).tolist(),
         platform_points_mm=(g.platform_points * 1e3).tolist(),
         leg_lengths_mm=(g.leg_lengths * 1e3).tolist(),
+        actuation_mm=(g.actuation * 1e3).tolist(),
         s_joint_angles_deg=np.degrees(g.s_joint_angles).tolist(),
         r_joint_angles_deg=np.degrees(g.r_joint_angles).tolist(),
     )

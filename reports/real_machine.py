@@ -18,7 +18,7 @@ def leg_profile(manipulator: dict, path: Path) -> None:
     """Half-section of a leg (axis horizontal, base joint at 0) at its shortest and longest:
     the housing and the rod, each solid or hollow; the joint centres and the junction."""
     leg = manipulator["leg"]
-    lengths = manipulator["actuator_range_mm"]
+    lengths = manipulator["leg_length_range_mm"]
     fig, axes = plt.subplots(2, 1, figsize=(WIDTH, 2.4), sharex=True)
     for ax, length, label in zip(axes, lengths, ("shortest leg", "longest leg")):
         if leg["housing_length_mm"] > 0:

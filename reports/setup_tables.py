@@ -34,8 +34,17 @@ def manipulator_table(results: dict, c: Cells) -> dict:
     rows += [[c.text(literal=f"leg {i + 1} angle on the base"),
               c.num(f"{q}/leg_angles_deg/{i}", 1), unit("deg")]
              for i, _ in enumerate(m["leg_angles_deg"])]
+    rows += [[c.text(literal="architecture"), c.text(f"{q}/architecture"), unit("")]]
+    if m["rail_angle_deg"] is not None:  # a 3-PRS (analytical/architecture.py)
+        rows += [[c.text(literal="rail angle from the base plane"),
+                  c.num(f"{q}/rail_angle_deg", 1), unit("deg")],
+                 [c.text(literal="leg length, joint to joint"),
+                  c.num(f"{q}/leg_length_range_mm/0", 1), unit("mm")]]
+        labels = ("slider travel minimum s_min", "slider travel maximum s_max")
+    else:
+        labels = ("actuator minimum L_min", "actuator maximum L_max")
     rows += [[c.text(literal=label), c.num(f"{q}/actuator_range_mm/{i}", 0), unit("mm")]
-             for i, label in enumerate(("actuator minimum L_min", "actuator maximum L_max"))]
+             for i, label in enumerate(labels)]
     rows += [[c.text(literal=label), c.text(f"{q}/{key}"), unit("")]
              for key, label in (("base_joint", "joint at the base"),
                                 ("platform_joint", "joint at the platform"),
@@ -117,16 +126,18 @@ def pose_tables(results: dict, c: Cells) -> dict:
                            c.text(f"{p}/height_origin"), c.num(f"{p}/azimuth_deg", 1),
                            c.num(f"{p}/tilt_deg", 1)]
                           + [c.num(f"{p}/centre_mm/{k}", 1) for k in range(3)]
-                          + [c.num(f"{p}/leg_lengths_mm/{k}", 1) for k in legs])
+                          + [c.num(f"{p}/actuation_mm/{k}", 1) for k in legs])
         joints_rows.append([c.text(f"/cases/{i}/name")]
                            + [c.num(f"{p}/s_joint_angles_deg/{k}", 2) for k in legs]
                            + [c.num(f"{p}/r_joint_angles_deg/{k}", 2) for k in legs])
     n = len(legs)
+    prs = results["scene"]["manipulator"]["architecture"] == "3-PRS"
+    group, symbol = ("slider travels s_i (mm)", "s") if prs else ("leg lengths L_i (mm)", "L")
     poses = {"cls": "poses", "rows": poses_rows, "head": [
         head("case", "height z", "", "azimuth φ", "tilt θ", "platform centre o (mm)",
-             "leg lengths L_i (mm)", spans=[1, 1, 1, 1, 1, 3, n]),
+             group, spans=[1, 1, 1, 1, 1, 3, n]),
         head("", "(mm)", "origin", "(deg)", "(deg)", "x", "y", "z",
-             *[f"L{k + 1}" for k in legs])]}
+             *[f"{symbol}{k + 1}" for k in legs])]}
     joints = {"cls": "joints", "rows": joints_rows, "head": [
         head("case", "S-joint angles α_i (deg)", "R-joint angles β_i (deg)", spans=[1, n, n]),
         head("", *[f"α{k + 1}" for k in legs], *[f"β{k + 1}" for k in legs])]}

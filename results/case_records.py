@@ -18,7 +18,11 @@ class Manipulator(TypedDict):
     platform_thickness_mm: FiniteFloat
     platform_shape: str
     leg_angles_deg: list[FiniteFloat]
-    actuator_range_mm: list[FiniteFloat]
+    architecture: str  # "3-RPS" or "3-PRS" (analytical.architecture)
+    actuator: str  # the locked actuator's variable: "leg length" or "slider travel"
+    actuator_range_mm: list[FiniteFloat]  # its [min, max]: Eq. (25)'s L, or a 3-PRS's stroke
+    leg_length_range_mm: list[FiniteFloat]  # the legs' [shortest, longest], joint to joint
+    rail_angle_deg: FiniteFloat | None  # a 3-PRS's rails from the base plane (None: 3-RPS)
     s_joint_max_deg: FiniteFloat
     r_joint_max_deg: FiniteFloat
     base_joint: str
@@ -118,6 +122,7 @@ class Pose(TypedDict):
     base_points_mm: list[list[FiniteFloat]]  # base joint centres B_i
     platform_points_mm: list[list[FiniteFloat]]  # platform joint centres A_i
     leg_lengths_mm: list[FiniteFloat]
+    actuation_mm: list[FiniteFloat]  # the locked actuators: leg lengths, or sliders' travels
     s_joint_angles_deg: list[FiniteFloat]
     r_joint_angles_deg: list[FiniteFloat]
 

@@ -17,7 +17,7 @@ SECTIONS: dict[str, tuple[str, str] | None] = {
     "height_calibration": PAPER_READING,
     "angle_conventions": PAPER_READING,
     "workspace": ("workspace", "Workspace maps"),
-    "joint_orders": ("joint-orders", "Both joint orders"),
+    "joint_orders": ("joint-orders", "Joint orders"),
     "joint_couplings": ("joint-couplings", "Joint faces: rigid and distributing couplings"),
     "hard_cases": ("hard-cases", "Hard cases: numerical stability and physics checks"),
     "lowest_modes": ("lowest-modes", "What sets the lowest modes: drive, joints and legs"),

@@ -277,6 +277,37 @@ MM = 1e-3
 DEG = math.pi / 180.0
 
 
+# The [manipulator] keys that belong to one architecture only (`analytical.architecture`); the
+# other's scene must not give them, and a 3-PRS must give its leg length and stroke.
+ARCHITECTURE_KEYS = {"3-RPS": ("actuator_min_mm", "actuator_max_mm"),
+                     "3-PRS": ("rail_angle_deg", "leg_length_mm", "slider_min_mm",
+                               "slider_max_mm")}
+ARCHITECTURE_REQUIRED = {"3-RPS": ("actuator_min_mm", "actuator_max_mm"),
+                         "3-PRS": ("leg_length_mm", "slider_max_mm")}
+
+
+def _architecture_keys(man: _Table, where: str) -> dict:
+    """Check the keys of the scene's architecture; values decided here (SI) for the fields
+    the other architecture's keys would set."""
+    spec = next(s for n, s, _ in declared(Manipulator) if n == "architecture")
+    arch = man.value("architecture", spec) if "architecture" in man.data else "3-RPS"
+    for other, keys in ARCHITECTURE_KEYS.items():
+        given = [k for k in keys if k in man.data]
+        if other != arch and given:
+            raise SceneError(f"{where}.manipulator.{given[0]} = {_short(man.data[given[0]])} "
+                             f"with architecture = {arch!r}: the key belongs to a {other}")
+    for key in ARCHITECTURE_REQUIRED[arch]:
+        if key not in man.data:
+            name = key.rsplit("_", 1)[0]
+            doc = next(s for n, s, _ in declared(Manipulator) if n == name).doc
+            raise SceneError(f"{where}.manipulator.{key}: missing ({doc}, in mm; a {arch} "
+                             "needs it)" + _found_instead(key, man.data))
+    if arch == "3-PRS":  # no actuator range of its own: its legs' one length (Manipulator)
+        man.used.update(ARCHITECTURE_KEYS["3-RPS"])
+        return {"actuator_min": 0.0, "actuator_max": 0.0}
+    return {}
+
+
 def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file; raise SceneError with one line on any problem."""
     path = Path(path)
@@ -316,6 +347,7 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
                              f"{_short(man.data['leg_diameter_mm'])} with a [leg] housing and "
                              "rod: their diameters are the leg's; leave leg_diameter_mm out")
         parts["leg_diameter"] = leg.largest_diameter
+    parts.update(_architecture_keys(man, where))
     manipulator = man.settings(Manipulator, **parts)
     shape_reason = man.settings(ManipulatorNotes).platform_shape_reason.strip()
     man.done()

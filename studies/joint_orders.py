@@ -4,13 +4,15 @@ platform, Eqs. 10-17) and its Section 2 text (S at the base, R at the platform).
 The same machine and poses are solved in each order by both models (the paper-faithful and the
 best beam model, and the FEM at the scene's mesh size), modes paired by shape. It shows that
 the seam between kinematics and models holds for either order: the two models should agree
-with each other as closely in one order as in the other.
+with each other as closely in one order as in the other. A 3-PRS has one order (its R joint
+on the slider, `analytical.architecture.JOINT_ORDERS`): the study shows it alone.
 """
 from __future__ import annotations
 
 from dataclasses import replace
 
 import results
+from analytical.architecture import JOINT_ORDERS
 from analytical.kinematics import pose_geometry
 from runtime.cache import ResultCache
 from scene import Scene
@@ -19,7 +21,6 @@ from solvers.refinement import two_mesh
 
 from .registry import Context, Study
 
-ORDERS = (("R", "S"), ("S", "R"))
 MODELS = {"EB, s=3": dict(beam="euler-bernoulli", elements=3),
           "Timoshenko, s=3": dict(beam="timoshenko", elements=3)}
 
@@ -41,7 +42,7 @@ def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict
     for name in case_names:
         case = scene.case(name)
         readings = []
-        for base, top in ORDERS:
+        for base, top in JOINT_ORDERS[scene.manipulator.architecture]:
             m = replace(scene.manipulator, base_joint=base, platform_joint=top,
                         stiffness=with_joints(scene.manipulator, base, top))
             ordered = replace(scene, manipulator=m)

@@ -15,6 +15,7 @@ import math
 import numpy as np
 
 import results as schema
+from analytical.architecture import height_reach
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.reach import (
     LAYER_INSET,
@@ -54,11 +55,11 @@ def check(scene: Scene, profile: str = "full") -> schema.ReachableWorkspace:
     radii = regular_radii(m, heights)
     poses, dropped = design_with_dropped(m, FULL if profile == "full" else SMALL)
     adaptations = []
-    if LAYER_INSET * m.actuator_max > LAYER_INSET_SHARE * band.width:
+    if LAYER_INSET * height_reach(m) > LAYER_INSET_SHARE * band.width:
         adaptations.append(
             f"the level band is {band.width * 1e3:.1f} mm wide: the study layers keep a quarter "
             f"of it ({LAYER_INSET_SHARE * band.width * 1e3:.1f} mm) from each end instead of "
-            f"{LAYER_INSET:.0%} of L_max")
+            f"{LAYER_INSET:.0%} of the height reach ({height_reach(m) * 1e3:.1f} mm)")
     flat = heights[radii < FLAT_TILT]
     if len(flat):
         adaptations.append(

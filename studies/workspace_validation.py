@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import qmc
 
+from analytical.architecture import actuation
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
 from analytical.reach import layer_band, max_tilts, regular_radii
@@ -63,9 +64,10 @@ def _active_limit(m: Manipulator, pose: Pose) -> str | None:
         return "S joint"
     if np.max(np.abs(g.r_joint_angles)) >= m.r_joint_max * (1 - LIMIT_TOL):
         return "R joint"
-    lengths = g.leg_lengths
-    if lengths.max() >= m.actuator_max * (1 - LIMIT_TOL) or \
-            lengths.min() <= m.actuator_min * (1 + LIMIT_TOL):
+    act, value = actuation(m), g.actuation  # leg lengths, or a 3-PRS's slider travels
+    span = act.high - act.low  # a limit at 0 (a slider's foot) is near within LIMIT_TOL of it
+    if value.max() >= act.high - LIMIT_TOL * (act.high or span) or \
+            value.min() <= act.low + LIMIT_TOL * (act.low or span):
         return "actuator"
     return None
 

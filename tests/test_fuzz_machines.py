@@ -1,9 +1,11 @@
-"""Every plausible 3-RPS machine runs end to end, or is refused up front in one line.
+"""Every plausible 3-RPS or 3-PRS machine runs end to end, or is refused up front in one line.
 
 Machines are drawn (hypothesis) from the plausible ranges below: steel, aluminium or titanium;
 base radius 150-600 mm; platform radius 0.3-1.2 times the base's; legs 2-40 diameters long at
 mid stroke; plate 0.1-3 leg diameters thick (at least 1 mm); actuator stroke L_min / L_max
-0.25-0.8 with L_max 1.2-4 base radii; joint limits 20-80 degrees; both joint orders. Each scene
+0.25-0.8 with L_max 1.2-4 base radii; joint limits 20-80 degrees; both joint orders. Half are
+3-PRS: legs of 1.2-4 base radii and 2-40 diameters, rails at 50-130 degrees, a slider stroke
+of 0.3-1.5 leg lengths starting 0-30 % of it up the rail. Each scene
 has a level case and a slightly tilted one where the machine reaches them (elsewhere a random
 height: the up-front check must refuse it). A draw either passes `studies.reachable.check`
 (plus the scene's own load) or is refused there by ValueError in one line; after that check,
@@ -60,12 +62,21 @@ def machines(draw) -> dict:
     thickness = max(1.0, diameter * f(0.1, 3.0))
     e, g, rho = MATERIALS[draw(st.sampled_from(sorted(MATERIALS)))]
     order = draw(st.sampled_from([("R", "S"), ("S", "R")]))
+    actuator = {"actuator_min_mm": l_min, "actuator_max_mm": l_max}
+    if draw(st.booleans()):  # a 3-PRS: legs of one length, sliders on rails
+        stroke = l_max * f(0.3, 1.5)
+        diameter = l_max / f(2.0, 40.0)
+        thickness = max(1.0, diameter * f(0.1, 3.0))
+        order = ("R", "S")
+        actuator = {"architecture": "3-PRS", "leg_length_mm": l_max,
+                    "rail_angle_deg": f(50.0, 130.0), "slider_min_mm": stroke * f(0.0, 0.3),
+                    "slider_max_mm": stroke}
     raw = {
         "name": "fuzzed machine",
         "manipulator": {
             "base_radius_mm": r1, "platform_radius_mm": r2, "leg_diameter_mm": diameter,
-            "platform_thickness_mm": min(thickness, r2), "actuator_min_mm": l_min,
-            "actuator_max_mm": l_max, "s_joint_max_deg": f(20.0, 80.0),
+            "platform_thickness_mm": min(thickness, r2), **actuator,
+            "s_joint_max_deg": f(20.0, 80.0),
             "r_joint_max_deg": f(20.0, 80.0), "base_joint": order[0],
             "platform_joint": order[1]},
         "material": {"youngs_modulus_gpa": e, "shear_modulus_gpa": g, "density_kg_m3": rho},
@@ -84,7 +95,9 @@ def _cases(raw: dict, where: float, azimuth: float, tilt: float) -> dict:
         scene = parse_scene(raw | {"cases": {"probe": {"height_mm": 1.0}}})
         band = level_band(scene.manipulator)
     except ValueError:
-        return {"level": {"height_mm": where * raw["manipulator"]["actuator_max_mm"]}}
+        man = raw["manipulator"]
+        return {"level": {"height_mm": where * man.get("actuator_max_mm",
+                                                        man.get("leg_length_mm"))}}
     z = band.low + where * band.width
     for _ in range(20):
         if _reaches(scene, z, azimuth, tilt):

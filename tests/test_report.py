@@ -32,7 +32,7 @@ RESULTS = FIXTURES / "report_results.json"
 SECTIONS = ("1 Summary", "2 Fidelity: what the scene asked, what was chosen",
             "3 Scene and set-up", "4 Table I reproduction", "5 Convergence",
             "6 Mode shapes", "7 Speed vs error", "8 Workspace maps",
-            "9 The model against the FEM over the workspace", "10 Both joint orders",
+            "9 The model against the FEM over the workspace", "10 Joint orders",
             "11 Joint faces: rigid and distributing couplings",
             "12 Hard cases: numerical stability and physics checks",
             "13 Verifying the referee: published benchmarks",
@@ -214,7 +214,7 @@ def test_ci_profile_results_build(tmp_path):
     assert "Without a refinement study (profile ci): from the run's mesh and the next coarser" \
         in page  # the FEM's error column is explained where it comes from
     headings = _parse(page).headings
-    for absent in ("Convergence", "Speed vs error", "Workspace maps", "Both joint orders",
+    for absent in ("Convergence", "Speed vs error", "Workspace maps", "Joint orders",
                    "Joint faces", "Reading the paper"):  # sections without data: omitted
         assert not any(absent in h for h in headings), absent
     assert ("Not in these results (profile ci): convergence studies, speed vs error, "

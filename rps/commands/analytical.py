@@ -60,6 +60,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
         **({"end_zone_diameters": opts.end_zone} if opts.joint_ends == "solid" else {}),
         "frequencies_hz": [float(x) for x in result.frequencies_hz],
         "leg_lengths_mm": [float(x) * 1e3 for x in result.geometry.leg_lengths],
+        "actuation_mm": [float(x) * 1e3 for x in result.geometry.actuation],
         "dofs": int(result.model.stiffness.shape[0]),
         "seconds": seconds,
     }

@@ -6,6 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from analytical.architecture import actuation, height_reach
 from analytical.kinematics import PoseError
 from analytical.model import analyse, natural_frequencies
 from analytical.params import Manipulator, Pose
@@ -41,9 +42,10 @@ def boundary_ring(scene: Scene, layers: int = 5, azimuths: int = 72) -> Row:
                "azimuths); beyond it unreachable", 1e-8, worst, "relative")
 
 
-LIMITS = {  # limit -> (the phrase PoseError uses, a change that makes it bind somewhere)
-    "actuator_min": ("outside the actuator range", {}),
-    "actuator_max": ("outside the actuator range", {}),
+LIMITS = {  # limit -> (the phrase PoseError uses, a change that makes it bind somewhere);
+    # the actuator's: a 3-RPS's leg lengths, a 3-PRS's slider travels (analytical.architecture)
+    "actuator_min": ("outside the (actuator range|slider stroke)", {}),
+    "actuator_max": ("outside the (actuator range|slider stroke)", {}),
     "s_joint_max": ("S-joint", {}),
     "r_joint_max": ("R-joint", {"r_joint_max": math.radians(15.0)}),
 }
@@ -52,14 +54,15 @@ LIMITS = {  # limit -> (the phrase PoseError uses, a change that makes it bind s
 def limit_pose(m: Manipulator, limit: str) -> Pose:
     """A pose where `limit` of Eq. (25) binds: the largest tilt reachable at some (height,
     azimuth), found to 1e-12 rad, with `limit` the constraint closest to violation there."""
-    for z in np.linspace(0.0, 1.0, 41)[1:] * (m.actuator_max + m.base_radius):
+    act = actuation(m)
+    for z in np.linspace(0.0, 1.0, 41)[1:] * (height_reach(m) + m.base_radius):
         phis = np.linspace(0, 2 * math.pi, 24, endpoint=False)
         tilts = max_tilts(m, float(z), phis, 1e-12)
         poses = pose_batch(m, z, phis, tilts)
         for k in np.flatnonzero(poses.feasible & (tilts > 0)):
             margins = {
-                "actuator_min": (poses.leg_lengths[k] - m.actuator_min).min(),
-                "actuator_max": (m.actuator_max - poses.leg_lengths[k]).min(),
+                "actuator_min": (poses.actuation[k] - act.low).min(),
+                "actuator_max": (act.high - poses.actuation[k]).min(),
                 "s_joint_max": (m.s_joint_max - np.abs(poses.s_joint_angles[k])).min(),
                 "r_joint_max": (m.r_joint_max - np.abs(poses.r_joint_angles[k])).min(),
             }
@@ -74,7 +77,9 @@ def joint_limit(scene: Scene, limit: str) -> Row:
     (relative), i.e. nothing jumps at the edge (the test also checks that 1e-6 rad beyond the
     pose is refused, naming the limit)."""
     m = replace(scene.manipulator, **LIMITS[limit][1])
-    case = (f"joint limit {limit} ({scene.manipulator.base_joint}-"
+    act = actuation(m)
+    shown = {"actuator_min": act.low_key[:-3], "actuator_max": act.high_key[:-3]}.get(limit, limit)
+    case = (f"joint limit {shown} ({scene.manipulator.base_joint}-"
             f"{scene.manipulator.platform_joint})")
     try:
         pose = limit_pose(m, limit)
