@@ -177,11 +177,15 @@ def leg_ends(m: Manipulator, platform_points: np.ndarray, radial: np.ndarray) ->
                        np.ones(n, bool))
     d = a - feet
     along = np.einsum("nij,nij->ni", d, rails)
-    disc = along ** 2 - np.einsum("nij,nij->ni", d, d) + m.leg_length ** 2
+    excess = np.einsum("nij,nij->ni", d, d) - m.leg_length ** 2  # |d|^2 - L^2
+    disc = along ** 2 - excess
     closes = np.all(disc >= 0.0, axis=1)
     root = np.sqrt(np.clip(disc, 0.0, None))
-    beyond = along > 0.0  # the same root without cancellation: (|d|^2 - L^2) / (d.u + root)
-    travel = np.where(beyond, (along ** 2 - disc) / np.where(beyond, along + root, 1.0),
-                      along - root)
+    # d.u - root, written as excess / (d.u + root) where d.u > 0 (no difference of two nearly
+    # equal numbers when the slider is near its foot); where the leg cannot reach (disc < 0)
+    # the nearest point of the rail, d.u
+    beyond = along > 0.0
+    travel = np.where(beyond, excess / np.where(beyond, along + root, 1.0), along - root)
+    travel = np.where(disc >= 0.0, travel, along)
     points = feet + travel[..., None] * rails
     return LegEnds(points, rails.copy(), travel, rails.copy(), closes)

@@ -14,7 +14,9 @@ what is elastic, each model builds on its own.
   rotation about it stays free), K_r = 0 for S (it constrains no rotation).
 - The drive spring joins the housing's end face to the rod's (at the junction of a stepped leg,
   `common.leg_profile`; at the base joint for a uniform leg): along the leg axis e only, energy
-  1/2 k_a (e . (u_rod - u_housing))^2; the other five relative motions stay rigid.
+  1/2 k_a (e . (u_rod - u_housing))^2; the other five relative motions stay rigid. In a 3-PRS
+  it joins the slider to its rail, e the rail's direction (the pose geometry's `drive_axes`
+  say which, per leg); with the slider massless, that is the same point of the chain.
 
 Zero, the default of every key, is a rigid connection (today's behaviour), not a free one.
 """
@@ -46,7 +48,8 @@ class Stiffness:
 
     actuator_axial: float = _spring(
         "the drive's axial stiffness (screw, nut and bearings in series), along the leg at the "
-        "housing/rod junction (at the base joint for a uniform leg)", "N/um")
+        "housing/rod junction (at the base joint for a uniform leg); a 3-PRS: the slider's "
+        "drive, along its rail", "N/um")
     base_joint_translational: float = _spring(
         "each translation of a base joint (its bearing), between the base and the leg end",
         "N/um")

@@ -12,10 +12,12 @@ from .figures import DPI, plt
 
 def beam_mode(base: np.ndarray, platform: np.ndarray, centre: np.ndarray, stations,
               shape: np.ndarray, motion: tuple[np.ndarray, np.ndarray], platform_radius: float,
-              path: Path, title: str, scale_to: float, view=(22.0, -60.0)) -> None:
+              path: Path, title: str, scale_to: float, view=(22.0, -60.0),
+              feet: np.ndarray | None = None) -> None:
     """The leg axes B_i -> A_i deformed by `shape` (legs, stations, 3), and the platform disk
     about its centre o moved by the model's own platform motion (translation of o, rotation);
-    displacements scaled so the largest leg displacement is drawn `scale_to` long."""
+    displacements scaled so the largest leg displacement is drawn `scale_to` long. `feet`:
+    the base circle's points (a 3-PRS's rails run from them to the sliders at `base`)."""
     from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the projection)
 
     stations = np.asarray(stations, float)
@@ -31,9 +33,13 @@ def beam_mode(base: np.ndarray, platform: np.ndarray, centre: np.ndarray, statio
     disk = centre + platform_radius * (np.outer(np.cos(t), e1) + np.outer(np.sin(t), e2))
     translation, rotation = motion
     disk_u = disk + scale * (translation + np.cross(rotation, disk - centre))
-    base_ring = np.linalg.norm(base[0, :2])
+    feet = base if feet is None else np.asarray(feet, float)
+    base_ring = np.linalg.norm(feet[0, :2])
     ring = np.stack([base_ring * np.cos(t), base_ring * np.sin(t), 0 * t], axis=1)
     ax.plot(*ring.T, color="0.75", lw=0.6)
+    for foot, joint in zip(feet, base):
+        if np.linalg.norm(joint - foot) > 1e-9:  # a 3-PRS: the rail to the slider
+            ax.plot(*np.stack([foot, joint]).T, color="0.45", lw=1.4)
     ax.plot(*disk.T, color="0.65", lw=0.7, ls="--")
     ax.plot(*disk_u.T, color="#444444", lw=1.1)
     amp_leg = np.linalg.norm(shape, axis=2)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from common.errors import ComputeError
 from common.paths import distinct_stems, file_stem, inside
 
@@ -148,6 +150,9 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
     size = max(float(max(base.max(0) - base.min(0))), float(platform[:, 2].max()))
     m = results["scene"]["manipulator"]
     radius = m["platform_radius_mm"] * 1e-3
+    angles = np.radians(m["leg_angles_deg"])  # the base circle's points B_i (a 3-PRS's feet)
+    feet = m["base_radius_mm"] * 1e-3 * np.stack([np.cos(angles), np.sin(angles),
+                                                   np.zeros(len(angles))], axis=1)
     fem_paths = {}
     if fem["vtu"]:
         modes = [p["fem_mode"] for p in pairs]
@@ -180,6 +185,6 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
             plan.add(beam_mode, item["beam_png"], base, platform, centre, stations,
                      shapes[..., j - 1], platform_motion(case["analytical"], j), radius,
                      item["beam_png"], f"beam model mode {j}: {p['f_analytical_hz']:.2f} Hz",
-                     0.1 * size)
+                     0.1 * size, feet=feet)
         out["pairs"].append(item)
     return out

@@ -21,6 +21,7 @@ from meshing.geometry import MeshSettings
 
 from .fidelity import FidelitySettings
 from .load import (
+    ARCHITECTURE_REQUIRED,
     GEOMETRY_DEFAULTS_TEXT,
     CaseSettings,
     FemStudy,
@@ -34,7 +35,12 @@ DOC = ROOT / "docs" / "scenes.md"
 
 TABLES = (
     ("top level", "The scene's own keys.", (SceneSettings,)),
-    ("[manipulator]", "Geometry, joints and limits of the machine (paper Section 2, Eq. 25).",
+    ("[manipulator]", "Geometry, joints and limits of the machine (paper Section 2, Eq. 25). "
+     'With architecture = "3-PRS" a slider on a rail from each B_i carries the revolute joint '
+     "and the legs have one length (analytical/architecture.py): its keys are rail_angle_deg, "
+     "leg_length_mm, slider_min_mm and slider_max_mm in place of actuator_min_mm and "
+     "actuator_max_mm, the R-joint angle is measured from the rail, and the slider is locked, "
+     "rigid and of no mass. A key of the other architecture is refused.",
      (Manipulator, ManipulatorNotes)),
     ("[material]", "One isotropic material for legs and platform.", (Material,)),
     ("[payload]", "A rigid body fixed to the platform (a tool, a spindle, a workpiece), carried "
@@ -43,12 +49,13 @@ TABLES = (
     ("[leg]", "Every leg as a linear actuator: a housing tube of fixed length from the base joint "
      "and a rod taking the rest of the pose's length, each solid or hollow (common/"
      "leg_profile.py). Both models build their legs from this one profile. Leave the table out "
-     "for the paper's uniform solid leg of leg_diameter_mm; with it, leave leg_diameter_mm out.",
+     "for the paper's uniform solid leg of leg_diameter_mm; with it, leave leg_diameter_mm out. "
+     "A 3-RPS only (a 3-PRS's legs are links).",
      (LegProfile,)),
     ("[stiffness]", "Joint bearings and the drive as linear springs, carried identically by both "
      "models (common/stiffness.py): a joint spring joins the body to the leg end's reference "
-     "point, the drive spring joins the housing's end face to the rod's. 0 (the default) is "
-     "rigid.", (Stiffness,)),
+     "point, the drive spring joins the housing's end face to the rod's (a 3-PRS: the slider to "
+     "its rail, along the rail). 0 (the default) is rigid.", (Stiffness,)),
     ("[fidelity]", "What accuracy the scene needs, on which modes. Where the scene leaves "
      "[analytical] out, and mesh_size_mm out of [fem], the run chooses the cheapest models that "
      "meet it, by measurement (studies/choice.py).", (FidelitySettings,)),
@@ -98,6 +105,9 @@ def _edge(spec: Setting, value) -> str:
 def _default(name: str, spec: Setting, default) -> str:
     if name in GEOMETRY_DEFAULTS_TEXT:
         return GEOMETRY_DEFAULTS_TEXT[name]
+    for architecture, keys in ARCHITECTURE_REQUIRED.items():
+        if spec.scene_key(name) in keys:
+            return f"required ({architecture})"
     if default is MISSING or spec.scene_required:
         return "required"
     if default is None:

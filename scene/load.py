@@ -216,7 +216,7 @@ class _Table:
                 if default is MISSING or spec.scene_required:
                     raise SceneError(f"{self.where}.{key}: missing ({spec.doc}"
                                      f"{', in ' + spec.unit if spec.unit else ''})"
-                                     + _found_instead(key, self.data))
+                                     + _found_instead(key, self.data, _scene_keys(cls)))
                 values[name] = default
                 continue
             values[name] = self.value(key, spec)
@@ -261,9 +261,19 @@ def _did_you_mean(key: str, known) -> str:
     return f"; did you mean {by_lower[close[0]]}?" if close else ""
 
 
-def _found_instead(key: str, data: dict) -> str:
-    """'; found Youngs_Modulus_GPa: did you mean youngs_modulus_gpa?' for a misspelt key."""
-    typo = next((k for k in sorted(data, key=str) if _did_you_mean(k, [key])), None)
+def _scene_keys(cls) -> set[str]:
+    """The scene keys of every declared field of `cls` and of its nested settings."""
+    keys = {spec.scene_key(name) for name, spec, _ in declared(cls)}
+    for _, sub in nested(cls):
+        keys |= _scene_keys(sub)
+    return keys
+
+
+def _found_instead(key: str, data: dict, known=()) -> str:
+    """'; found Youngs_Modulus_GPa: did you mean youngs_modulus_gpa?' for a misspelt key (a
+    key of its own, `known`, is not one: slider_min_mm is no typo of slider_max_mm)."""
+    typo = next((k for k in sorted(data, key=str)
+                 if k not in known and _did_you_mean(k, [key])), None)
     return f"; found {_short(typo)}: did you mean {key}?" if typo is not None else ""
 
 
@@ -301,7 +311,8 @@ def _architecture_keys(man: _Table, where: str) -> dict:
             name = key.rsplit("_", 1)[0]
             doc = next(s for n, s, _ in declared(Manipulator) if n == name).doc
             raise SceneError(f"{where}.manipulator.{key}: missing ({doc}, in mm; a {arch} "
-                             "needs it)" + _found_instead(key, man.data))
+                             "needs it)" + _found_instead(key, man.data,
+                                                          _scene_keys(Manipulator)))
     if arch == "3-PRS":  # no actuator range of its own: its legs' one length (Manipulator)
         man.used.update(ARCHITECTURE_KEYS["3-RPS"])
         return {"actuator_min": 0.0, "actuator_max": 0.0}

@@ -55,16 +55,17 @@ def rps_twin(m: Manipulator) -> Manipulator:
                        leg_angles=m.leg_angles)
 
 
-def random_machines(count: int, seed: int = RNG_SEED):
+def random_machines(count: int, seed: int = RNG_SEED, drive: bool = True):
     """Plausible 3-PRS machines: r1 200-500 mm, r2 0.4-1.0 r1, L 1.2-3 r1, d L/20-L/8,
-    rails 60-120 degrees, a stroke of 0.5-1.5 L."""
+    rails 60-120 degrees, a stroke of 0.5-1.5 L, a drive of 50-500 N/um (or rigid)."""
     rng = np.random.default_rng(seed)
     for _ in range(count):
         r1 = rng.uniform(0.2, 0.5)
         length = r1 * rng.uniform(1.2, 3.0)
+        springs = Stiffness(actuator_axial=rng.uniform(5e7, 5e8) if drive else 0.0)
         yield prs(r1=r1, r2=r1 * rng.uniform(0.4, 1.0), length=length,
                   d=length / rng.uniform(8.0, 20.0), angle=rng.uniform(60.0, 120.0),
-                  stroke=(0.0, length * rng.uniform(0.5, 1.5)),
+                  stroke=(0.0, length * rng.uniform(0.5, 1.5)), stiffness=springs,
                   leg_angles=tuple(rng.uniform(-1, 1) + np.array([0, 2, 4]) * math.pi / 3))
 
 
@@ -93,14 +94,21 @@ def test_closure_on_random_machines_and_poses():
                                              np.zeros(3)], axis=1)
             assert np.allclose(np.linalg.norm(g.platform_points - g.base_points, axis=1),
                                m.leg_length, rtol=0, atol=1e-14)
-            rails = g.drive_axes
+            radial = feet / m.base_radius
+            a = m.rail_angle  # the rail, in its vertical plane: cos a outward, sin a up
+            rails = math.cos(a) * radial + math.sin(a) * np.array([0.0, 0.0, 1.0])
+            assert np.allclose(g.drive_axes, rails, rtol=0, atol=1e-15)
             assert np.allclose(g.base_points, feet + g.actuation[:, None] * rails, atol=1e-14)
-            assert np.allclose(rails[:, 2], math.sin(m.rail_angle), atol=1e-15)
+            # beta: the leg's angle from the rail in that plane, positive leaning outward
+            x = g.leg_directions
+            polar = np.arctan2(x[:, 2], np.einsum("ij,ij->i", x, radial))
+            assert np.allclose(g.r_joint_angles, a - polar, rtol=0, atol=1e-12)
             assert np.abs(np.einsum("ij,ij->i", g.leg_directions, g.joint_axes)).max() < 1e-12
             assert np.all(np.einsum("ij,ij->i", g.leg_directions, rails) > 0)
             assert np.all((g.actuation >= m.slider_min) & (g.actuation <= m.slider_max))
             batch = pose_batch(m, pose.height, pose.azimuth, pose.tilt)
             assert batch.feasible[0]
+            assert batch.actuation[0] == pytest.approx(g.actuation, abs=1e-14)
             twin = batch.geometry(0)
             for name in ("base_points", "platform_points", "leg_frames", "actuation",
                          "drive_axes", "r_joint_angles", "s_joint_angles"):
@@ -140,7 +148,7 @@ def test_level_prs_with_vertical_rails_is_the_raised_rps(options):
     rng = np.random.default_rng(RNG_SEED + 1)
     springs = Stiffness(base_joint_translational=8e8, base_joint_rotational=1.3e6,
                         platform_joint_translational=3e8)
-    for m in random_machines(8):
+    for m in random_machines(8, drive=False):  # the drive: test_the_drive_acts_along_the_rail
         m = replace(m, rail_angle=math.pi / 2, stiffness=springs)
         band = level_band(m)
         z = rng.uniform(band.low, band.high)
@@ -174,6 +182,21 @@ def test_the_drive_acts_along_the_rail():
     assert np.abs(f_prs / f_rps - 1).max() > 1e-3
     rigid = natural_frequencies(replace(leaning, stiffness=Stiffness()), Pose(z), OPTIONS[1])
     assert np.all(f_prs < rigid)  # a spring in the load path softens every mode
+
+
+def test_batched_maps_equal_the_per_pose_model():
+    """The workspace maps' batched assembly (drive along the rail included) is the per-pose
+    model's, to 1e-10."""
+    from analytical.batch_model import assemble_batch, batch_frequencies, standard_form
+
+    rng = np.random.default_rng(RNG_SEED + 3)
+    for m in random_machines(4):
+        poses = random_poses(m, 6, rng)
+        batch = pose_batch(m, [p.height for p in poses], [p.azimuth for p in poses],
+                           [p.tilt for p in poses])
+        hz = batch_frequencies(standard_form(assemble_batch(m, batch, OPTIONS[1])), 6)
+        each = np.array([natural_frequencies(m, p, OPTIONS[1]) for p in poses])
+        assert np.abs(hz / each - 1).max() < 1e-10
 
 
 def test_inclined_rails_change_the_frequencies():
@@ -266,11 +289,13 @@ def test_a_prs_leg_is_a_link_not_an_actuator():
 def test_level_identity_holds_for_the_fem(legs, tmp_path):
     """The FEM meshes the same legs, translated: the harmonic legs give the raised 3-RPS's
     frequencies to 1e-9; gmsh meshes a translated body anew, so the tetrahedral legs agree
-    within the discretisation error of a 0.5 d mesh (measured 1e-4; a misplaced joint or a
-    wrong drive direction moves them by percents)."""
+    within the discretisation error of a 0.5 d mesh (measured 1e-4). With r1 = r2 the level
+    legs are vertical, along the rails, so the drive spring is the same in both; the same
+    machine with r2 < r1 (legs leaning, a drive along the rail, not the leg) differs."""
     from fem_reference.model import FemRuntime, solve_pose
 
-    m = prs(stiffness=Stiffness(actuator_axial=0.0, base_joint_translational=8e8))
+    m = prs(r1=0.3, r2=0.3, stiffness=Stiffness(actuator_axial=1.5e8,
+                                                 base_joint_translational=8e8))
     z = 0.95
     g = pose_geometry(m, Pose(z))
     s = float(g.actuation[0])
@@ -280,3 +305,12 @@ def test_level_identity_holds_for_the_fem(legs, tmp_path):
     f_prs = solve_pose(m, g, options, runtime).frequencies_hz
     f_rps = solve_pose(twin, pose_geometry(twin, Pose(z - s)), options, runtime).frequencies_hz
     assert np.abs(f_prs / f_rps - 1).max() < (1e-9 if legs == "harmonic" else 1e-3)
+    if legs == "harmonic":
+        leaning = replace(m, platform_radius=0.22)
+        g = pose_geometry(leaning, Pose(z))
+        s = float(g.actuation[0])
+        f_prs = solve_pose(leaning, g, options, runtime).frequencies_hz
+        twin = rps_twin(leaning)
+        f_rps = solve_pose(twin, pose_geometry(twin, Pose(z - s)), options,
+                           runtime).frequencies_hz
+        assert np.abs(f_prs / f_rps - 1).max() > 1e-3
