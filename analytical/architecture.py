@@ -95,6 +95,13 @@ class LegEnds:
     closes: np.ndarray  # (N,) bool: the legs can be assembled (the 3-PRS quadratic has roots)
 
 
+# The [manipulator] keys that belong to one architecture only (the other's scene must not give
+# them), and those of them a scene must give.
+ARCHITECTURE_KEYS = {"3-RPS": ("actuator_min_mm", "actuator_max_mm"),
+                     "3-PRS": ("rail_angle_deg", "leg_length_mm", "slider_min_mm",
+                               "slider_max_mm")}
+ARCHITECTURE_REQUIRED = {"3-RPS": ("actuator_min_mm", "actuator_max_mm"),
+                         "3-PRS": ("leg_length_mm", "slider_max_mm")}
 # The joint orders (base joint, platform joint) each architecture admits: a 3-RPS either way
 # round (the paper's equations and its Section 2 text), a 3-PRS with its R joint on the slider.
 JOINT_ORDERS = {"3-RPS": (("R", "S"), ("S", "R")), "3-PRS": (("R", "S"),)}

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import MISSING
 from pathlib import Path
 
+from analytical.architecture import ARCHITECTURE_REQUIRED
 from analytical.params import Manipulator, Material, ModelOptions
 from common.leg_profile import LegProfile
 from common.paths import MAX_LENGTH
@@ -21,7 +22,6 @@ from meshing.geometry import MeshSettings
 
 from .fidelity import FidelitySettings
 from .load import (
-    ARCHITECTURE_REQUIRED,
     GEOMETRY_DEFAULTS_TEXT,
     CaseSettings,
     FemStudy,

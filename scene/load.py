@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from analytical.architecture import ARCHITECTURE_KEYS, ARCHITECTURE_REQUIRED
 from analytical.params import (
     Manipulator,
     Material,
@@ -285,15 +286,6 @@ def _short(value: Any, limit: int = 80) -> str:
     return text if len(text) <= limit else text[:limit - 3] + "..."
 MM = 1e-3
 DEG = math.pi / 180.0
-
-
-# The [manipulator] keys that belong to one architecture only (`analytical.architecture`); the
-# other's scene must not give them, and a 3-PRS must give its leg length and stroke.
-ARCHITECTURE_KEYS = {"3-RPS": ("actuator_min_mm", "actuator_max_mm"),
-                     "3-PRS": ("rail_angle_deg", "leg_length_mm", "slider_min_mm",
-                               "slider_max_mm")}
-ARCHITECTURE_REQUIRED = {"3-RPS": ("actuator_min_mm", "actuator_max_mm"),
-                         "3-PRS": ("leg_length_mm", "slider_max_mm")}
 
 
 def _architecture_keys(man: _Table, where: str) -> dict:
