@@ -1,8 +1,11 @@
-"""`rps workspace`: the lowest frequencies over the regular workspace (the paper's Fig. 6)."""
+"""`rps workspace`: the lowest frequencies over the regular workspace (the paper's Fig. 6), or
+with `--minimum K` the least f_K over the whole reachable workspace and where it is
+(`analytical.minimum`)."""
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import time
 
 from common.errors import InputError
@@ -21,6 +24,8 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
     from studies.workspace_map import workspace_map
 
     scene = load_scene(args.scene)
+    if args.minimum is not None:
+        return _minimum(scene, args)
     poses = args.layers * args.rings * args.azimuths
     if poses > MAX_MAP_POSES:
         raise InputError(f"{typed(args, 'layers', 'rings', 'azimuths') or 'the grid'}: "
@@ -35,6 +40,40 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
     fmap = workspace_map(scene, args.layers, args.rings, args.azimuths, args.modes)
     fmap["seconds"] = time.perf_counter() - start
     return fmap
+
+
+def _minimum(scene, args: argparse.Namespace) -> dict:
+    """The least f_K over the reachable workspace, with the scene's analytical model."""
+    from dataclasses import replace
+
+    from analytical.minimum import workspace_minimum
+    from analytical.substructure import model_coordinates
+
+    k = args.minimum
+    if k > model_coordinates(scene.manipulator, scene.analytical):
+        raise InputError(f"{typed(args, 'minimum')}: the scene's model has only "
+                         f"{model_coordinates(scene.manipulator, scene.analytical)} modes")
+    options = replace(scene.analytical, modes=k)
+    start = time.perf_counter()
+    found = workspace_minimum(scene.manipulator, options, mode=k)
+    return {"mode": k, "frequency_hz": found.frequency_hz,
+            "pose": {"height_mm": found.pose.height * 1e3,
+                     "azimuth_deg": math.degrees(found.pose.azimuth),
+                     "tilt_deg": math.degrees(found.pose.tilt)},
+            "on_boundary": found.boundary, "at_band_end": found.band_end,
+            "coarse_grid_hz": found.coarse_hz, "poses_solved": found.evaluations,
+            "settings": f"{options.beam}, s={options.elements}, joint ends {options.joint_ends}",
+            "seconds": time.perf_counter() - start}
+
+
+def _print_minimum(found: dict) -> None:
+    p = found["pose"]
+    where = ("on the workspace's boundary" if found["on_boundary"] else
+             "at an end of the level band" if found["at_band_end"] else "inside the workspace")
+    print(f"least f{found['mode']} over the reachable workspace: {found['frequency_hz']:.4f} Hz "
+          f"at z = {p['height_mm']:.2f} mm, azimuth {p['azimuth_deg']:.2f} deg, tilt "
+          f"{p['tilt_deg']:.3f} deg ({where}); coarse grid {found['coarse_grid_hz']:.4f} Hz; "
+          f"{found['poses_solved']} poses, {found['seconds']:.1f} s, {found['settings']}")
 
 
 def _print_workspace(fmap: dict) -> None:
@@ -56,6 +95,9 @@ def add_arguments(w: argparse.ArgumentParser) -> None:
                     help="azimuths per ring")
     declared_option(w, "--modes", FidelitySettings, "modes", default=3, metavar="N",
                     help="modes per pose")
+    declared_option(w, "--minimum", FidelitySettings, "modes", metavar="K",
+                    help="instead of the map: the least f_K over the whole reachable workspace "
+                    "and its pose (coarse grid, then local searches)")
     w.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 
 
@@ -63,6 +105,8 @@ def run(args: argparse.Namespace) -> int:
     fmap = cmd_workspace(args)
     if args.json:
         print(json.dumps(fmap))
+    elif args.minimum is not None:
+        _print_minimum(fmap)
     else:
         _print_workspace(fmap)
     return 0
