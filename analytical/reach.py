@@ -164,7 +164,8 @@ def max_tilts(manipulator: Manipulator, heights, azimuths,
     (len(heights), len(azimuths)), or (len(azimuths),) for one height.
 
     Bisection on theta in [0, 89 deg], all heights and azimuths at once; 0 where even the
-    level pose is unreachable.
+    level pose is unreachable. Few pairs (a search's one pose) look several halvings ahead
+    in one batch (`_bisect_tilts`): the same midpoints, decisions and result, bit for bit.
     """
     z = np.atleast_1d(np.asarray(heights, float))[:, None]
     phis = np.atleast_1d(np.asarray(azimuths, float))[None, :]
@@ -174,14 +175,49 @@ def max_tilts(manipulator: Manipulator, heights, azimuths,
     hi = np.full(z.shape, MAX_TILT)
     done = ~level[:, None] | pose_batch(manipulator, z, phis, hi).feasible.reshape(z.shape)
     lo[done & level[:, None]] = MAX_TILT
-    width = MAX_TILT
-    while width > tolerance and not done.all():
-        mid = 0.5 * (lo + hi)
-        ok = pose_batch(manipulator, z, phis, mid).feasible.reshape(z.shape)
-        lo = np.where(~done & ok, mid, lo)
-        hi = np.where(~done & ~ok, mid, hi)
-        width = float(np.max((hi - lo)[~done]))
+    if not done.all():
+        _bisect_tilts(manipulator, z, phis, lo, hi, done, tolerance)
     return lo if np.ndim(heights) else lo[0]
+
+
+LOOKAHEAD_POSES = 64  # poses one bisection step may solve to decide several halvings at once
+
+
+def _bisect_tilts(m: Manipulator, z, phis, lo, hi, done, tolerance: float) -> None:
+    """Halve [lo, hi] of every pair not `done` (in place) until the widest is within
+    `tolerance`, as plain bisection does (mid = (lo + hi) / 2, lo = mid where feasible, else
+    hi = mid, the width checked after every halving), but `depth` halvings per batch: every
+    midpoint the next `depth` halvings could visit (2^depth - 1 per pair, computed as bisection
+    would from the same end points) solved at once, then the path walked."""
+    active = np.flatnonzero(~done.ravel())
+    lo_a, hi_a = lo.ravel()[active], hi.ravel()[active]
+    z_a, phi_a = z.ravel()[active], phis.ravel()[active]
+    depth = max(1, int(math.log2(LOOKAHEAD_POSES // len(active) + 1)))
+    width = MAX_TILT
+    while width > tolerance:
+        ends_lo, ends_hi = lo_a[:, None], hi_a[:, None]
+        mids = []
+        for _ in range(depth):  # node k's children: 2k = [lo, mid], 2k + 1 = [mid, hi]
+            mid = 0.5 * (ends_lo + ends_hi)
+            mids.append(mid)
+            ends_lo = np.stack([ends_lo, mid], -1).reshape(len(active), -1)
+            ends_hi = np.stack([mid, ends_hi], -1).reshape(len(active), -1)
+        tree = np.concatenate(mids, axis=1)  # (pairs, 2^depth - 1), level by level
+        ok = pose_batch(m, np.repeat(z_a, tree.shape[1]), np.repeat(phi_a, tree.shape[1]),
+                        tree.ravel()).feasible.reshape(tree.shape)
+        node = np.zeros(len(active), int)
+        rows = np.arange(len(active))
+        for level in range(depth):
+            k = (1 << level) - 1 + node
+            step = ok[rows, k]
+            lo_a = np.where(step, tree[rows, k], lo_a)
+            hi_a = np.where(step, hi_a, tree[rows, k])
+            node = 2 * node + step
+            width = float(np.max(hi_a - lo_a))
+            if width <= tolerance:
+                break
+    lo.ravel()[active] = lo_a
+    hi.ravel()[active] = hi_a
 
 
 def max_tilt(manipulator: Manipulator, height: float, azimuth: float,

@@ -113,3 +113,28 @@ def test_the_sampler_is_bounded_on_a_machine_that_hardly_tilts(manipulator):
     for p in poses:
         pose_geometry(tight, p)
     assert float(np.max(max_tilts(tight, z, np.linspace(0, 2 * math.pi, 12)))) < 0.1
+
+
+def test_the_lookahead_bisection_is_plain_bisection_bit_for_bit():
+    """max_tilts halves several times per batch for few (height, azimuth) pairs: the same
+    midpoints and decisions as one halving per batch, so the same tilts to the last bit."""
+    from pathlib import Path
+
+    import analytical.reach as reach
+    from scene import load_scene
+
+    m = load_scene(Path(__file__).resolve().parents[1] / "scenes" / "paper.toml").manipulator
+    band = reach.level_band(m)
+    rng = np.random.default_rng(5)
+    heights = rng.uniform(band.low - 0.05, band.high + 0.05, 3)
+    phis = rng.uniform(0.0, 7.0, 2)
+    for tolerance in (1e-6, 1e-10):
+        ahead = reach.max_tilts(m, heights[:1], phis[:1], tolerance)
+        both = reach.max_tilts(m, heights, phis, tolerance)
+        try:
+            reach.LOOKAHEAD_POSES = 1  # one halving per batch: plain bisection
+            plain = reach.max_tilts(m, heights, phis, tolerance)
+        finally:
+            reach.LOOKAHEAD_POSES = 64
+        assert np.array_equal(both, plain)
+        assert ahead[0] == plain[0, 0]
