@@ -1,0 +1,74 @@
+"""`rps design`: a design study from a design file (`scene.design_file`, `studies.design`):
+the optimum, the Pareto front of moving mass against the least frequency over the workspace,
+and the FEM at the optimum's worst pose. Resumable: every design solved is cached."""
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from ..args import cache_dir, cache_option
+from .registry import Command
+
+
+def add_arguments(d: argparse.ArgumentParser) -> None:
+    d.add_argument("--design", metavar="TOML", required=True,
+                   help="design file: the scene, the variables and their bounds, the "
+                   "constraints, the objective (designs/*.toml)")
+    d.add_argument("--out", metavar="FILE", type=Path, default=None,
+                   help="also write the study as JSON to this file (default: print only)")
+    cache_option(d)
+    d.add_argument("--json", action="store_true", help="print one JSON object, exact values")
+
+
+def _print(result: dict) -> None:
+    print(f"{result['name']}: {result['designs_solved']} designs solved, "
+          f"{result['feasible']} meet every constraint ({result['model']})")
+    best = result["optimum"]
+    if best is None:
+        print("no design meets the constraints within the bounds")
+        return
+    names = [v["name"] for v in result["variables"]]
+    values = ", ".join(f"{n} = {x:.4g}" for n, x in zip(names, best["values"]))
+    p = best["worst_pose"]
+    mode = result["constraints"]["mode"]
+    print(f"optimum: {values}\n  moving mass {best['moving_mass_kg']:.3f} kg, least f{mode} "
+          f"over the workspace {best['min_frequency_hz']:.3f} Hz at z = {p['height_mm']:.1f} "
+          f"mm, azimuth {p['azimuth_deg']:.1f} deg, tilt {p['tilt_deg']:.2f} deg")
+    check = result["fem_check"]
+    if check:
+        print(f"  FEM there ({check['mesh_size_mm']:.1f} mm, stated error "
+              f"{check['fem_estimated_error_percent']:.3g} %): {check['fem_hz']:.3f} Hz, the "
+              f"model's error {check['error_percent']:+.3f} % ("
+              + ("within" if check["within_tolerance"] else "NOT within")
+              + f" the scene's {check['tolerance_percent']:g} %)")
+    print("Pareto front (moving mass kg, least f Hz): " + ", ".join(
+        f"({r['moving_mass_kg']:.2f}, {r['min_frequency_hz']:.2f})" for r in result["front"]))
+
+
+def run(args: argparse.Namespace) -> int:
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from common.atomic import write_json_atomic
+    from runtime.cache import ResultCache
+    from scene.design_file import load_design
+    from studies.design import run_design
+
+    spec = load_design(args.design)  # every check before the first design is solved
+    cache = ResultCache(cache_dir(args))
+    with Progress(TextColumn("designs"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                  TimeElapsedColumn(), transient=True, disable=args.json) as progress:
+        task = progress.add_task("designs", total=spec.search.designs)
+        result = run_design(spec, cache, lambda done, total: progress.update(task,
+                                                                            completed=done))
+    if args.out is not None:
+        write_json_atomic(args.out, result)
+    if args.json:
+        print(json.dumps(result))
+    else:
+        _print(result)
+    return 0
+
+
+COMMAND = Command("design", "optimise named scene values: least frequency over the workspace "
+                  "against moving mass", add_arguments, run)

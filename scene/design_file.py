@@ -1,0 +1,189 @@
+"""Design files (TOML): which values of a scene a design study may vary, within which bounds,
+under which constraints, towards which objective (`rps design`, `studies.design`).
+
+```toml
+name = "Lightest legs and plate with f1 >= 20 Hz everywhere"
+scene = "../scenes/3prs-head.toml"      # relative to this file
+
+[variables]                              # scene keys ("table.key"), [low, high] in their units
+"manipulator.leg_diameter_mm" = [40.0, 100.0]
+"manipulator.platform_thickness_mm" = [20.0, 60.0]
+
+[constraints]
+min_frequency_hz = 20.0                  # the least f_mode over the reachable workspace
+mode = 1
+min_level_band_mm = 300.0                # heights of the reachable level platform (optional)
+
+[objective]
+minimise = "moving_mass"                 # or "lowest_frequency" (maximises the least f_mode)
+
+[search]
+designs = 60                             # designs solved at most
+seed = 1
+```
+Every variable is a number the scene declares (`[manipulator]`, `[leg]`, `[stiffness]`,
+`[payload] mass_kg`), its bounds inside the declared range; a design is the scene with those
+values, parsed and checked like any scene (a refused one is an infeasible design, its reason
+kept). Units at this edge as in scenes; SI inside.
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from analytical.params import Manipulator, ModelOptions
+from common.leg_profile import LegProfile
+from common.payload import Payload
+from common.settings import MAX_MODES, Setting, declared, setting
+from common.stiffness import Stiffness
+
+from .load import Scene, SceneError, _Table, parse_scene
+
+TABLES = {"manipulator": Manipulator, "leg": LegProfile, "stiffness": Stiffness,
+          "payload": Payload}
+OBJECTIVES = ("moving_mass", "lowest_frequency")
+MAX_DESIGNS = 2000  # a study's designs at most (each one workspace minimum, about a second)
+
+
+@dataclass(frozen=True)
+class Constraints:
+    """[constraints] of a design file."""
+
+    min_frequency_hz: float = setting(0.0, minimum=0.0, maximum=1e6,
+                                      doc="the least f_mode over the reachable workspace must "
+                                      "reach this (0: no constraint)")
+    mode: int = setting(1, kind=int, minimum=1, maximum=MAX_MODES,
+                        doc="which natural frequency, f_1 the lowest")
+    min_level_band: float = setting(0.0, unit="mm", minimum=0.0, maximum=100.0,
+                                    doc="the heights at which the level platform is reachable "
+                                    "must span at least this")
+
+
+@dataclass(frozen=True)
+class Objective:
+    """[objective] of a design file."""
+
+    minimise: str = setting("moving_mass", kind=str, choices=OBJECTIVES,
+                            doc="moving_mass (legs, plate and payload) or lowest_frequency "
+                            "(the least f_mode, maximised)")
+
+
+@dataclass(frozen=True)
+class Search:
+    """[search] of a design file."""
+
+    designs: int = setting(60, kind=int, minimum=4, maximum=MAX_DESIGNS,
+                           doc="designs solved at most by the optimiser")
+    seed: int = setting(1, kind=int, minimum=0, maximum=2**31 - 1,
+                        doc="seed of the optimiser's random start")
+
+
+@dataclass(frozen=True)
+class Variable:
+    table: str
+    key: str  # the scene key, in its edge unit
+    low: float  # edge unit
+    high: float
+    spec: Setting
+
+    @property
+    def name(self) -> str:
+        return f"{self.table}.{self.key}"
+
+
+@dataclass(frozen=True)
+class DesignSpec:
+    name: str
+    path: str
+    scene_path: str
+    raw_scene: dict
+    variables: tuple[Variable, ...]
+    constraints: Constraints
+    objective: Objective
+    search: Search
+    model: ModelOptions
+
+
+def _number_keys(cls) -> dict[str, Setting]:
+    """The scene keys of the numbers `cls` declares (its nested tables excluded)."""
+    return {spec.scene_key(name): spec for name, spec, _ in declared(cls)
+            if spec.scene and spec.kind is float}
+
+
+def _variable(name: Any, bounds: Any, where: str) -> Variable:
+    table, _, key = str(name).partition(".")
+    if table not in TABLES or not key:
+        raise SceneError(f"{where}.variables: {name!r}: expected a scene key as 'table.key', "
+                         f"table one of {', '.join(TABLES)}")
+    known = _number_keys(TABLES[table])
+    if key not in known:
+        raise SceneError(f"{where}.variables: {name!r} is not a number of [{table}] (it has: "
+                         f"{', '.join(sorted(known))})")
+    if (not isinstance(bounds, list) or len(bounds) != 2
+            or not all(isinstance(b, (int, float)) and not isinstance(b, bool)
+                       and math.isfinite(b) for b in bounds) or not bounds[0] < bounds[1]):
+        raise SceneError(f"{where}.variables.{name} = {bounds!r}: expected [low, high], two "
+                         "finite numbers, low below high")
+    spec = known[key]
+    for b in bounds:
+        why = spec.problem(float(b) * spec.scale, edge=True)
+        if why is not None:
+            raise SceneError(f"{where}.variables.{name} = {bounds!r}: {b!r} {why}")
+    return Variable(table, key, float(bounds[0]), float(bounds[1]), spec)
+
+
+def load_design(path: str | Path) -> DesignSpec:
+    """Read and check a design file and its scene; SceneError with one line on any problem."""
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise SceneError(f"design file {str(path)!r} does not exist") from None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise SceneError(f"design file {str(path)!r} cannot be read: {exc}") from None
+    where = str(path)
+    top = _Table(raw, where)
+    name = top._get("name", "design study")
+    scene_ref = top._get("scene", None)
+    if not isinstance(scene_ref, str) or not scene_ref:
+        raise SceneError(f"{where}.scene: missing (the scene file the design varies, relative "
+                         "to the design file)")
+    scene_path = (path.parent / scene_ref).resolve()
+    try:
+        raw_scene = tomllib.loads(scene_path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise SceneError(f"{where}.scene = {scene_ref!r}: cannot be read: {exc}") from None
+    parse_scene(raw_scene, str(scene_path))  # the scene itself must be valid
+    variables_t = top.table("variables")
+    variables = tuple(_variable(k, v, where) for k, v in variables_t.data.items())
+    variables_t.used.update(variables_t.data)
+    if not variables:
+        raise SceneError(f"{where}.variables: the design varies nothing")
+    parts = {}
+    for key, cls in (("constraints", Constraints), ("objective", Objective),
+                     ("search", Search)):
+        t = top.table(key, {})
+        parts[key] = t.settings(cls)
+        t.done()
+    model_t = top.table("model", {})
+    model = model_t.settings(ModelOptions, {"beam": "timoshenko", "shear": "hutchinson"},
+                             modes=parts["constraints"].mode)
+    model_t.done()
+    top.done()
+    if parts["objective"].minimise == "moving_mass" and not parts["constraints"].min_frequency_hz:
+        raise SceneError(f"{where}.constraints.min_frequency_hz: missing: the lightest machine "
+                         "without a frequency target is the smallest one the bounds allow")
+    return DesignSpec(str(name), where, str(scene_path), raw_scene, variables,
+                      parts["constraints"], parts["objective"], parts["search"], model)
+
+
+def design_scene(spec: DesignSpec, values) -> Scene:
+    """The scene with the variables at `values` (edge units, in the spec's order), parsed and
+    checked like any scene (SceneError if this design is not a plausible machine)."""
+    raw = {k: (dict(v) if isinstance(v, dict) else v) for k, v in spec.raw_scene.items()}
+    for var, value in zip(spec.variables, values):
+        raw.setdefault(var.table, {})[var.key] = float(value)
+    return parse_scene(raw, spec.scene_path)

@@ -1,0 +1,201 @@
+"""A design study: the scene values a design file varies, optimised for its objective under its
+constraints, with the least frequency over the whole reachable workspace as the constraint
+that matters (`scene.design_file`, `rps design`).
+
+Each design is the scene with the variables set, parsed and checked like any scene (a refused
+one is infeasible, its one-line reason kept), then:
+- its moving mass: the three legs (at mid-stroke on a 3-RPS, their one length on a 3-PRS, every
+  part of the profile), the platform plate and the payload;
+- its level band (`analytical.reach.level_band`) and the least f_mode over its reachable
+  workspace, with the pose (`analytical.minimum.workspace_minimum`, the design file's model).
+Every design is stored in the result cache under its content (scene values, model, code), so a
+study that is stopped and run again solves only what it had not (resumable).
+
+The search is scipy's differential evolution (a global optimiser: the least frequency over a
+workspace is not convex in the design) on the variables' box, the constraints as a penalty
+beyond every feasible value, its budget the file's `designs`. The result: every design solved,
+the feasible optimum, the Pareto front of moving mass against the least f_mode among the
+designs that meet the other constraints, and at the optimum the FEM (harmonic legs, at the
+scene's mesh size and one coarser) at the optimum's worst pose: the model's error there, since
+a design is only reported with its model's error at that pose (the fidelity rule).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import Callable
+
+import numpy as np
+from scipy.optimize import differential_evolution, minimize
+
+from analytical.architecture import leg_length_range
+from analytical.kinematics import pose_geometry
+from analytical.minimum import workspace_minimum
+from analytical.params import Manipulator, Pose
+from analytical.platform import platform_mass
+from analytical.reach import level_band
+from common.errors import InputError
+from common.settings import as_dict
+from runtime.cache import ResultCache
+from scene import Case
+from scene.design_file import DesignSpec, design_scene
+from solvers.compare import analytical_case, error_table
+from solvers.refinement import two_mesh
+
+PENALTY = 1e9  # objective of an infeasible design: above every feasible one, by how far it fails
+POLISH_SHARE = 0.3  # of the budget, for the local search after the global one
+
+
+def moving_mass(m: Manipulator) -> float:
+    """kg: three legs at mid-stroke (every part of the profile), the plate, the payload."""
+    low, high = leg_length_range(m)
+    legs = sum(m.material.density * math.pi / 4 * (p.outer ** 2 - p.inner ** 2) * p.length
+               for p in m.leg_parts(0.5 * (low + high)))
+    return 3 * legs + platform_mass(m) + m.payload.mass
+
+
+def evaluate(spec: DesignSpec, values, cache: ResultCache) -> dict:
+    """One design, through the cache: its values, moving mass, level band, least f_mode and
+    where, or the reason it is refused."""
+    values = [float(v) for v in values]
+    record: dict = {"values": values, "refused": None}
+    try:
+        scene = design_scene(spec, values)
+    except ValueError as exc:
+        record["refused"] = str(exc)
+        return record
+    m = scene.manipulator
+    payload = {"manipulator": as_dict(m), "model": as_dict(spec.model),
+               "mode": spec.constraints.mode}
+
+    def compute() -> tuple[dict, dict]:
+        out: dict = {"moving_mass_kg": moving_mass(m)}
+        try:
+            band = level_band(m)
+            found = workspace_minimum(m, spec.model, mode=spec.constraints.mode)
+        except ValueError as exc:
+            return {**out, "refused": str(exc)}, {}
+        return {**out, "refused": None, "level_band_mm": (band.high - band.low) * 1e3,
+                "min_frequency_hz": found.frequency_hz,
+                "worst_pose": {"height_mm": found.pose.height * 1e3,
+                               "azimuth_deg": math.degrees(found.pose.azimuth),
+                               "tilt_deg": math.degrees(found.pose.tilt)},
+                "on_boundary": found.boundary}, {}
+
+    value, _, _ = cache.get_or_compute("design-point", payload, compute,
+                                       required=("moving_mass_kg",),
+                                       modules=("studies.design", "scene"))
+    record.update(value)
+    return record
+
+
+def meets(spec: DesignSpec, record: dict, frequency: bool = True) -> bool:
+    """The design meets the band constraint and (with `frequency`) the frequency target."""
+    if record.get("refused"):
+        return False
+    c = spec.constraints
+    ok = record["level_band_mm"] >= c.min_level_band * 1e3 - 1e-9
+    return ok and (not frequency or record["min_frequency_hz"] >= c.min_frequency_hz)
+
+
+def objective(spec: DesignSpec, record: dict) -> float:
+    """The optimiser's value (lower is better), PENALTY beyond every feasible one."""
+    if record.get("refused"):
+        return 2 * PENALTY
+    if not meets(spec, record):
+        c = spec.constraints
+        short = max(0.0, c.min_frequency_hz - record["min_frequency_hz"]) / max(
+            c.min_frequency_hz, 1.0) + max(0.0, c.min_level_band * 1e3 - record["level_band_mm"])
+        return PENALTY * (1.0 + short)
+    if spec.objective.minimise == "moving_mass":
+        return record["moving_mass_kg"]
+    return -record["min_frequency_hz"]
+
+
+def pareto_front(spec: DesignSpec, records: list[dict]) -> list[dict]:
+    """The designs (meeting the band constraint) no other one beats on both moving mass
+    (lower) and least frequency (higher), by mass."""
+    pool = sorted((r for r in records if meets(spec, r, frequency=False)),
+                  key=lambda r: (r["moving_mass_kg"], -r["min_frequency_hz"]))
+    front, best = [], -math.inf
+    for r in pool:
+        if r["min_frequency_hz"] > best:
+            front.append(r)
+            best = r["min_frequency_hz"]
+    return front
+
+
+def fem_check(spec: DesignSpec, record: dict, cache: ResultCache) -> dict:
+    """The FEM at the design's worst pose against the model: the fidelity rule's statement."""
+    scene = design_scene(spec, record["values"])
+    p = record["worst_pose"]
+    pose = Pose(p["height_mm"] * 1e-3, math.radians(p["azimuth_deg"]), math.radians(p["tilt_deg"]))
+    count = spec.constraints.mode
+    geometry = pose_geometry(scene.manipulator, pose)
+    both = two_mesh(scene, geometry, cache, scene.fem.mesh_size, count)
+    case = Case("worst pose", "the design's worst pose", pose, "scene")
+    rows = error_table(analytical_case(scene, case, replace(spec.model, modes=count)),
+                       both.fine, count)
+    row = next(r for r in rows if r["fem_mode"] == count)
+    tol = scene.fidelity.tolerance_percent
+    return {"fem_hz": row["f_fem_hz"], "model_hz": row["f_analytical_hz"],
+            "error_percent": row["error_percent"], "mac": row["mac"],
+            "fem_estimated_error_percent": both.estimated_error_percent[count - 1],
+            "mesh_size_mm": scene.fem.mesh_size * 1e3, "tolerance_percent": tol,
+            "within_tolerance": abs(row["error_percent"]) <= tol}
+
+
+def run_design(spec: DesignSpec, cache: ResultCache,
+               step: Callable[[int, int], None] = lambda done, total: None) -> dict:
+    """The study (the module doc); `step(done, budget)` after every design solved."""
+    n = len(spec.variables)
+    low = np.array([v.low for v in spec.variables])
+    high = np.array([v.high for v in spec.variables])
+    budget = spec.search.designs
+    global_budget = budget - int(POLISH_SHARE * budget)
+    popsize = max(5, min(15, global_budget // (4 * n)))  # scipy: population popsize * n
+    generations = max(1, global_budget // (popsize * n) - 1)
+    records: list[dict] = []
+    seen: dict[tuple, dict] = {}
+
+    def solve(x) -> float:
+        values = low + np.clip(x, 0.0, 1.0) * (high - low)
+        key = tuple(np.round(values, 9))
+        if key not in seen:
+            if len(records) >= budget:
+                return 3 * PENALTY  # over budget: the optimiser is stopped by maxiter
+            seen[key] = evaluate(spec, values, cache)
+            records.append(seen[key])
+            step(len(records), budget)
+        return objective(spec, seen[key])
+
+    found = differential_evolution(solve, [(0.0, 1.0)] * n, popsize=popsize,
+                                   maxiter=generations, seed=spec.search.seed, polish=False,
+                                   init="latinhypercube", tol=1e-6)
+    # the rest of the budget: a local search from the best design (bounded Nelder-Mead on the
+    # same penalised objective), which closes in on the constraint the optimum lies on
+    minimize(solve, found.x, method="Nelder-Mead", bounds=[(0.0, 1.0)] * n,
+             options={"maxfev": max(0, budget - len(records)), "xatol": 1e-4,
+                      "fatol": 1e-6 * max(abs(found.fun), 1e-12)})
+    feasible = [r for r in records if meets(spec, r)]
+    optimum = min(feasible, key=lambda r: objective(spec, r)) if feasible else None
+    out = {
+        "name": spec.name, "scene": spec.scene_path,
+        "variables": [{"name": v.name, "low": v.low, "high": v.high} for v in spec.variables],
+        "constraints": {"min_frequency_hz": spec.constraints.min_frequency_hz,
+                        "mode": spec.constraints.mode,
+                        "min_level_band_mm": spec.constraints.min_level_band * 1e3},
+        "objective": spec.objective.minimise,
+        "model": f"{spec.model.beam}, s={spec.model.elements}, joint ends "
+                 f"{spec.model.joint_ends}",
+        "designs_solved": len(records), "feasible": len(feasible),
+        "optimum": optimum, "front": pareto_front(spec, records), "designs": records,
+        "fem_check": None,
+    }
+    if optimum is None:
+        return out
+    try:
+        out["fem_check"] = fem_check(spec, optimum, cache)
+    except (ValueError, RuntimeError) as exc:
+        raise InputError(f"the optimum's FEM check failed: {exc}") from None
+    return out

@@ -1,0 +1,108 @@
+"""Design studies (`scene.design_file`, `studies.design`, `rps design`).
+
+The parts as closed forms and definitions (moving mass, the Pareto front, the penalty that puts
+every infeasible design behind every feasible one), the design file's one-line refusals, and a
+small study end to end: it meets its constraint, its optimum is the best design it solved, the
+FEM checks the optimum at its worst pose, and a second run with the same cache solves nothing
+again (resumable).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+import studies.design as design
+from analytical.platform import platform_mass
+from runtime.cache import ResultCache
+from scene import SceneError, load_scene
+from scene.design_file import load_design
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "scenes" / "paper.toml"
+
+
+def write(tmp_path, text: str) -> Path:
+    path = tmp_path / "design.toml"
+    path.write_text(f'scene = "{PAPER}"\n' + text, encoding="utf-8")
+    return path
+
+
+SMALL = """
+name = "thinnest plate"
+[variables]
+"manipulator.platform_thickness_mm" = [10.0, 40.0]
+[constraints]
+min_frequency_hz = 20.0
+[search]
+designs = 10
+[model]
+beam = "euler-bernoulli"
+elements = 1
+"""
+
+
+def test_moving_mass_is_the_legs_at_mid_stroke_the_plate_and_the_payload():
+    m = load_scene(PAPER).manipulator
+    legs = 3 * m.material.density * math.pi / 4 * m.leg_diameter ** 2 * 0.5 * (
+        m.actuator_min + m.actuator_max)
+    assert design.moving_mass(m) == pytest.approx(legs + platform_mass(m) + m.payload.mass,
+                                                  rel=1e-12)
+    head = load_scene(ROOT / "scenes" / "3prs-head.toml").manipulator  # legs of one length
+    legs = 3 * head.material.density * math.pi / 4 * head.leg_diameter ** 2 * head.leg_length
+    assert design.moving_mass(head) == pytest.approx(legs + platform_mass(head) + 30.0,
+                                                     rel=1e-12)
+
+
+def test_the_front_keeps_what_nothing_beats_and_infeasible_designs_rank_last(tmp_path):
+    spec = load_design(write(tmp_path, SMALL))
+    r = lambda mass, hz: {"refused": None, "moving_mass_kg": mass,  # noqa: E731
+                          "min_frequency_hz": hz, "level_band_mm": 500.0}
+    records = [r(10, 30), r(12, 25), r(12, 35), r(15, 34), r(20, 40), r(9, 5)]
+    front = design.pareto_front(spec, records)
+    assert [(x["moving_mass_kg"], x["min_frequency_hz"]) for x in front] == [
+        (9, 5), (10, 30), (12, 35), (20, 40)]
+    worst_feasible = max(design.objective(spec, x) for x in records if design.meets(spec, x))
+    assert design.objective(spec, r(9, 5)) > worst_feasible  # below the 20 Hz target
+    assert design.objective(spec, {"refused": "no level pose"}) > design.objective(spec, r(9, 5))
+
+
+@pytest.mark.parametrize("text, message", [
+    ('[variables]\n"manipulator.leg_diamter_mm" = [50.0, 90.0]\n[constraints]\n'
+     "min_frequency_hz = 10.0\n", "'manipulator.leg_diamter_mm' is not a number of "
+     r"\[manipulator\]"),
+    ('[variables]\n"manipulator.leg_diameter_mm" = [90.0, 50.0]\n', "expected \\[low, high\\]"),
+    ('[variables]\n"manipulator.leg_diameter_mm" = [0.0, 50.0]\n', "0.0 must be >= 1"),
+    ('[variables]\n"fem.mesh_size_mm" = [10.0, 50.0]\n', "table one of manipulator"),
+    ('[variables]\n"manipulator.leg_diameter_mm" = [50.0, 90.0]\n', "min_frequency_hz: missing"),
+    ('[variables]\n"manipulator.leg_diameter_mm" = [50.0, 90.0]\n[constraints]\n'
+     "min_frequency_hz = 10.0\n[search]\ndesigns = 10000000\n", "designs = 10000000"),
+])
+def test_a_design_file_is_refused_in_one_line(tmp_path, text, message):
+    with pytest.raises(SceneError, match=message) as info:
+        load_design(write(tmp_path, text))
+    assert "\n" not in str(info.value)
+
+
+def test_a_small_study_end_to_end_and_resumable(tmp_path, monkeypatch):
+    spec = load_design(write(tmp_path, SMALL))
+    cache = ResultCache(tmp_path / "cache")
+    result = design.run_design(spec, cache)
+    assert result["designs_solved"] <= spec.search.designs
+    best = result["optimum"]
+    assert best is not None and best["min_frequency_hz"] >= 20.0
+    feasible = [r for r in result["designs"] if design.meets(spec, r)]
+    assert best["moving_mass_kg"] == min(r["moving_mass_kg"] for r in feasible)
+    assert best in result["front"]
+    check = result["fem_check"]
+    assert check["within_tolerance"] == (abs(check["error_percent"])
+                                         <= check["tolerance_percent"])
+    assert check["fem_hz"] > 0 and check["mac"] > 0.9
+    solved = []
+    real = design.workspace_minimum
+    monkeypatch.setattr(design, "workspace_minimum",
+                        lambda *a, **k: solved.append(1) or real(*a, **k))
+    again = design.run_design(spec, cache)
+    assert not solved  # every design from the cache
+    assert again["optimum"] == best
