@@ -5,10 +5,12 @@
 #   make verify   the solid FEM against published benchmarks (pytest -m verification)
 #   make bench    timing benchmarks (medians of repeated runs) into out/bench.json
 #   make report   rebuild out/report.html and out/report.pdf from out/results.json
+#   make design   a design study (DESIGN=designs/3prs-head.toml) into design-out/
 #   make clean-cache  empty the result, mesh, timing and figure caches (out/ stays)
 #   make clean    remove outputs and caches
 
 SCENE  ?= scenes/paper.toml
+DESIGN ?= designs/3prs-head.toml
 VENV   ?= .venv
 PYTHON := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
@@ -17,7 +19,7 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run setup test verify lint bench report readme docs clean clean-cache update-baselines
+.PHONY: run setup test verify lint bench report readme docs clean clean-cache update-baselines design
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -52,6 +54,9 @@ readme: $(STAMP)
 docs: $(STAMP)
 	$(PYTHON) -m rps scene-docs
 
+design: $(STAMP)
+	$(PYTHON) -m rps design --design $(DESIGN) --report design-out
+
 update-baselines: $(STAMP)
 	$(PYTHON) -m rps update-baselines --scene $(SCENE)
 
@@ -59,4 +64,4 @@ clean-cache: $(STAMP)
 	$(PYTHON) -m rps cache clear
 
 clean:
-	rm -rf out .out.staging-* .out.previous-* .out.lock out.partial .cache .pytest_cache .hypothesis
+	rm -rf out .out.staging-* .out.previous-* .out.lock out.partial design-out .design-out.* .cache .pytest_cache .hypothesis

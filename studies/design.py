@@ -30,10 +30,10 @@ from scipy.optimize import differential_evolution, minimize
 
 from analytical.architecture import leg_length_range
 from analytical.kinematics import pose_geometry
-from analytical.minimum import workspace_minimum
+from analytical.minimum import grid_frequencies, workspace_minimum
 from analytical.params import Manipulator, Pose
 from analytical.platform import platform_mass
-from analytical.reach import level_band
+from analytical.reach import level_band, max_tilts
 from common.errors import InputError
 from common.settings import as_dict
 from runtime.cache import ResultCache
@@ -145,6 +145,26 @@ def fem_check(spec: DesignSpec, record: dict, cache: ResultCache) -> dict:
             "within_tolerance": abs(row["error_percent"]) <= tol}
 
 
+MAP_GRID = (24, 36)  # heights x azimuths of the optimum's map on the workspace's boundary
+
+
+def boundary_map(spec: DesignSpec, record: dict) -> dict:
+    """f_mode of a design over its workspace's boundary (every height of the level band and
+    azimuth, at the largest reachable tilt), where the least value usually lies: the optimum's
+    frequency map."""
+    m = design_scene(spec, record["values"]).manipulator
+    band = level_band(m)
+    heights = np.linspace(band.low, band.high, MAP_GRID[0])
+    phis = np.linspace(0.0, 2 * math.pi, MAP_GRID[1], endpoint=False)
+    top = max_tilts(m, heights, phis, 1e-9)
+    z, p = np.meshgrid(heights, phis, indexing="ij")
+    hz = grid_frequencies(m, replace(spec.model, modes=spec.constraints.mode), z, p, top)
+    return {"heights_mm": (heights * 1e3).tolist(), "azimuths_deg": np.degrees(phis).tolist(),
+            "tilt_deg": np.degrees(top).tolist(),
+            "frequencies_hz": [[float(f) if math.isfinite(f) else None for f in row]
+                               for row in hz[..., -1]]}
+
+
 def run_design(spec: DesignSpec, cache: ResultCache,
                step: Callable[[int, int], None] = lambda done, total: None) -> dict:
     """The study (the module doc); `step(done, budget)` after every design solved."""
@@ -190,10 +210,11 @@ def run_design(spec: DesignSpec, cache: ResultCache,
                  f"{spec.model.joint_ends}",
         "designs_solved": len(records), "feasible": len(feasible),
         "optimum": optimum, "front": pareto_front(spec, records), "designs": records,
-        "fem_check": None,
+        "fem_check": None, "optimum_map": None,
     }
     if optimum is None:
         return out
+    out["optimum_map"] = boundary_map(spec, optimum)
     try:
         out["fem_check"] = fem_check(spec, optimum, cache)
     except (ValueError, RuntimeError) as exc:

@@ -85,10 +85,17 @@ def test_a_design_file_is_refused_in_one_line(tmp_path, text, message):
     assert "\n" not in str(info.value)
 
 
-def test_a_small_study_end_to_end_and_resumable(tmp_path, monkeypatch):
-    spec = load_design(write(tmp_path, SMALL))
-    cache = ResultCache(tmp_path / "cache")
-    result = design.run_design(spec, cache)
+@pytest.fixture(scope="module")
+def small_study(tmp_path_factory):
+    """The small study, run once: (spec, its cache, its result)."""
+    folder = tmp_path_factory.mktemp("design")
+    spec = load_design(write(folder, SMALL))
+    cache = ResultCache(folder / "cache")
+    return spec, cache, design.run_design(spec, cache)
+
+
+def test_a_small_study_end_to_end_and_resumable(small_study, monkeypatch):
+    spec, cache, result = small_study
     assert result["designs_solved"] <= spec.search.designs
     best = result["optimum"]
     assert best is not None and best["min_frequency_hz"] >= 20.0
@@ -106,3 +113,18 @@ def test_a_small_study_end_to_end_and_resumable(tmp_path, monkeypatch):
     again = design.run_design(spec, cache)
     assert not solved  # every design from the cache
     assert again["optimum"] == best
+
+
+def test_the_design_report_shows_the_front_and_the_optimum(small_study, tmp_path):
+    """The report is drawn from the study's record alone: its numbers are the record's."""
+    from reports.design_report import render_design_report
+
+    result = small_study[2]
+    paths = render_design_report(result, tmp_path)
+    assert all(p.is_file() and p.stat().st_size > 0 for p in paths)
+    assert (tmp_path / "front.png").is_file() and (tmp_path / "map.png").is_file()
+    html = (tmp_path / "design.html").read_text(encoding="utf-8")
+    best = result["optimum"]
+    assert f"{best['moving_mass_kg']:.3f} kg" in html
+    assert f"{best['min_frequency_hz']:.3f} Hz" in html
+    assert f"{result['fem_check']['error_percent']:+.3f} %" in html

@@ -17,6 +17,9 @@ def add_arguments(d: argparse.ArgumentParser) -> None:
                    "constraints, the objective (designs/*.toml)")
     d.add_argument("--out", metavar="FILE", type=Path, default=None,
                    help="also write the study as JSON to this file (default: print only)")
+    d.add_argument("--report", metavar="DIR", type=Path, default=None,
+                   help="write design.json, design.html and design.pdf (the front, the "
+                   "optimum's frequency map) into this directory, replaced whole")
     cache_option(d)
     d.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 
@@ -63,6 +66,12 @@ def run(args: argparse.Namespace) -> int:
                                                                             completed=done))
     if args.out is not None:
         write_json_atomic(args.out, result)
+    if args.report is not None:
+        from reports.design_report import render_design_report
+        from runtime.outdir import staged_output
+
+        with staged_output(args.report) as stage:
+            render_design_report(result, stage)
     if args.json:
         print(json.dumps(result))
     else:
