@@ -36,7 +36,7 @@ name = "thinnest plate"
 [constraints]
 min_frequency_hz = 20.0
 [search]
-designs = 10
+designs = 8
 [model]
 beam = "euler-bernoulli"
 elements = 1

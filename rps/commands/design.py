@@ -14,12 +14,13 @@ from .registry import Command
 def add_arguments(d: argparse.ArgumentParser) -> None:
     d.add_argument("--design", metavar="TOML", required=True,
                    help="design file: the scene, the variables and their bounds, the "
-                   "constraints, the objective (designs/*.toml)")
+                   "constraints, the objective (designs/*.toml; required, no default)")
     d.add_argument("--out", metavar="FILE", type=Path, default=None,
                    help="also write the study as JSON to this file (default: print only)")
     d.add_argument("--report", metavar="DIR", type=Path, default=None,
                    help="write design.json, design.html and design.pdf (the front, the "
-                   "optimum's frequency map) into this directory, replaced whole")
+                   "optimum's frequency map) into this directory, replaced whole (default: "
+                   "none)")
     cache_option(d)
     d.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 

@@ -97,7 +97,7 @@ def add_arguments(w: argparse.ArgumentParser) -> None:
                     help="modes per pose")
     declared_option(w, "--minimum", FidelitySettings, "modes", metavar="K",
                     help="instead of the map: the least f_K over the whole reachable workspace "
-                    "and its pose (coarse grid, then local searches)")
+                    "and its pose (coarse grid, then local searches; default: the map)")
     w.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 
 
