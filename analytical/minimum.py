@@ -27,6 +27,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import minimize
 
+from common.errors import RpsError
+
 from .batch_model import assemble_batch, batch_frequencies, standard_form
 from .model import natural_frequencies
 from .params import Manipulator, ModelOptions, Pose
@@ -103,7 +105,10 @@ def workspace_minimum(manipulator: Manipulator, options: ModelOptions, mode: int
     def value(x) -> float:
         nonlocal evaluations
         evaluations += 1
-        return float(natural_frequencies(m, pose_of(x), opts)[mode - 1])
+        try:  # a pose the tilt ray's bisection stepped over, or a model that cannot solve
+            return float(natural_frequencies(m, pose_of(x), opts)[mode - 1])
+        except RpsError:
+            return math.inf
 
     candidates = sorted(
         (float(hz.flat[n]), float(x.flat[n]), float(p.flat[n]), float(u.flat[n]),
@@ -136,7 +141,8 @@ def workspace_minimum(manipulator: Manipulator, options: ModelOptions, mode: int
         if res.fun < best_f:
             best_f = float(res.fun)
             best_x = np.array([res.x[0], res.x[1], 1.0 if on_face else res.x[2]])
-    pose = pose_of(best_x)
+    pose = pose_of(best_x)  # its tilt to TILT_TOLERANCE: the value is the model's there
+    best_f = float(natural_frequencies(m, pose, opts)[mode - 1])
     return WorkspaceMinimum(best_f, mode, pose, boundary=bool(best_x[2] >= 1.0 - 1e-9),
                             band_end=bool(best_x[0] <= 1e-9 or best_x[0] >= 1.0 - 1e-9),
                             coarse_hz=candidates[0][0], evaluations=evaluations)

@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from analytical.params import Manipulator, ModelOptions
+from analytical.substructure import model_coordinates
 from common.leg_profile import LegProfile
 from common.payload import Payload
 from common.settings import MAX_MODES, Setting, declared, setting
@@ -176,8 +177,18 @@ def load_design(path: str | Path) -> DesignSpec:
     if parts["objective"].minimise == "moving_mass" and not parts["constraints"].min_frequency_hz:
         raise SceneError(f"{where}.constraints.min_frequency_hz: missing: the lightest machine "
                          "without a frequency target is the smallest one the bounds allow")
-    return DesignSpec(str(name), where, str(scene_path), raw_scene, variables,
+    spec = DesignSpec(str(name), where, str(scene_path), raw_scene, variables,
                       parts["constraints"], parts["objective"], parts["search"], model)
+    middle = [0.5 * (v.low + v.high) for v in variables]
+    try:  # a key this scene can never take refuses every design: say so before any is solved
+        scene = design_scene(spec, middle)
+    except SceneError as exc:
+        raise SceneError(f"{where}: the design at the middle of its bounds is refused: "
+                         f"{exc}") from None
+    if parts["constraints"].mode > model_coordinates(scene.manipulator, model):
+        raise SceneError(f"{where}.constraints.mode = {parts['constraints'].mode}: the search "
+                         f"model has only {model_coordinates(scene.manipulator, model)} modes")
+    return spec
 
 
 def design_scene(spec: DesignSpec, values) -> Scene:

@@ -34,7 +34,7 @@ from analytical.minimum import grid_frequencies, workspace_minimum
 from analytical.params import Manipulator, Pose
 from analytical.platform import platform_mass
 from analytical.reach import level_band, max_tilts
-from common.errors import InputError
+from common.errors import InputError, RpsError
 from common.settings import as_dict
 from runtime.cache import ResultCache
 from scene import Case
@@ -61,7 +61,7 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> dict:
     record: dict = {"values": values, "refused": None}
     try:
         scene = design_scene(spec, values)
-    except ValueError as exc:
+    except RpsError as exc:
         record["refused"] = str(exc)
         return record
     m = scene.manipulator
@@ -73,7 +73,7 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> dict:
         try:
             band = level_band(m)
             found = workspace_minimum(m, spec.model, mode=spec.constraints.mode)
-        except ValueError as exc:
+        except RpsError as exc:  # no workspace, or a model that cannot solve it: refused
             return {**out, "refused": str(exc)}, {}
         return {**out, "refused": None, "level_band_mm": (band.high - band.low) * 1e3,
                 "min_frequency_hz": found.frequency_hz,
@@ -99,14 +99,19 @@ def meets(spec: DesignSpec, record: dict, frequency: bool = True) -> bool:
 
 
 def objective(spec: DesignSpec, record: dict) -> float:
-    """The optimiser's value (lower is better), PENALTY beyond every feasible one."""
+    """The optimiser's value (lower is better): any feasible design's below PENALTY, then the
+    designs failing a constraint by how far (relative shortfalls, capped), then the refused
+    ones (not a machine, or no workspace) at 10 PENALTY."""
     if record.get("refused"):
-        return 2 * PENALTY
+        return 10 * PENALTY
     if not meets(spec, record):
         c = spec.constraints
         short = max(0.0, c.min_frequency_hz - record["min_frequency_hz"]) / max(
-            c.min_frequency_hz, 1.0) + max(0.0, c.min_level_band * 1e3 - record["level_band_mm"])
-        return PENALTY * (1.0 + short)
+            c.min_frequency_hz, 1.0)
+        if c.min_level_band:
+            short += max(0.0, c.min_level_band * 1e3 - record["level_band_mm"]) / (
+                c.min_level_band * 1e3)
+        return PENALTY * (1.0 + min(short, 5.0))
     if spec.objective.minimise == "moving_mass":
         return record["moving_mass_kg"]
     return -record["min_frequency_hz"]
@@ -136,13 +141,18 @@ def fem_check(spec: DesignSpec, record: dict, cache: ResultCache) -> dict:
     case = Case("worst pose", "the design's worst pose", pose, "scene")
     rows = error_table(analytical_case(scene, case, replace(spec.model, modes=count)),
                        both.fine, count)
-    row = next(r for r in rows if r["fem_mode"] == count)
+    row = next((r for r in rows if r["fem_mode"] == count), None)
+    if row is None:
+        raise InputError(f"FEM mode {count} found no analytical mode of its shape")
     tol = scene.fidelity.tolerance_percent
+    fem_k = float(both.fine.record["frequencies_hz"][count - 1])
     return {"fem_hz": row["f_fem_hz"], "model_hz": row["f_analytical_hz"],
             "error_percent": row["error_percent"], "mac": row["mac"],
+            "paired_analytical_mode": row["analytical_mode"],
+            "by_order_error_percent": 100.0 * (record["min_frequency_hz"] / fem_k - 1.0),
             "fem_estimated_error_percent": both.estimated_error_percent[count - 1],
             "mesh_size_mm": scene.fem.mesh_size * 1e3, "tolerance_percent": tol,
-            "within_tolerance": abs(row["error_percent"]) <= tol}
+            "within_tolerance": abs(row["error_percent"]) <= tol, "error": None}
 
 
 MAP_GRID = (24, 36)  # heights x azimuths of the optimum's map on the workspace's boundary
@@ -173,8 +183,9 @@ def run_design(spec: DesignSpec, cache: ResultCache,
     high = np.array([v.high for v in spec.variables])
     budget = spec.search.designs
     global_budget = budget - int(POLISH_SHARE * budget)
-    popsize = max(5, min(15, global_budget // (4 * n)))  # scipy: population popsize * n
-    generations = max(1, global_budget // (popsize * n) - 1)
+    population = min(max(5, global_budget // 4), 15 * n)  # scipy: popsize * n of them
+    popsize = -(-population // n)
+    generations = max(0, global_budget // (popsize * n) - 1)
     records: list[dict] = []
     seen: dict[tuple, dict] = {}
 
@@ -182,8 +193,8 @@ def run_design(spec: DesignSpec, cache: ResultCache,
         values = low + np.clip(x, 0.0, 1.0) * (high - low)
         key = tuple(np.round(values, 9))
         if key not in seen:
-            if len(records) >= budget:
-                return 3 * PENALTY  # over budget: the optimiser is stopped by maxiter
+            if len(records) >= budget:  # over budget (never adopted: worse than any design)
+                return 100 * PENALTY
             seen[key] = evaluate(spec, values, cache)
             records.append(seen[key])
             step(len(records), budget)
@@ -217,6 +228,6 @@ def run_design(spec: DesignSpec, cache: ResultCache,
     out["optimum_map"] = boundary_map(spec, optimum)
     try:
         out["fem_check"] = fem_check(spec, optimum, cache)
-    except (ValueError, RuntimeError) as exc:
-        raise InputError(f"the optimum's FEM check failed: {exc}") from None
+    except RpsError as exc:  # the study stands; the check says why it could not be made
+        out["fem_check"] = {"error": f"the optimum's FEM check failed: {exc}"}
     return out

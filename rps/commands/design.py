@@ -40,12 +40,17 @@ def _print(result: dict) -> None:
           f"over the workspace {best['min_frequency_hz']:.3f} Hz at z = {p['height_mm']:.1f} "
           f"mm, azimuth {p['azimuth_deg']:.1f} deg, tilt {p['tilt_deg']:.2f} deg")
     check = result["fem_check"]
-    if check:
+    if check and check["error"]:
+        print(f"  {check['error']}")
+    elif check:
         print(f"  FEM there ({check['mesh_size_mm']:.1f} mm, stated error "
               f"{check['fem_estimated_error_percent']:.3g} %): {check['fem_hz']:.3f} Hz, the "
               f"model's error {check['error_percent']:+.3f} % ("
               + ("within" if check["within_tolerance"] else "NOT within")
-              + f" the scene's {check['tolerance_percent']:g} %)")
+              + f" the scene's {check['tolerance_percent']:g} %)"
+              + (f"; paired by shape with the model's mode {check['paired_analytical_mode']}, "
+                 f"by order {check['by_order_error_percent']:+.3f} %"
+                 if check["paired_analytical_mode"] != mode else ""))
     print("Pareto front (moving mass kg, least f Hz): " + ", ".join(
         f"({r['moving_mass_kg']:.2f}, {r['min_frequency_hz']:.2f})" for r in result["front"]))
 
