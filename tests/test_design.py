@@ -37,7 +37,7 @@ name = "lightest legs for f1 >= 40 Hz"
 min_frequency_hz = 40.0
 min_level_band_mm = 300.0
 [search]
-designs = 8
+designs = 6
 [model]
 beam = "euler-bernoulli"
 elements = 1

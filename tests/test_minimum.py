@@ -25,7 +25,7 @@ from analytical.reach import level_band, max_tilts
 from scene import load_scene
 
 SCENES = sorted((Path(__file__).resolve().parents[1] / "scenes").glob("*.toml"))
-MODEL = ModelOptions(elements=2, modes=1)  # the search is under test, not the beam model
+MODEL = ModelOptions(elements=1, modes=1)  # the search is under test, not the beam model
 TOLERANCE = 5e-4
 
 
