@@ -147,7 +147,3 @@ def workspace_minimum(manipulator: Manipulator, options: ModelOptions, mode: int
                             band_end=bool(best_x[0] <= 1e-9 or best_x[0] >= 1.0 - 1e-9),
                             coarse_hz=candidates[0][0], evaluations=evaluations)
 
-
-def feasible(manipulator: Manipulator, pose: Pose) -> bool:
-    """The pose is in the reachable workspace (`reach`'s rule)."""
-    return bool(pose_batch(manipulator, pose.height, pose.azimuth, pose.tilt).feasible[0])

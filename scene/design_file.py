@@ -29,7 +29,6 @@ kept). Units at this edge as in scenes; SI inside.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -41,7 +40,7 @@ from common.payload import Payload
 from common.settings import MAX_MODES, Setting, declared, setting
 from common.stiffness import Stiffness
 
-from .load import Scene, SceneError, _Table, parse_scene
+from .load import Scene, SceneError, _Table, parse_scene, read_toml
 
 TABLES = {"manipulator": Manipulator, "leg": LegProfile, "stiffness": Stiffness,
           "payload": Payload}
@@ -139,12 +138,7 @@ def _variable(name: Any, bounds: Any, where: str) -> Variable:
 def load_design(path: str | Path) -> DesignSpec:
     """Read and check a design file and its scene; SceneError with one line on any problem."""
     path = Path(path)
-    try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise SceneError(f"design file {str(path)!r} does not exist") from None
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise SceneError(f"design file {str(path)!r} cannot be read: {exc}") from None
+    raw = read_toml(path, "design file")
     where = str(path)
     top = _Table(raw, where)
     name = top._get("name", "design study")
@@ -153,10 +147,7 @@ def load_design(path: str | Path) -> DesignSpec:
         raise SceneError(f"{where}.scene: missing (the scene file the design varies, relative "
                          "to the design file)")
     scene_path = (path.parent / scene_ref).resolve()
-    try:
-        raw_scene = tomllib.loads(scene_path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise SceneError(f"{where}.scene = {scene_ref!r}: cannot be read: {exc}") from None
+    raw_scene = read_toml(scene_path, f"{where}.scene = {scene_ref!r}: scene file")
     parse_scene(raw_scene, str(scene_path))  # the scene itself must be valid
     variables_t = top.table("variables")
     variables = tuple(_variable(k, v, where) for k, v in variables_t.data.items())

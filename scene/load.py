@@ -311,18 +311,22 @@ def _architecture_keys(man: _Table, where: str) -> dict:
     return {}
 
 
-def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file; raise SceneError with one line on any problem."""
+def read_toml(path: str | Path, what: str = "scene file") -> dict:
+    """The tables of a TOML file; SceneError naming `what` and the path on any problem."""
     path = Path(path)
     try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+        return tomllib.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
-        raise SceneError(f"scene file {str(path)!r} does not exist") from None
+        raise SceneError(f"{what} {str(path)!r} does not exist") from None
     except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(f"scene file {str(path)!r} cannot be read: {exc}") from None
+        raise SceneError(f"{what} {str(path)!r} cannot be read: {exc}") from None
     except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"scene file {str(path)!r} is not valid TOML: {exc}") from None
-    return parse_scene(raw, str(path))
+        raise SceneError(f"{what} {str(path)!r} is not valid TOML: {exc}") from None
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene file; raise SceneError with one line on any problem."""
+    return parse_scene(read_toml(path), str(path))
 
 
 def parse_scene(raw: dict, where: str = "scene") -> Scene:

@@ -18,10 +18,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analytical.minimum import feasible, grid_frequencies, workspace_minimum
+from analytical.minimum import grid_frequencies, workspace_minimum
 from analytical.model import natural_frequencies
 from analytical.params import ModelOptions
 from analytical.reach import level_band, max_tilts
+from analytical.reach import reachable as feasible
 from scene import load_scene
 
 SCENES = sorted((Path(__file__).resolve().parents[1] / "scenes").glob("*.toml"))
