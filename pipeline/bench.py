@@ -7,7 +7,12 @@
   shape, every core) against 10,000 plain scipy.linalg.eigh(K, M) calls on matrices of the
   same size on one core, timed alternately in the same run: `map_vs_plain_eigh` (the map the
   run draws, 3 modes; issue 12 asks for <= 1.0) and `map_scene_modes_vs_plain_eigh` (the
-  scene's modes).
+  scene's modes);
+- issue 26's two figures: `best_model_pose_seconds`, the most accurate analytical setting
+  (Timoshenko middles between solid end zones at the largest s offered) per pose over the
+  10,000-pose map's reachable poses, batched (assembly, standard form, eigenvalues only, in
+  chunks of the map's size) on one core; and `map_one_core_vs_plain_eigh`, the map the run
+  draws on one worker against the 10,000 plain eigh calls.
 
 Timings never gate a test: this machine is shared and noisy. Run as
 `python -m pipeline.bench --scene scenes/paper.toml --out out/bench.json [--skip-fem]`.
@@ -68,14 +73,65 @@ def bench_analytical(scene, case_name: str, runs: int) -> dict:
     return out
 
 
-def bench_map(scene, runs: int, modes: int) -> dict:
+def map_poses(scene):
+    """The reachable poses of the 10,000-pose map grid (every layer's rings and azimuths)."""
+    from analytical.pose_batch import pose_batch
+    from analytical.reach import regular_radii
+
+    layers, rings, azimuths = MAP_GRID
+    heights = workspace_heights(scene, layers)
+    radii = regular_radii(scene.manipulator, heights)
+    z, fraction, phi = np.meshgrid(np.arange(layers), np.linspace(0.0, 1.0, rings),
+                                   np.linspace(0.0, 2 * np.pi, azimuths, endpoint=False),
+                                   indexing="ij")
+    poses = pose_batch(scene.manipulator, heights[z.ravel()], phi.ravel(),
+                       (radii[z] * fraction).ravel())
+    return poses.take(np.flatnonzero(poses.feasible))
+
+
+def bench_best_model(scene, runs: int) -> dict:
+    """Seconds a pose of the most accurate analytical setting, batched over the map's poses on
+    one core (frequencies only, the scene's modes): medians of `runs`."""
+    from analytical.batch_model import (
+        assemble_batch,
+        assembly_plan,
+        batch_frequencies,
+        standard_form,
+    )
+    from analytical.substructure import leg_layout, model_coordinates
+    from analytical.workspace import CHUNK
+    from solvers.settings import SOLID_END_ELEMENTS, speed_settings
+
+    label = f"Timoshenko (Hutchinson) + solid ends, s={max(SOLID_END_ELEMENTS)}"
+    options = speed_settings(scene)[label]
+    poses = map_poses(scene)
+    plan = assembly_plan(leg_layout(scene.manipulator, options, poses.base_joint,
+                                    poses.platform_joint))
+
+    def solve(stage: str):
+        for start in range(0, len(poses), CHUNK):
+            model = assemble_batch(scene.manipulator, poses.take(slice(start, start + CHUNK)),
+                                   options, plan)
+            if stage == "solve":
+                batch_frequencies(standard_form(model), options.modes)
+
+    total, _ = _median_seconds(lambda: solve("solve"), runs, warmup=1)
+    assembly, _ = _median_seconds(lambda: solve("assemble"), runs, warmup=1)
+    return {"setting": label, "poses": len(poses), "matrix_size": model_coordinates(
+        scene.manipulator, options), "modes": options.modes, "runs": runs,
+        "pose_seconds": total / len(poses), "assembly_pose_seconds": assembly / len(poses)}
+
+
+def bench_map(scene, runs: int, modes: int, workers: int | None = None) -> dict:
     """The 10,000-pose analytical map (frequencies and modes followed by shape, on every core)
     against 10,000 plain scipy.linalg.eigh(K, M) calls on the map's own 18 s x 18 s matrices in
-    one process (one core: OPENBLAS_NUM_THREADS=1 under make), timed alternately; medians."""
+    one process (one core: OPENBLAS_NUM_THREADS=1 under make), timed alternately; medians.
+    `workers` processes draw the map (default: every core)."""
     layers, rings, azimuths = MAP_GRID
     options = replace(scene.analytical, modes=modes)
     heights = workspace_heights(scene, layers)
-    fmap = frequency_map(scene.manipulator, options, heights, rings, azimuths)  # warm-up
+    fmap = frequency_map(scene.manipulator, options, heights, rings, azimuths,
+                         workers)  # warm-up
     reached = np.argwhere(np.isfinite(fmap.frequencies_hz[..., 0]))[::47][:200]
     sample = [Pose(float(fmap.heights[iz]), float(fmap.azimuths[ip]), float(fmap.tilts[iz, ir]))
               for iz, ir, ip in reached]
@@ -92,7 +148,7 @@ def bench_map(scene, runs: int, modes: int) -> dict:
     map_s, plain_s = [], []
     for _ in range(runs):
         start = time.perf_counter()
-        frequency_map(scene.manipulator, options, heights, rings, azimuths)
+        frequency_map(scene.manipulator, options, heights, rings, azimuths, workers)
         map_s.append(time.perf_counter() - start)
         start = time.perf_counter()
         plain()
@@ -103,7 +159,7 @@ def bench_map(scene, runs: int, modes: int) -> dict:
                  "distinct_poses": layers * (1 + (rings - 1) * azimuths)},
         "modes": modes,
         "matrix_size": 18 * options.elements,
-        "workers": default_workers(),
+        "workers": default_workers() if workers is None else workers,
         "openblas_num_threads": os.environ.get("OPENBLAS_NUM_THREADS"),
         "map_median_seconds": statistics.median(map_s),
         "map_seconds": map_s,
@@ -221,6 +277,10 @@ def main(argv: list[str] | None = None) -> int:
         result["map_vs_plain_eigh"] = result["map"]["ratio"]
         result["map_scene_modes"] = bench_map(scene, args.map_runs, modes=scene.analytical.modes)
         result["map_scene_modes_vs_plain_eigh"] = result["map_scene_modes"]["ratio"]
+        result["map_one_core"] = bench_map(scene, args.map_runs, modes=3, workers=1)
+        result["map_one_core_vs_plain_eigh"] = result["map_one_core"]["ratio"]
+        result["best_model"] = bench_best_model(scene, args.map_runs)
+        result["best_model_pose_seconds"] = result["best_model"]["pose_seconds"]
         if not args.skip_fem:
             sizes = sorted(set(scene.fem_study.refinement) | {scene.fem.mesh_size}, reverse=True)
             fem = bench_fem(scene, args.case, args.fem_runs, sizes)
@@ -245,8 +305,8 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, RuntimeError, OSError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    print(json.dumps({k: v for k, v in result.items()
-                      if k.endswith(("median", "plain_eigh", "speedup"))}, indent=1))
+    headline = ("median", "plain_eigh", "speedup", "pose_seconds")
+    print(json.dumps({k: v for k, v in result.items() if k.endswith(headline)}, indent=1))
     return 0
 
 
