@@ -17,6 +17,7 @@ from runtime.outdir import staged_output
 
 from .document import context, render_html, render_pdf
 from .figure_set import ReportError, make_figures
+from .interactive import build_charts
 from .results import load_results
 
 __all__ = ["ReportError", "build_report", "render_report"]
@@ -49,22 +50,28 @@ def render_report(results_json_path, directory, cache_dir: Path | None = None,
                   workers: int = 1) -> tuple[Path, Path]:
     """Render report.html, report.pdf and figures/ into `directory`, a staging directory that
     the caller swaps in whole (nothing here is visible until then); the figures on `workers`
-    processes, reused from the figure cache under `cache_dir` (`figure_jobs`)."""
+    processes, reused from the figure cache under `cache_dir` (`figure_jobs`).
+
+    report.pdf is the static page (the pictures of figures/); report.html the same context
+    with the interactive charts (reports.interactive), self-contained."""
     results_path = Path(results_json_path)
     target = Path(directory)
     results = load_results(results_path)
     fig_dir = inside(target, "figures")
     fig_dir.mkdir()
     try:
-        html = render_html(context(results, results_path,
-                                   make_figures(results, results_path, fig_dir, cache_dir,
-                                                workers)))
+        ctx = context(results, results_path,
+                      make_figures(results, results_path, fig_dir, cache_dir, workers))
+        html = render_html(ctx)  # static: the PDF's source
+        notes: list[str] = []
+        charts = build_charts(results, results_path, notes)
+        page = render_html(dict(ctx, notes=ctx["notes"] + notes), charts, target)
     except (ReportError, ValueError):
         raise
     except Exception as exc:  # noqa: BLE001
         raise ReportError(f"report rendering failed ({type(exc).__name__}: "
                           f"{' '.join(str(exc).split())})") from None
-    inside(target, "report.html").write_text(html, encoding="utf-8")
+    inside(target, "report.html").write_text(page, encoding="utf-8")
     try:
         render_pdf(html, target, inside(target, "report.pdf"))
     except Exception as exc:  # noqa: BLE001  (weasyprint raises anything)

@@ -10,7 +10,7 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined
 from results import verdict
 from results.sections import section_titles
 
-from . import validation
+from . import interactive, validation
 from .case_tables import (
     comparison_table,
     fem_variants_table,
@@ -165,12 +165,26 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
     return ctx
 
 
-def render_html(ctx: dict) -> str:
+def render_html(ctx: dict, charts: dict | None = None, directory: Path | None = None) -> str:
+    """The page: static (the PDF's source: pictures as files under figures/) without
+    `charts`; with them (`interactive.build_charts`) the interactive report.html, one
+    self-contained file: charts drawn by the inlined plotly.js, the pictures left static
+    embedded from `directory`."""
     align(tables_in({k: v for k, v in ctx.items() if k not in ("results", "scene", "env")}))
     env = Environment(loader=FileSystemLoader(TEMPLATES), autoescape=True,
                       undefined=StrictUndefined, trim_blocks=True, lstrip_blocks=True)
     env.globals["css"] = (TEMPLATES / "report.css").read_text(encoding="utf-8")
-    return env.get_template("report.html.j2").render(**ctx)
+    page = {"charts": {}}
+    if charts is None:
+        env.filters["embed"] = lambda src: src
+    else:
+        if directory is None:
+            raise ValueError("an interactive page needs the directory its pictures are in")
+        env.filters["embed"] = interactive.embedded(directory)
+        page = {"charts": charts, "plotly_js": interactive.plotly_js(),
+                "chart_data": interactive.page_data(charts),
+                "report_js": interactive.report_js()}
+    return env.get_template("report.html.j2").render(**ctx, **page)
 
 
 def render_pdf(html: str, base: Path, target: Path) -> None:

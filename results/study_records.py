@@ -47,6 +47,11 @@ class Workspace(TypedDict):
     frequencies_hz: list[list[list[list[Frequency | None] | None]]]  # [z][tilt][azimuth][mode]
     # per family: mode k followed by its shape (MAC) from pose to pose, so a crossing shows
     tracked_frequencies_hz: list[list[list[list[Frequency | None] | None]]]
+    # per leg at every map pose ([z][tilt][azimuth][leg]; None where unreachable): the locked
+    # actuator (leg length of a 3-RPS, slider travel of a 3-PRS) and the joint angles of Eq. (25)
+    actuation_mm: list[list[list[list[FiniteFloat] | None]]]
+    s_joint_angles_deg: list[list[list[list[FiniteFloat] | None]]]
+    r_joint_angles_deg: list[list[list[list[FiniteFloat] | None]]]
     crossings: list[dict[str, Any]]  # families, height_mm, tilt_deg, azimuth_deg, frequency_hz
     tracking: dict[str, Any]  # how the families were followed (steps, lowest MAC, ...)
     settings: str

@@ -37,6 +37,8 @@ def workspace_map(scene: Scene, layers: int = MAP_LAYERS, rings: int = 6, azimut
     def listed(values):
         return np.where(np.isnan(values), None, values).tolist()
 
+    per_leg = pose_values(scene.manipulator, fmap)
+
     return results.Workspace(**{
         "heights_mm": (fmap.heights * 1e3).tolist(),
         "regular_tilt_deg": np.degrees(fmap.radii).tolist(),
@@ -44,6 +46,7 @@ def workspace_map(scene: Scene, layers: int = MAP_LAYERS, rings: int = 6, azimut
         "azimuths_deg": np.degrees(fmap.azimuths).tolist(),
         "frequencies_hz": listed(fmap.frequencies_hz),
         "tracked_frequencies_hz": listed(fmap.tracked_hz),
+        **per_leg,
         "crossings": [{"families": [a + 1, b + 1], "height_mm": c.height * 1e3,
                        "tilt_deg": math.degrees(c.tilt), "azimuth_deg": math.degrees(c.azimuth),
                        "frequency_hz": c.frequency_hz, "along": c.along}
@@ -64,6 +67,28 @@ def workspace_map(scene: Scene, layers: int = MAP_LAYERS, rings: int = 6, azimut
         "settings": f"{scene.analytical.beam}, s = {scene.analytical.elements}, "
                     f"{scene.analytical.platform_inertia} inertia",
     })
+
+
+def pose_values(manipulator, fmap) -> dict:
+    """Per map pose and leg ([z][tilt][azimuth][leg], None where the map has no frequency):
+    the locked actuator (mm) and the S- and R-joint angles (deg), for the report's hover."""
+    from analytical.pose_batch import pose_batch
+
+    z = np.broadcast_to(fmap.heights[:, None, None], fmap.frequencies_hz.shape[:3])
+    tilt = np.broadcast_to(fmap.tilts[:, :, None], z.shape)
+    phi = np.broadcast_to(fmap.azimuths[None, None, :], z.shape)
+    batch = pose_batch(manipulator, z.ravel(), phi.ravel(), tilt.ravel())
+    reached = np.isfinite(fmap.frequencies_hz[..., 0])
+
+    def per_pose(values, scale):
+        grid = (scale * values).reshape(z.shape + (values.shape[-1],)).tolist()
+        return [[[leg if ok else None for leg, ok in zip(ring, ring_ok)]
+                 for ring, ring_ok in zip(layer, layer_ok)]
+                for layer, layer_ok in zip(grid, reached.tolist())]
+
+    return {"actuation_mm": per_pose(batch.actuation, 1e3),
+            "s_joint_angles_deg": per_pose(batch.s_joint_angles, 180 / math.pi),
+            "r_joint_angles_deg": per_pose(batch.r_joint_angles, 180 / math.pi)}
 
 
 def run(ctx: Context):

@@ -11,6 +11,7 @@ from scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER_SCENE = ROOT / "scenes" / "paper.toml"
+REPORT_FIXTURE = ROOT / "tests" / "fixtures" / "report_results.json"
 
 
 @pytest.fixture(scope="session")
@@ -45,3 +46,14 @@ def copied(folder: Path, target: Path) -> Path:
     """A copy of `folder` (a warm cache or an out/ a test may change) at `target`."""
     shutil.copytree(folder, target)
     return target
+
+
+@pytest.fixture(scope="session")
+def fixture_report(tmp_path_factory):
+    """The report of the fixture results (tests/fixtures/report_results.json), built once for
+    the session (~15 s): (its folder, report.html, report.pdf). Tests only read it."""
+    from reports.build import build_report
+
+    out = tmp_path_factory.mktemp("fixture-report")
+    html, pdf = build_report(REPORT_FIXTURE, out)
+    return SimpleNamespace(out=out, html=html, pdf=pdf)

@@ -90,10 +90,10 @@ def _number(text: str) -> tuple[float, int]:
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    out = tmp_path_factory.mktemp("report")
-    html, pdf = build_report(RESULTS, out)
-    return {"out": out, "html": html, "pdf": pdf, "results": json.loads(RESULTS.read_text()),
+def built(fixture_report):
+    html = fixture_report.html
+    return {"out": fixture_report.out, "html": html, "pdf": fixture_report.pdf,
+            "results": json.loads(RESULTS.read_text()),
             "page": _parse(html.read_text(encoding="utf-8"))}
 
 
@@ -151,9 +151,11 @@ def test_table_i_rows_of_both_cases(built):
                 assert f"/cases/{i}/paper/theory_hz/{k}" in srcs
 
 
-def test_images_exist_and_are_not_empty(built):
-    images = built["page"].images
-    names = {Path(src).name for src in images}
+def test_static_pictures_exist_for_the_pdf_and_the_page_is_self_contained(built):
+    """Every static picture the PDF shows is a non-empty PNG under figures/; report.html
+    refers to no file: its pictures are embedded (data: URIs) and its charts inline, each
+    chart with its static twin among the PDF's pictures."""
+    names = {p.name for p in (built["out"] / "figures").glob("*.png")}
     for case in ("case1", "case2"):
         for k in range(1, 7):
             assert f"mode_{case}_fem_{k}.png" in names
@@ -162,11 +164,24 @@ def test_images_exist_and_are_not_empty(built):
         assert f"element_convergence_{case}.png" in names
         assert f"fem_refinement_{case}.png" in names
     assert {"speed_vs_error.png", "workspace_polar.png", "workspace_height.png"} <= names
-    for src in images:
-        path = built["out"] / src
-        assert path.is_file(), src
-        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", src
-        assert path.stat().st_size > 2_000, src
+    for name in names:
+        path = built["out"] / "figures" / name
+        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+        assert path.stat().st_size > 2_000, name
+    assert all(src.startswith("data:image/png;base64,") for src in built["page"].images)
+    text = built["html"].read_text(encoding="utf-8")
+    markup = re.sub(r"<script\b.*?</script>", "", text, flags=re.S)
+    outside = re.search(r"""(?<![\w-])(src|href)=["'](?!data:|#)""", markup)
+    assert not outside, markup[outside.start() - 80:outside.end() + 80]
+    twins = {"speed": "speed_vs_error", "workspace_map": "workspace_polar",
+             "workspace_height": "workspace_height", "validation_map": "workspace_validation",
+             "modes": "mode_{}_fem_1"}
+    keys = re.findall(r'data-chart="([^"]+)"', text)
+    assert len(keys) >= 8
+    for key in keys:
+        kind, _, case = key.partition(":")
+        stem = twins.get(kind, kind + "_{}").format(case)
+        assert f"{stem}.png" in names, key
 
 
 def test_sections_in_html_and_pdf(built):

@@ -1,0 +1,114 @@
+"""The interactive report.html: which figures become plotly charts, their data as one JSON block,
+and the pictures left static embedded, so the page is one self-contained file that works
+offline (plotly.js inlined once; no request to any network).
+
+report.pdf is rendered from the same context without any of this (the static pictures), so the
+two show the same records of results.json: every chart here has its static twin there.
+"""
+from __future__ import annotations
+
+import base64
+import json
+from pathlib import Path
+
+import plotly.io
+
+from . import interactive_charts as charts
+from .figure_set import has_paper, main_cases, reference
+from .figures import PAPER_SECONDS
+from .interactive_modes import mode_viewer
+
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+def chart_key(kind: str, name: str | None = None) -> str:
+    """The key of a chart in the page's JSON block and in the template."""
+    return kind if name is None else f"{kind}:{name}"
+
+
+def _figure_json(fig) -> dict:
+    return json.loads(plotly.io.to_json(fig, validate=False))
+
+
+def build_charts(results: dict, results_path: Path, notes: list[str]) -> dict:
+    """{key: {"figure": plotly JSON, ...}} of every interactive figure these results hold.
+
+    A chart that cannot be drawn is left out (its static picture stays in the page) and said
+    in `notes`."""
+    out: dict = {}
+
+    def add(key: str, make, *args) -> None:
+        try:
+            value = make(*args)
+        except Exception as exc:  # noqa: BLE001  (a chart never sinks the report)
+            notes.append(f"interactive {key}: {type(exc).__name__}: "
+                         f"{' '.join(str(exc).split())}; the static picture is shown")
+            return
+        if value is None:
+            return
+        if isinstance(value, dict):  # a mode viewer: its figure and animation data
+            out[key] = dict(value, figure=_figure_json(value["figure"]))
+        else:
+            out[key] = {"figure": _figure_json(value)}
+
+    main = {c["name"] for c in main_cases(results)}
+    m = results["scene"]["manipulator"]
+    for case in results["cases"]:
+        name = case["name"]
+        if case["element_convergence"]:
+            ref, label = reference(case)
+            add(chart_key("element_convergence", name), charts.element_convergence,
+                case["element_convergence"], ref, label)
+        if case["fem_refinement"]:
+            add(chart_key("fem_refinement", name), charts.fem_refinement,
+                case["fem_refinement"], case["fem"]["mesh_size_m"])
+        if name in main:
+            add(chart_key("mac", name), charts.mac_matrix, case["mac_matrix"], case["pairs"])
+            add(chart_key("modes", name), mode_viewer, case, m, results_path)
+    speed = {c["name"]: c["speed_vs_error"] for c in results["cases"] if c["speed_vs_error"]}
+    if speed:
+        fidelity = results["fidelity"]
+        chosen = {fidelity["analytical"]["setting"],
+                  f"h = {fidelity['fem']['mesh_size_mm']:g} mm"}
+        add(chart_key("speed"), charts.speed_vs_error, speed, chosen,
+            PAPER_SECONDS if has_paper(results) else None)
+    ws = results["studies"]["workspace"]
+    if ws and charts.valid_layers(ws):
+        add(chart_key("workspace_map"), charts.workspace_map, ws, ws["settings"],
+            m["actuator"])
+        add(chart_key("workspace_height"), charts.workspace_height, ws)
+    wv = results["studies"]["workspace_validation"]
+    if wv and wv["worst_pose"]:
+        add(chart_key("validation_map"), charts.validation_map, wv)
+    for study in results["studies"]["lowest_modes"]:
+        if study["sweep"]:
+            add(chart_key("sweep", study["case"]), charts.stiffness_sweep, study)
+    return out
+
+
+def page_data(charts_by_key: dict) -> str:
+    """The charts as one JSON text safe inside <script type="application/json">."""
+    text = json.dumps(charts_by_key, separators=(",", ":"), allow_nan=False)
+    return text.replace("</", "<\\/")
+
+
+def plotly_js() -> str:
+    """plotly.js, inlined once (the page makes no network request)."""
+    from plotly.offline import get_plotlyjs
+
+    return get_plotlyjs()
+
+
+def report_js() -> str:
+    return (TEMPLATES / "report.js").read_text(encoding="utf-8")
+
+
+def embedded(directory: Path):
+    """A template filter: figures/x.png -> a data: URI of that file under `directory`, so
+    the static pictures the page keeps travel inside it."""
+    def to_uri(src: str | None) -> str | None:
+        if src is None:
+            return None
+        data = (Path(directory) / src).read_bytes()
+        return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
+    return to_uri
