@@ -14,6 +14,7 @@ from pathlib import Path
 import plotly.io
 
 from . import interactive_charts as charts
+from . import interactive_maps as maps
 from .figure_set import has_paper, main_cases, reference
 from .figures import PAPER_SECONDS
 from .interactive_modes import mode_viewer
@@ -73,13 +74,13 @@ def build_charts(results: dict, results_path: Path, notes: list[str]) -> dict:
         add(chart_key("speed"), charts.speed_vs_error, speed, chosen,
             PAPER_SECONDS if has_paper(results) else None)
     ws = results["studies"]["workspace"]
-    if ws and charts.valid_layers(ws):
-        add(chart_key("workspace_map"), charts.workspace_map, ws, ws["settings"],
+    if ws and maps.valid_layers(ws):
+        add(chart_key("workspace_map"), maps.workspace_map, ws, ws["settings"],
             m["actuator"])
-        add(chart_key("workspace_height"), charts.workspace_height, ws)
+        add(chart_key("workspace_height"), maps.workspace_height, ws)
     wv = results["studies"]["workspace_validation"]
     if wv and wv["worst_pose"]:
-        add(chart_key("validation_map"), charts.validation_map, wv)
+        add(chart_key("validation_map"), maps.validation_map, wv)
     for study in results["studies"]["lowest_modes"]:
         if study["sweep"]:
             add(chart_key("sweep", study["case"]), charts.stiffness_sweep, study)

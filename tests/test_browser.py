@@ -109,7 +109,7 @@ def _hover_text(driver, chart_id: str, trace: int, point: int) -> str:
 
 
 def test_hover_on_a_workspace_pose_shows_its_stored_frequency(page):
-    from reports.interactive_charts import map_points, valid_layers
+    from reports.interactive_maps import map_points, valid_layers
 
     driver, ws = page["driver"], page["results"]["studies"]["workspace"]
     layers = valid_layers(ws)
