@@ -22,6 +22,24 @@ LAYOUT = dict(template="plotly_white", font=dict(size=12), margin=dict(l=60, r=2
               hoverlabel=dict(align="left"))
 
 
+def _axis(n: int) -> str:
+    """The suffix of subplot n's axes (1-based, row by row): "" for the first."""
+    return "" if n == 1 else str(n)
+
+
+def vline(n: int, x: float, **style) -> dict:
+    """A vertical line across subplot n at x (a shape takes data values on a log axis too;
+    an annotation there takes log10 of them)."""
+    return dict(type="line", xref=f"x{_axis(n)}", yref=f"y{_axis(n)} domain", x0=x, x1=x,
+                y0=0, y1=1, line=dict(width=1, **style))
+
+
+def hline(n: int, y: float, **style) -> dict:
+    """A horizontal line across subplot n at y (a linear axis)."""
+    return dict(type="line", xref=f"x{_axis(n)} domain", yref=f"y{_axis(n)}", x0=0, x1=1,
+                y0=y, y1=y, line=dict(width=1, **style))
+
+
 def speed_vs_error(entries: dict[str, list[dict]], chosen: set[str],
                    paper_seconds: dict | None) -> go.Figure:
     """Time per pose against the worst |error| of f1-f6, per case: each setting a curve
@@ -30,6 +48,7 @@ def speed_vs_error(entries: dict[str, list[dict]], chosen: set[str],
     fig = make_subplots(rows=1, cols=len(names), subplot_titles=names, shared_yaxes=True,
                         horizontal_spacing=0.05)
     seen: list[str] = []
+    shapes = []
     for c, name in enumerate(names, start=1):
         groups: dict[str, list[dict]] = {}
         for e in entries[name]:
@@ -61,11 +80,12 @@ def speed_vs_error(entries: dict[str, list[dict]], chosen: set[str],
             text=[e["setting"] for e in picked],
             hovertemplate="chosen: %{text}<extra></extra>"), row=1, col=c)
         for model, t in (paper_seconds or {}).items():
-            fig.add_vline(x=t, line=dict(color="#595959", dash="dash", width=1), row=1, col=c)
+            shapes.append(vline(c, t, color="#595959", dash="dash"))
             fig.add_annotation(x=math.log10(t), y=1, yref="paper",  # log axis: log10
                                xref="x" if c == 1 else f"x{c}", yanchor="top",
                                xanchor="right", text=f"paper: {model} {t:g} s", textangle=-90,
                                showarrow=False, font=dict(size=10, color="#4d4d4d"))
+    fig.update_layout(shapes=shapes)
     fig.update_xaxes(type="log", title_text="time per pose (s)")
     fig.update_yaxes(type="log", title_text="worst |error| of f1–f6 (%)", col=1)
     fig.update_layout(**LAYOUT, height=560, legend=dict(orientation="h", y=-0.18,
@@ -92,8 +112,8 @@ def element_convergence(conv: dict, reference_hz, reference_label: str,
                 hovertemplate=(f"s = %{{x}}<br>f{k + 1} = %{{customdata:.3f}} Hz<br>error vs "
                                f"{reference_label}: %{{y:+.3f}} %<extra></extra>")),
                 row=1, col=c)
-        fig.add_vline(x=paper_elements, line=dict(color="#7f7f7f", dash="dot", width=1),
-                      row=1, col=c)
+    fig.update_layout(shapes=[vline(c, paper_elements, color="#7f7f7f", dash="dot")
+                              for c in range(1, len(beams) + 1)])
     fig.update_xaxes(title_text="elements per leg s (–)")
     fig.update_yaxes(title_text=f"error vs {reference_label} (%)", col=1)
     fig.update_layout(**LAYOUT, height=400)
@@ -109,6 +129,7 @@ def fem_refinement(ref: dict, scene_size_m: float | None) -> go.Figure:
     rows = -(-n // cols)
     fig = make_subplots(rows=rows, cols=cols, subplot_titles=[f"f{k + 1}" for k in range(n)],
                         vertical_spacing=0.14, horizontal_spacing=0.09)
+    shapes = []
     for k in range(n):
         row, col = k // cols + 1, k % cols + 1
         fig.add_trace(go.Scatter(
@@ -124,13 +145,12 @@ def fem_refinement(ref: dict, scene_size_m: float | None) -> go.Figure:
                 marker=dict(symbol="star", size=12, color="black"),
                 hovertemplate=(f"f{k + 1} limit (h → 0) = %{{y:.4f}} Hz<br>status: "
                                f"{ref['status'][k]}<extra></extra>")), row=row, col=col)
-            fig.add_hline(y=limit, line=dict(color="#666666", dash="dash", width=1),
-                          row=row, col=col)
+            shapes.append(hline(k + 1, limit, color="#666666", dash="dash"))
         if scene_size_m:
-            fig.add_vline(x=scene_size_m * 1e3, line=dict(color="#999999", dash="dot",
-                                                          width=1), row=row, col=col)
-    fig.update_xaxes(title_text="mesh size h (mm)", rangemode="tozero")
-    fig.update_yaxes(title_text="frequency (Hz)", col=1, tickformat=".2f")
+            shapes.append(vline(k + 1, scene_size_m * 1e3, color="#999999", dash="dot"))
+    fig.update_layout(shapes=shapes)
+    fig.update_xaxes(title_text="mesh size h (mm)", range=[-2, float(h.max()) * 1.08])
+    fig.update_yaxes(title_text="frequency (Hz)", col=1)
     fig.update_layout(**LAYOUT, height=300 * rows + 60)
     return fig
 
@@ -161,6 +181,7 @@ def stiffness_sweep(study: dict) -> go.Figure:
     k = [p["actuator_n_per_um"] for p in sweep]
     n = len(sweep[0]["analytical_hz"])
     fig = go.Figure()
+    shapes = []
     for j in range(n):
         colour = COLOURS[j % len(COLOURS)]
         fig.add_trace(go.Scatter(
@@ -175,8 +196,7 @@ def stiffness_sweep(study: dict) -> go.Figure:
                            "<extra></extra>")))
         rigid = study["rigid_drive"]
         if rigid:
-            fig.add_hline(y=rigid["analytical_hz"][j], line=dict(color=colour, dash="dash",
-                                                                 width=1))
+            shapes.append(hline(1, rigid["analytical_hz"][j], color=colour, dash="dash"))
             knee = study["knee_n_per_um"][j]
             if knee is not None:
                 fig.add_trace(go.Scatter(
@@ -185,8 +205,10 @@ def stiffness_sweep(study: dict) -> go.Figure:
                     hovertemplate=(f"knee of f{j + 1}: k_a = %{{x:.4g}} N/µm"
                                    "<extra></extra>")))
     scene = sweep[0]["actuator_n_per_um"] / sweep[0]["factor"]
-    fig.add_vline(x=scene, line=dict(color="#4d4d4d", dash="dot", width=1),
-                  annotation_text="the scene's")
+    shapes.append(vline(1, scene, color="#4d4d4d", dash="dot"))
+    fig.add_annotation(x=math.log10(scene), y=1, yref="paper", text=" the scene's",
+                       xanchor="left", yanchor="top", showarrow=False)  # log axis: log10
+    fig.update_layout(shapes=shapes)
     fig.update_xaxes(type="log", title_text="drive axial stiffness k_a (N/µm)")
     fig.update_yaxes(title_text="frequency (Hz)")
     fig.update_layout(**LAYOUT, height=440, title=dict(

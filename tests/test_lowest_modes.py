@@ -112,8 +112,10 @@ def test_results_carry_the_study_and_the_report_shows_it(study, tmp_path):
     shutil.copytree(FIXTURES / "modes", tmp_path / "modes")
     html, _ = build_report(tmp_path / "results.json", tmp_path)
     page = html.read_text(encoding="utf-8")
-    assert "What sets the lowest modes" in page and "stiffness_sweep_level.png" in page
-    assert "leg_profile.png" in page and "drive axial stiffness" in page
+    assert "What sets the lowest modes" in page and 'data-chart="sweep:level"' in page
+    assert "drive axial stiffness" in page and 'alt="leg profile"' in page
+    for picture in ("stiffness_sweep_level.png", "leg_profile.png"):  # the PDF's
+        assert (tmp_path / "figures" / picture).stat().st_size > 2_000
     assert "Strain energy of every mode by part" in page
     knees = study[0]["knee_factors"]
     assert ("Knees: " in page) == any(k is not None for k in knees)

@@ -93,7 +93,8 @@ EXTRA_MODULES = {"gmsh": "gmsh", "scikit-fem": "skfem", "meshio": "meshio",
                  "platformdirs": "platformdirs", "rich": "rich", "matplotlib": "matplotlib",
                  "pyvista": "pyvista", "pillow": "PIL", "jinja2": "jinja2",
                  "weasyprint": "weasyprint", "vtk": "vtk", "joblib": "joblib",
-                 "dask[distributed]": "distributed", "pydantic": "pydantic"}
+                 "dask[distributed]": "distributed", "pydantic": "pydantic",
+                 "plotly": "plotly"}
 
 
 def test_the_analytical_model_loads_nothing_of_the_extras():
