@@ -34,10 +34,15 @@ def vline(n: int, x: float, **style) -> dict:
                 y0=0, y1=1, line=dict(width=1, **style))
 
 
-def hline(n: int, y: float, **style) -> dict:
-    """A horizontal line across subplot n at y (a linear axis)."""
-    return dict(type="line", xref=f"x{_axis(n)} domain", yref=f"y{_axis(n)}", x0=0, x1=1,
-                y0=y, y1=y, line=dict(width=1, **style))
+def hline(n: int, y: float, span: tuple[float, float] | None = None, **style) -> dict:
+    """A horizontal line across subplot n at y; over the data values `span` of x where the x
+    axis is logarithmic (plotly.js autoranges a log axis wrongly from a line across its
+    domain)."""
+    if span is None:
+        return dict(type="line", xref=f"x{_axis(n)} domain", yref=f"y{_axis(n)}", x0=0, x1=1,
+                    y0=y, y1=y, line=dict(width=1, **style))
+    return dict(type="line", xref=f"x{_axis(n)}", yref=f"y{_axis(n)}", x0=span[0],
+                x1=span[1], y0=y, y1=y, line=dict(width=1, **style))
 
 
 def speed_vs_error(entries: dict[str, list[dict]], chosen: set[str],
@@ -196,7 +201,8 @@ def stiffness_sweep(study: dict) -> go.Figure:
                            "<extra></extra>")))
         rigid = study["rigid_drive"]
         if rigid:
-            shapes.append(hline(1, rigid["analytical_hz"][j], color=colour, dash="dash"))
+            shapes.append(hline(1, rigid["analytical_hz"][j], (min(k), max(k)), color=colour,
+                                dash="dash"))
             knee = study["knee_n_per_um"][j]
             if knee is not None:
                 fig.add_trace(go.Scatter(
