@@ -97,8 +97,8 @@ def align(tables) -> None:
                           if isinstance(r, dict) and r.get("cells")), [])
         sides = [side for c in first
                  for side in ["right" if "num" in c["cls"] else "left"] * (c["colspan"] or 1)]
-        if len(table["rows"]) <= 16:
-            table["cls"] = table.get("cls", "") + " keep-table"
+        if len(table["rows"]) <= 16 and "keep-table" not in table.get("cls", "").split():
+            table["cls"] = table.get("cls", "") + " keep-table"  # once: pages render twice
         for row in table["head"]:
             col = 0
             for h in row:

@@ -29,6 +29,13 @@ def main_cases(results: dict) -> list[dict]:
     return [c for c in results["cases"] if c["paper"]] or results["cases"]
 
 
+def run_settings(results: dict) -> tuple[str, str]:
+    """The speed-against-error labels of the settings the run used: its analytical model and
+    its FEM mesh (ringed in both speed figures)."""
+    fidelity = results["fidelity"]
+    return fidelity["analytical"]["setting"], f"h = {fidelity['fem']['mesh_size_mm']:g} mm"
+
+
 def reference(case: dict) -> tuple[list[float], str]:
     """The best FEM frequencies of a case and their name."""
     if case["fem_reference_hz"]:
@@ -89,7 +96,7 @@ def make_figures(results: dict, results_path: Path, fig_dir: Path,
     if speed:
         figs["speed"] = inside(fig_dir, "speed_vs_error.png")
         plan.add(figures.speed_vs_error, figs["speed"], speed, figs["speed"],
-                 paper=has_paper(results))
+                 paper=has_paper(results), chosen=run_settings(results))
     wv = results["studies"]["workspace_validation"]
     if wv and wv["worst_pose"]:
         figs["validation_map"] = inside(fig_dir, "workspace_validation.png")

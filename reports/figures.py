@@ -83,7 +83,7 @@ def fem_refinement(ref: dict, path: Path, scene_size_m: float | None = None) -> 
         if scene_size_m:
             ax.axvline(scene_size_m * 1e3, color="0.6", lw=0.8, ls=":")
         ax.set_xlim(-2, h.max() * 1.08)
-        note = _limit_note(ref, k)
+        note = limit_note(ref, k)
         ax.set_title(f"$f_{k + 1}$" + (f" ({note})" if note else ""), pad=2,
                      fontsize=7 if note else 9)
         ax.ticklabel_format(axis="y", useOffset=False)
@@ -96,7 +96,7 @@ def fem_refinement(ref: dict, path: Path, scene_size_m: float | None = None) -> 
     save(fig, path)
 
 
-def _limit_note(ref: dict, k: int) -> str:
+def limit_note(ref: dict, k: int) -> str:
     """What the star of mode k is when the extrapolation did not run as usual: the finest
     mesh's value, or an extrapolation at the order theory bounds it to."""
     status, order = ref["status"][k], ref["observed_order"][k]
@@ -135,9 +135,11 @@ def mac_matrix(mac, pairs, path: Path, title: str = "") -> None:
     save(fig, path)
 
 
-def speed_vs_error(entries: dict[str, list[dict]], path: Path, paper: bool) -> None:
-    """Time per pose (log) against the worst |error| of f1..f6, one panel per case; with the
-    paper's times per pose when the results carry the paper's data (`paper`)."""
+def speed_vs_error(entries: dict[str, list[dict]], path: Path, paper: bool,
+                   chosen: tuple[str, ...] = ()) -> None:
+    """Time per pose (log) against the worst |error| of f1..f6, one panel per case, the
+    settings the run used (`chosen`) ringed; with the paper's times per pose when the results
+    carry the paper's data (`paper`)."""
     names = list(entries)
     fig, axes = plt.subplots(1, len(names), figsize=(WIDTH, 4.0), sharey=True, squeeze=False)
     # Each setting is a curve through its refinements (s elements, or the FEM's mesh h), named
@@ -166,6 +168,12 @@ def speed_vs_error(entries: dict[str, list[dict]], path: Path, paper: bool) -> N
             x = [max(e["seconds"], 1e-6) for e in rows]
             y = [max(abs(e["worst_error_percent"]), 1e-3) for e in rows]
             ax.plot(x, y, ls="-", lw=0.8, ms=4, **st)
+        picked = [e for e in entries[name] if e["setting"] in chosen]
+        if picked:
+            ax.plot([max(e["seconds"], 1e-6) for e in picked],
+                    [max(abs(e["worst_error_percent"]), 1e-3) for e in picked], "o", ms=10,
+                    mfc="none", mec="black", mew=1.3, ls="none",
+                    label="the run's settings" if name == names[0] else None)
         for model, t in (PAPER_SECONDS.items() if paper else ()):
             text = f"paper: {model} {t:g} s"
             ax.axvline(t, color="0.35", lw=0.9, ls="--")

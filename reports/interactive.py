@@ -15,7 +15,7 @@ import plotly.io
 
 from . import interactive_charts as charts
 from . import interactive_maps as maps
-from .figure_set import has_paper, main_cases, reference
+from .figure_set import has_paper, main_cases, reference, run_settings
 from .figures import PAPER_SECONDS
 from .interactive_modes import mode_viewer
 
@@ -54,8 +54,10 @@ def build_charts(results: dict, results_path: Path, notes: list[str]) -> dict:
 
     main = {c["name"] for c in main_cases(results)}
     m = results["scene"]["manipulator"]
-    for case in results["cases"]:
+    for case in results["cases"]:  # the report shows these of its main cases only
         name = case["name"]
+        if name not in main:
+            continue
         if case["element_convergence"]:
             ref, label = reference(case)
             add(chart_key("element_convergence", name), charts.element_convergence,
@@ -63,15 +65,11 @@ def build_charts(results: dict, results_path: Path, notes: list[str]) -> dict:
         if case["fem_refinement"]:
             add(chart_key("fem_refinement", name), charts.fem_refinement,
                 case["fem_refinement"], case["fem"]["mesh_size_m"])
-        if name in main:
-            add(chart_key("mac", name), charts.mac_matrix, case["mac_matrix"], case["pairs"])
-            add(chart_key("modes", name), mode_viewer, case, m, results_path)
+        add(chart_key("mac", name), charts.mac_matrix, case["mac_matrix"], case["pairs"])
+        add(chart_key("modes", name), mode_viewer, case, m, results_path)
     speed = {c["name"]: c["speed_vs_error"] for c in results["cases"] if c["speed_vs_error"]}
     if speed:
-        fidelity = results["fidelity"]
-        chosen = {fidelity["analytical"]["setting"],
-                  f"h = {fidelity['fem']['mesh_size_mm']:g} mm"}
-        add(chart_key("speed"), charts.speed_vs_error, speed, chosen,
+        add(chart_key("speed"), charts.speed_vs_error, speed, run_settings(results),
             PAPER_SECONDS if has_paper(results) else None)
     ws = results["studies"]["workspace"]
     if ws and maps.valid_layers(ws):
@@ -88,9 +86,10 @@ def build_charts(results: dict, results_path: Path, notes: list[str]) -> dict:
 
 
 def page_data(charts_by_key: dict) -> str:
-    """The charts as one JSON text safe inside <script type="application/json">."""
+    """The charts as one JSON text safe inside <script type="application/json">: every "<"
+    escaped (JSON reads \\u003c as "<")."""
     text = json.dumps(charts_by_key, separators=(",", ":"), allow_nan=False)
-    return text.replace("</", "<\\/")
+    return text.replace("<", "\\u003c")  # no "</script>" nor "<!--" can end the block
 
 
 def plotly_js() -> str:

@@ -13,6 +13,8 @@ import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
+from .figures import limit_note
+
 COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
            "#7f7f7f", "#bcbd22", "#17becf")  # matplotlib's tab10, as the static figures
 FEM_COLOUR = "#d62728"
@@ -45,7 +47,7 @@ def hline(n: int, y: float, span: tuple[float, float] | None = None, **style) ->
                 x1=span[1], y0=y, y1=y, line=dict(width=1, **style))
 
 
-def speed_vs_error(entries: dict[str, list[dict]], chosen: set[str],
+def speed_vs_error(entries: dict[str, list[dict]], chosen: tuple[str, ...],
                    paper_seconds: dict | None) -> go.Figure:
     """Time per pose against the worst |error| of f1-f6, per case: each setting a curve
     through its refinements; the chosen settings ringed; the paper's times as lines."""
@@ -64,7 +66,10 @@ def speed_vs_error(entries: dict[str, list[dict]], chosen: set[str],
                 seen.append(key)
             colour = FEM_COLOUR if key == "fem" else SETTING_COLOURS[
                 seen.index(key) % len(SETTING_COLOURS)]
-            label = "FEM (3D solid)" if key == "fem" else key.replace("EB", "Euler–Bernoulli")
+            steps = ", ".join(e["setting"].rsplit(",", 1)[-1].split("=", 1)[-1]
+                              .replace("mm", "").strip() for e in rows)  # as the PDF's legend
+            label = (f"FEM (3D solid), h = {steps} mm" if key == "fem" else
+                     f"{key.replace('EB', 'Euler–Bernoulli')}, s = {steps}")
             fig.add_trace(go.Scatter(
                 x=[max(e["seconds"], 1e-6) for e in rows],
                 y=[max(abs(e["worst_error_percent"]), 1e-3) for e in rows],
@@ -79,11 +84,14 @@ def speed_vs_error(entries: dict[str, list[dict]], chosen: set[str],
         fig.add_trace(go.Scatter(
             x=[max(e["seconds"], 1e-6) for e in picked],
             y=[max(abs(e["worst_error_percent"]), 1e-3) for e in picked],
-            mode="markers", name="chosen by the run", legendgroup="chosen",
+            mode="markers", name="the run's settings", legendgroup="chosen",
             showlegend=c == 1, marker=dict(size=16, symbol="circle-open", color="black",
                                            line=dict(width=2)),
             text=[e["setting"] for e in picked],
-            hovertemplate="chosen: %{text}<extra></extra>"), row=1, col=c)
+            customdata=[abs(e["worst_error_percent"]) for e in picked],
+            hovertemplate=("the run's setting: %{text}<br>worst |error| of f1–f6: "
+                           "%{customdata:.3g} %<br>time per pose: %{x:.3g} s<extra>" + name
+                           + "</extra>")), row=1, col=c)
         for model, t in (paper_seconds or {}).items():
             shapes.append(vline(c, t, color="#595959", dash="dash"))
             fig.add_annotation(x=math.log10(t), y=1, yref="paper",  # log axis: log10
@@ -92,7 +100,8 @@ def speed_vs_error(entries: dict[str, list[dict]], chosen: set[str],
                                showarrow=False, font=dict(size=10, color="#4d4d4d"))
     fig.update_layout(shapes=shapes)
     fig.update_xaxes(type="log", title_text="time per pose (s)")
-    fig.update_yaxes(type="log", title_text="worst |error| of f1–f6 (%)", col=1)
+    fig.update_yaxes(type="log")  # every panel: shared axes only match axes of one type
+    fig.update_yaxes(title_text="worst |error| of f1–f6 (%)", col=1)
     fig.update_layout(**LAYOUT, height=560, legend=dict(orientation="h", y=-0.18,
                                                         font=dict(size=10)))
     return fig
@@ -105,20 +114,25 @@ def element_convergence(conv: dict, reference_hz, reference_label: str,
     ref = np.asarray(reference_hz, float)
     fig = make_subplots(rows=1, cols=len(beams), shared_yaxes=True, subplot_titles=[
         "Euler–Bernoulli" if b == "euler-bernoulli" else "Timoshenko" for b in beams])
+    errors = []
     for c, beam in enumerate(beams, start=1):
         s = conv[beam]["elements"]
         f = np.asarray(conv[beam]["frequencies_hz"], float)
         n = min(f.shape[1], len(ref))
         for k in range(n):
+            errors.append(100 * (f[:, k] / ref[k] - 1))
             fig.add_trace(go.Scatter(
-                x=s, y=100 * (f[:, k] / ref[k] - 1), mode="lines+markers", name=f"f{k + 1}",
+                x=s, y=errors[-1], mode="lines+markers", name=f"f{k + 1}",
                 legendgroup=f"f{k + 1}", showlegend=c == 1,
                 line=dict(color=COLOURS[k % len(COLOURS)]), customdata=f[:, k],
                 hovertemplate=(f"s = %{{x}}<br>f{k + 1} = %{{customdata:.3f}} Hz<br>error vs "
                                f"{reference_label}: %{{y:+.3f}} %<extra></extra>")),
                 row=1, col=c)
-    fig.update_layout(shapes=[vline(c, paper_elements, color="#7f7f7f", dash="dot")
-                              for c in range(1, len(beams) + 1)])
+    fig.update_layout(shapes=[line for c in range(1, len(beams) + 1) for line in (
+        vline(c, paper_elements, color="#7f7f7f", dash="dot"), hline(c, 0.0, color="#4d4d4d"))])
+    lo, hi = float(np.nanmin(errors)), float(np.nanmax(errors))
+    if hi - lo > 40:  # s = 1 can be far off: the converged part readable, as the PDF's
+        fig.update_yaxes(range=[max(lo, -15), min(hi, 25)])
     fig.update_xaxes(title_text="elements per leg s (–)")
     fig.update_yaxes(title_text=f"error vs {reference_label} (%)", col=1)
     fig.update_layout(**LAYOUT, height=400)
@@ -132,8 +146,10 @@ def fem_refinement(ref: dict, scene_size_m: float | None) -> go.Figure:
     n = f.shape[1]
     cols = 3
     rows = -(-n // cols)
-    fig = make_subplots(rows=rows, cols=cols, subplot_titles=[f"f{k + 1}" for k in range(n)],
-                        vertical_spacing=0.14, horizontal_spacing=0.09)
+    notes = [limit_note(ref, k) for k in range(n)]
+    fig = make_subplots(rows=rows, cols=cols, subplot_titles=[
+        f"f{k + 1}" + (f" ({notes[k]})" if notes[k] else "") for k in range(n)],
+        vertical_spacing=0.14, horizontal_spacing=0.09)
     shapes = []
     for k in range(n):
         row, col = k // cols + 1, k % cols + 1

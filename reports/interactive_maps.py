@@ -93,10 +93,10 @@ def workspace_height(ws: dict) -> go.Figure:
     modes = len(next(az for ring in ws["frequencies_hz"][layers[0]] for az in ring if az))
     fig = go.Figure()
     for k in range(modes):
-        values = [np.array([ws["frequencies_hz"][iz][r][a][k] for r, a in map_points(ws, iz)],
-                           float) for iz in layers]
-        level = [float(ws["frequencies_hz"][iz][0][0][k]) for iz in layers]
-        lo, hi = [float(v.min()) for v in values], [float(v.max()) for v in values]
+        values = [_finite([ws["frequencies_hz"][iz][r][a][k] for r, a in map_points(ws, iz)])
+                  for iz in layers]  # NaN: a family lost at a pose, as the PDF skips it
+        level = [float(_finite([ws["frequencies_hz"][iz][0][0][k]])[0]) for iz in layers]
+        lo, hi = [float(np.nanmin(v)) for v in values], [float(np.nanmax(v)) for v in values]
         colour = COLOURS[k % len(COLOURS)]
         fig.add_trace(go.Scatter(x=z, y=lo, mode="lines", line=dict(width=0, color=colour),
                                  hoverinfo="skip", showlegend=False))
@@ -137,10 +137,13 @@ def validation_map(wv: dict) -> go.Figure:
         head = (f"z = {p['height_mm']:.1f} mm, θ = {p['tilt_deg']:.2f}°, "
                 f"φ = {p['azimuth_deg']:.1f}° ({p['kind']})<br>"
                 f"FEM limit f{k + 1} = " + ("–" if fem is None else f"{fem:.2f} Hz"))
-        rows_ = [f"{'<b>' if n == label else ''}{n}: "
-                 + ("–" if p["models"][n][k] is None else f"{p['models'][n][k]:+.3f} %")
-                 + ("</b>" if n == label else "") for n in names if n in p["models"]]
-        return head + "<br>error vs FEM limit:<br>" + "<br>".join(rows_)
+        def row(n: str) -> str:
+            e = p["models"][n][k]  # the paired mode's error: f = f_FEM (1 + e / 100)
+            value = "–" if e is None else (
+                f"{e:+.3f} %" if fem is None else f"{fem * (1 + e / 100):.2f} Hz ({e:+.3f} %)")
+            return f"<b>{n}: {value}</b>" if n == label else f"{n}: {value}"
+        return (head + "<br>each model's paired f" + str(k + 1) + " (error vs FEM limit):<br>"
+                + "<br>".join(row(n) for n in names if n in p["models"]))
 
     for k in range(modes):
         fig.add_trace(go.Scatterpolar(

@@ -138,6 +138,18 @@ def mode_viewer(case: Any, manipulator: dict, results_path: Path) -> dict | None
         fig.add_trace(go.Mesh3d(**_xyz(disk_points + first["disk"]), i=disk_faces[:, 0],
                                 j=disk_faces[:, 1], k=disk_faces[:, 2], color="#8a8fa0",
                                 hoverinfo="skip"), row=1, col=1)
+    angles = np.radians(manipulator["leg_angles_deg"])  # the base circle's B_i (3-PRS: feet)
+    feet = manipulator["base_radius_mm"] * 1e-3 * np.stack(
+        [np.cos(angles), np.sin(angles), np.zeros(len(angles))], axis=1)
+    t = np.linspace(0, 2 * math.pi, 73)
+    circle = np.linalg.norm(feet[0, :2]) * np.stack([np.cos(t), np.sin(t), 0 * t], axis=1)
+    rails = [np.stack([f, b]) for f, b in zip(feet, base) if np.linalg.norm(b - f) > 1e-9]
+    fig.add_trace(go.Scatter3d(**_xyz(circle), mode="lines", hoverinfo="skip",
+                               line=dict(color="#bfbfbf", width=2)), row=1, col=2)
+    if rails:  # a 3-PRS: the rails from the base circle to the sliders, as the PDF draws
+        fig.add_trace(go.Scatter3d(**_xyz(_with_breaks(rails)), mode="lines",
+                                   hoverinfo="skip", line=dict(color="#737373", width=4)),
+                      row=1, col=2)
     for line in (legs0, ring0):
         fig.add_trace(go.Scatter3d(**_xyz(line), mode="lines", hoverinfo="skip",
                                    line=dict(color="#a6a6a6", width=2, dash="dash")),

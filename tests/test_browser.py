@@ -5,7 +5,8 @@ opened from disk.
 - every chart renders (plotly's SVG root in every chart), at least 8 of them;
 - the page logs no console error and requests nothing from any network;
 - hovering a known workspace pose shows the frequency results.json stores for it;
-- the mode viewer switches modes and moves (its vertices differ between two instants).
+- the mode viewer switches modes and moves (its vertices differ between two instants), and
+  none of these interactions logs an error.
 
 Run alone with `pytest -m browser`. Without Chromium or its driver the module is skipped,
 unless RPS_REQUIRE_BROWSER=1 (as .ci/run sets it), where their absence fails.
@@ -31,18 +32,22 @@ TIMEOUT_S = 90
 
 
 def _require_browser() -> None:
-    if BROWSER and DRIVER:
-        return
-    why = "Chromium and chromedriver are needed (apt-get install chromium chromium-driver)"
-    if os.environ.get("RPS_REQUIRE_BROWSER") == "1":
-        pytest.fail(why)
-    pytest.skip(why)
+    required = os.environ.get("RPS_REQUIRE_BROWSER") == "1"
+    try:
+        import selenium  # noqa: F401
+    except ImportError:
+        missing = "selenium is needed (the project's [test] extra)"
+    else:
+        missing = "" if BROWSER and DRIVER else (
+            "Chromium and chromedriver are needed (apt-get install chromium chromium-driver)")
+    if missing:
+        (pytest.fail if required else pytest.skip)(missing)
 
 
 @pytest.fixture(scope="module")
 def page(fixture_report):
     _require_browser()
-    webdriver = pytest.importorskip("selenium.webdriver")
+    from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.support.ui import WebDriverWait
 
@@ -61,7 +66,7 @@ def page(fixture_report):
             lambda d: d.execute_script("return document.body.dataset.chartsRendered"))
         yield {"driver": driver, "html": html,
                "results": json.loads(RESULTS.read_text(encoding="utf-8")),
-               "log": driver.get_log("browser")}
+               "log": driver.get_log("browser")}  # what loading logged (read once: it drains)
     finally:
         driver.quit()
 
@@ -109,23 +114,33 @@ def _hover_text(driver, chart_id: str, trace: int, point: int) -> str:
 
 
 def test_hover_on_a_workspace_pose_shows_its_stored_frequency(page):
+    """The pose is found in results.json from the height, tilt and azimuth the label shows,
+    not from the chart's own point list, and every frequency shown is the stored one."""
     from reports.interactive_maps import map_points, valid_layers
 
     driver, ws = page["driver"], page["results"]["studies"]["workspace"]
     layers = valid_layers(ws)
-    n = len(layers) // 2  # a middle layer; mode f1 traces are drawn first
-    iz = layers[n]
-    points = map_points(ws, iz)
-    p = len(points) // 2 + 1  # a pose on a tilted ring
-    ring, azimuth = points[p]
+    n = len(layers) // 2  # a middle layer; mode f1 traces are drawn first, one per layer
+    p = len(map_points(ws, layers[n])) // 2 + 1  # a pose on a tilted ring
     text = _hover_text(driver, "chart-workspace_map", n, p)
-    stored = ws["frequencies_hz"][iz][ring][azimuth]
+    shown = re.search(r"z = ([\d.]+) mm, θ = ([\d.]+)°, φ = ([\d.]+)°", text)
+    assert shown, text
+    z, tilt, phi = (float(v) for v in shown.groups())
+    iz = min(range(len(ws["heights_mm"])), key=lambda i: abs(ws["heights_mm"][i] - z))
+    ring = min(range(len(ws["tilts_deg"][iz])), key=lambda r: abs(ws["tilts_deg"][iz][r] - tilt))
+    az = min(range(len(ws["azimuths_deg"])), key=lambda a: abs(ws["azimuths_deg"][a] - phi))
+    assert abs(ws["heights_mm"][iz] - z) <= 0.05 and abs(ws["tilts_deg"][iz][ring] - tilt) \
+        <= 0.005 and abs(ws["azimuths_deg"][az] - phi) <= 0.05, text
+    assert tilt > 0, "a tilted pose was meant"
+    stored = ws["frequencies_hz"][iz][ring][az]
     for k, f in enumerate(stored):
-        shown = re.search(rf"f{k + 1} = ([\d.]+) Hz", text)
-        assert shown, text
-        assert float(shown.group(1)) == pytest.approx(f, abs=0.005 + 1e-9), (k, text)
-    assert f"{ws['tilts_deg'][iz][ring]:.2f}°" in text
-    assert f"{ws['heights_mm'][iz]:.1f} mm" in text
+        value = re.search(rf"f{k + 1} = ([\d.]+) Hz", text)
+        assert value, text
+        assert float(value.group(1)) == pytest.approx(f, abs=0.005 + 1e-9), (k, text)
+    legs = re.search(r"leg lengths \(mm\): ([\d.]+), ([\d.]+), ([\d.]+)", text)
+    assert legs, text
+    assert [float(v) for v in legs.groups()] == pytest.approx(
+        ws["actuation_mm"][iz][ring][az], abs=0.05 + 1e-9)
 
 
 def test_the_mode_viewer_switches_modes_and_moves(page):
@@ -153,3 +168,10 @@ def test_the_mode_viewer_switches_modes_and_moves(page):
         WebDriverWait(driver, 20).until(lambda d: solid_x() != still)
     finally:
         button.click()  # pause: a software-rendered scene in motion slows the browser
+
+
+def test_no_console_error_after_hovering_and_animating(page):
+    """Last in the module: what the interactions above logged (hover, mode switch,
+    animation) has no error either."""
+    errors = [e for e in page["driver"].get_log("browser") if e["level"] == "SEVERE"]
+    assert not errors, errors

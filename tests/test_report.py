@@ -175,7 +175,7 @@ def test_static_pictures_exist_for_the_pdf_and_the_page_is_self_contained(built)
     assert not outside, markup[outside.start() - 80:outside.end() + 80]
     twins = {"speed": "speed_vs_error", "workspace_map": "workspace_polar",
              "workspace_height": "workspace_height", "validation_map": "workspace_validation",
-             "modes": "mode_{}_fem_1"}
+             "modes": "mode_{}_fem_1", "sweep": "stiffness_sweep_{}"}
     keys = re.findall(r'data-chart="([^"]+)"', text)
     assert len(keys) >= 8
     for key in keys:
@@ -376,15 +376,15 @@ def html_text(built) -> str:
 
 
 def test_convergence_panels_say_what_the_limit_is():
-    from reports.figures import _limit_note
+    from reports.figures import limit_note
 
     ref = {"status": ["ok", "order bounded by theory", "non-monotone"],
            "observed_order": [1.3, 1.424, None],
            "extrapolated_hz": [99.0, 98.0, 100.5], "frequencies_hz": [[101, 101, 101],
                                                                       [100, 99, 100.5]]}
-    assert _limit_note(ref, 0) == ""
-    assert _limit_note(ref, 1) == "p = 1.42 (theory)"  # extrapolated, not the finest mesh
-    assert _limit_note(ref, 2) == "non-monotone, limit = finest"
+    assert limit_note(ref, 0) == ""
+    assert limit_note(ref, 1) == "p = 1.42 (theory)"  # extrapolated, not the finest mesh
+    assert limit_note(ref, 2) == "non-monotone, limit = finest"
 
 
 def _without_paper(results: dict) -> dict:

@@ -60,3 +60,30 @@ def test_every_reachable_pose_has_finite_positive_ascending_frequencies(scene, z
         assert not reachable(scene.manipulator, pose)
         return
     assert np.all(np.isfinite(f)) and f[0] > 0 and np.all(np.diff(f) >= 0)
+
+
+def test_the_map_record_gives_each_pose_its_actuators_and_joint_angles(scene):
+    """The map's per-pose legs and joint angles (the report's hover) are those of the
+    per-pose kinematics at the same height, tilt and azimuth, and absent exactly where the
+    map has no frequency."""
+    from analytical.kinematics import pose_geometry
+    from studies.workspace_map import workspace_map
+
+    ws = workspace_map(scene, layers=3, rings=3, azimuths=5)
+    checked = 0
+    for iz, layer in enumerate(ws["frequencies_hz"]):
+        for r, ring in enumerate(layer):
+            for a, f in enumerate(ring):
+                values = [ws[k][iz][r][a] for k in ("actuation_mm", "s_joint_angles_deg",
+                                                     "r_joint_angles_deg")]
+                if f is None:
+                    assert values == [None] * 3
+                    continue
+                g = pose_geometry(scene.manipulator, Pose(ws["heights_mm"][iz] * 1e-3,
+                                                          math.radians(ws["azimuths_deg"][a]),
+                                                          math.radians(ws["tilts_deg"][iz][r])))
+                assert np.allclose(values[0], g.actuation * 1e3, rtol=0, atol=1e-9)
+                assert np.allclose(values[1], np.degrees(g.s_joint_angles), rtol=0, atol=1e-9)
+                assert np.allclose(values[2], np.degrees(g.r_joint_angles), rtol=0, atol=1e-9)
+                checked += 1
+    assert checked >= 3 * (1 + 2 * 5) - 5
