@@ -130,7 +130,7 @@ def validation_map(wv: dict) -> go.Figure:
                         subplot_titles=[f"f{k + 1}" for k in range(3)]
                         + ["worst |error| per pose"] + [f"f{k + 1}" for k in range(3, modes)])
     top = float(np.nanmax(errs)) if np.isfinite(errs).any() else 1.0
-    names = sorted(poses[0]["models"]) if poses else []
+    names = list(poses[0]["models"]) if poses else []  # the candidates in the run's order
 
     def text(p: dict, k: int) -> str:
         fem = p["fem_limit_hz"][k]
