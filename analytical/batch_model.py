@@ -49,6 +49,8 @@ from .substructure import (
     spring_stiffness,
 )
 
+CHUNK = 64  # poses assembled and solved together (their matrices stay in cache)
+
 
 @dataclass(frozen=True)
 class LegMapBasis:

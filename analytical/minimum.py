@@ -29,13 +29,13 @@ from scipy.optimize import minimize
 
 from common.errors import RpsError
 
-from .batch_model import assemble_batch, batch_frequencies, standard_form
+from .batch_model import CHUNK, assemble_batch, assembly_plan, batch_frequencies, standard_form
 from .model import natural_frequencies
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import pose_batch
-from .reach import level_band, max_tilt, max_tilts
+from .reach import LevelBand, level_band, max_tilt, max_tilts
+from .substructure import leg_layout
 
-CHUNK = 64  # poses assembled and solved together
 TILT_TOLERANCE = 1e-10  # rad: theta_max of the local search's poses
 COARSE = (9, 24, 5)  # heights x azimuths x tilt fractions of the coarse grid
 STARTS = 3  # local searches, from the lowest grid points of distinct basins
@@ -54,6 +54,7 @@ class WorkspaceMinimum:
     band_end: bool  # z at an end of the level band
     coarse_hz: float  # the least value on the coarse grid
     evaluations: int  # poses solved, coarse and local
+    band: LevelBand  # the heights searched: the level band (`reach.level_band`)
 
 
 def grid_frequencies(manipulator: Manipulator, options: ModelOptions, heights, azimuths,
@@ -62,12 +63,14 @@ def grid_frequencies(manipulator: Manipulator, options: ModelOptions, heights, a
     NaN where a pose is unreachable."""
     z, phi, theta = (np.ravel(a) for a in np.broadcast_arrays(heights, azimuths, tilts))
     out = np.full((len(z), options.modes), np.nan)
+    m = manipulator
+    plan = assembly_plan(leg_layout(m, options, m.base_joint, m.platform_joint))  # once
     for start in range(0, len(z), CHUNK):
         part = slice(start, start + CHUNK)
         poses = pose_batch(manipulator, z[part], phi[part], theta[part])
         ok = np.flatnonzero(poses.feasible)
         if len(ok):
-            model = assemble_batch(manipulator, poses.take(ok), options)
+            model = assemble_batch(manipulator, poses.take(ok), options, plan)
             out[start + ok] = batch_frequencies(standard_form(model), options.modes)
     return out.reshape(np.shape(np.broadcast_arrays(heights, azimuths, tilts)[0])
                        + (options.modes,))
@@ -145,5 +148,5 @@ def workspace_minimum(manipulator: Manipulator, options: ModelOptions, mode: int
     best_f = float(natural_frequencies(m, pose, opts)[mode - 1])
     return WorkspaceMinimum(best_f, mode, pose, boundary=bool(best_x[2] >= 1.0 - 1e-9),
                             band_end=bool(best_x[0] <= 1e-9 or best_x[0] >= 1.0 - 1e-9),
-                            coarse_hz=candidates[0][0], evaluations=evaluations)
+                            coarse_hz=candidates[0][0], evaluations=evaluations, band=band)
 

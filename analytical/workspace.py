@@ -25,6 +25,7 @@ import numpy as np
 from common.errors import InputError
 
 from .batch_model import (
+    CHUNK,
     assemble_batch,
     assembly_plan,
     batch_frequencies,
@@ -48,7 +49,6 @@ from .tracking import (
 
 GUARD_MODES = 1  # modes followed above the reported ones, so a family leaving is seen
 LOST_MAC = 0.5  # a match below this MAC loses the family (it left the tracked window)
-CHUNK = 64  # poses assembled and solved together (their matrices stay in cache)
 
 
 @dataclass(frozen=True)

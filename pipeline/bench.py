@@ -93,13 +93,13 @@ def bench_best_model(scene, runs: int) -> dict:
     """Seconds a pose of the most accurate analytical setting, batched over the map's poses on
     one core (frequencies only, the scene's modes): medians of `runs`."""
     from analytical.batch_model import (
+        CHUNK,
         assemble_batch,
         assembly_plan,
         batch_frequencies,
         standard_form,
     )
     from analytical.substructure import leg_layout, model_coordinates
-    from analytical.workspace import CHUNK
     from solvers.settings import SOLID_END_ELEMENTS, speed_settings
 
     label = f"Timoshenko (Hutchinson) + solid ends, s={max(SOLID_END_ELEMENTS)}"

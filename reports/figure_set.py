@@ -4,15 +4,19 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from common.errors import ComputeError
 from common.paths import distinct_stems, file_stem, inside
 
 from . import figures, real_machine, validation, workspace_figures
 from .beam_figure import beam_mode
 from .figure_jobs import Job, draw
-from .results import joint_points, leg_axis_shapes, platform_centre, platform_motion
+from .results import (
+    base_circle_points,
+    joint_points,
+    leg_axis_shapes,
+    platform_centre,
+    platform_motion,
+)
 
 
 class ReportError(ComputeError):
@@ -157,9 +161,7 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
     size = max(float(max(base.max(0) - base.min(0))), float(platform[:, 2].max()))
     m = results["scene"]["manipulator"]
     radius = m["platform_radius_mm"] * 1e-3
-    angles = np.radians(m["leg_angles_deg"])  # the base circle's points B_i (a 3-PRS's feet)
-    feet = m["base_radius_mm"] * 1e-3 * np.stack([np.cos(angles), np.sin(angles),
-                                                   np.zeros(len(angles))], axis=1)
+    feet = base_circle_points(m)  # a 3-PRS's rails start there
     fem_paths = {}
     if fem["vtu"]:
         modes = [p["fem_mode"] for p in pairs]

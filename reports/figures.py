@@ -19,6 +19,9 @@ import numpy as np  # noqa: E402
 DPI = 150
 WIDTH = 6.7  # inches: the A4 text column
 MODE_COLOURS = plt.get_cmap("tab10").colors
+SETTING_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2",
+                   "#7f7f7f")  # the speed figures' settings (tab10 without its red)
+FEM_COLOUR = "#d62728"  # the FEM's, in the speed figures and boxes of the MAC
 PAPER_SECONDS = {"analytical": 0.82, "ANSYS": 6.16}  # the paper's time per pose, Section 3.3
 
 plt.rcParams.update({
@@ -121,7 +124,7 @@ def mac_matrix(mac, pairs, path: Path, title: str = "") -> None:
     for p in pairs:
         i, j = p["analytical_mode"] - 1, p["fem_mode"] - 1
         if i < m.shape[0] and j < m.shape[1]:
-            ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, ec="#d62728",
+            ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, ec=FEM_COLOUR,
                                        lw=1.2))
     ax.set_xticks(range(m.shape[1]), [str(j + 1) for j in range(m.shape[1])])
     ax.set_yticks(range(m.shape[0]), [str(i + 1) for i in range(m.shape[0])])
@@ -135,6 +138,28 @@ def mac_matrix(mac, pairs, path: Path, title: str = "") -> None:
     save(fig, path)
 
 
+def speed_curves(entries: list[dict]) -> list[tuple[str, list[dict], str]]:
+    """One case's speed-against-error entries as curves: (setting without its refinement, or
+    "fem"; its entries in order; their legend label with the refinements listed)."""
+    groups: dict[str, list[dict]] = {}
+    for e in entries:
+        key = "fem" if e["model"] == "fem" else e["setting"].rsplit(",", 1)[0].strip()
+        groups.setdefault(key, []).append(e)
+    curves = []
+    for key, rows in groups.items():
+        steps = ", ".join(e["setting"].rsplit(",", 1)[-1].split("=", 1)[-1]
+                          .replace("mm", "").strip() for e in rows)
+        label = (f"FEM (3D solid), h = {steps} mm" if key == "fem" else
+                 f"{key.replace('EB', 'Euler–Bernoulli')}, s = {steps}")
+        curves.append((key, rows, label))
+    return curves
+
+
+def speed_point(e: dict) -> tuple[float, float]:
+    """(time per pose, worst |error|) of an entry as the log axes draw it (floored)."""
+    return max(e["seconds"], 1e-6), max(abs(e["worst_error_percent"]), 1e-3)
+
+
 def speed_vs_error(entries: dict[str, list[dict]], path: Path, paper: bool,
                    chosen: tuple[str, ...] = ()) -> None:
     """Time per pose (log) against the worst |error| of f1..f6, one panel per case, the
@@ -146,32 +171,20 @@ def speed_vs_error(entries: dict[str, list[dict]], path: Path, paper: bool,
     # in the legend with its refinements in the order of the points: labels on the points
     # would overlap where two curves run close (Cowper's and Hutchinson's shear coefficients).
     markers = "osv^p<>h"
-    colours = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
-    fem_style = dict(marker="D", color="#d62728")
+    colours = SETTING_COLOURS
+    fem_style = dict(marker="D", color=FEM_COLOUR)
     seen: list[str] = []
     for ax, name in zip(axes[0], names):
-        groups: dict[str, list[dict]] = {}
-        for e in entries[name]:
-            key = "fem" if e["model"] == "fem" else e["setting"].rsplit(",", 1)[0].strip()
-            groups.setdefault(key, []).append(e)
-        for key, rows in groups.items():
+        for key, rows, label in speed_curves(entries[name]):
             if key not in seen:
                 seen.append(key)
             k = seen.index(key)
-            steps = ", ".join(e["setting"].rsplit(",", 1)[-1].split("=", 1)[-1]
-                              .replace("mm", "").strip() for e in rows)
-            if key == "fem":
-                st = dict(fem_style, label=f"FEM (3D solid), h = {steps} mm")
-            else:
-                st = dict(marker=markers[k % len(markers)], color=colours[k % len(colours)],
-                          label=f"{key.replace('EB', 'Euler–Bernoulli')}, s = {steps}")
-            x = [max(e["seconds"], 1e-6) for e in rows]
-            y = [max(abs(e["worst_error_percent"]), 1e-3) for e in rows]
-            ax.plot(x, y, ls="-", lw=0.8, ms=4, **st)
+            st = dict(fem_style) if key == "fem" else dict(marker=markers[k % len(markers)],
+                                                            color=colours[k % len(colours)])
+            ax.plot(*zip(*map(speed_point, rows)), ls="-", lw=0.8, ms=4, label=label, **st)
         picked = [e for e in entries[name] if e["setting"] in chosen]
         if picked:
-            ax.plot([max(e["seconds"], 1e-6) for e in picked],
-                    [max(abs(e["worst_error_percent"]), 1e-3) for e in picked], "o", ms=10,
+            ax.plot(*zip(*map(speed_point, picked)), "o", ms=10,
                     mfc="none", mec="black", mew=1.3, ls="none",
                     label="the run's settings" if name == names[0] else None)
         for model, t in (PAPER_SECONDS.items() if paper else ()):

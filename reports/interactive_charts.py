@@ -11,15 +11,19 @@ import math
 
 import numpy as np
 import plotly.graph_objects as go
+from matplotlib.colors import to_hex
 from plotly.subplots import make_subplots
 
-from .figures import limit_note
+from .figures import (
+    FEM_COLOUR,
+    MODE_COLOURS,
+    SETTING_COLOURS,
+    limit_note,
+    speed_curves,
+    speed_point,
+)
 
-COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
-           "#7f7f7f", "#bcbd22", "#17becf")  # matplotlib's tab10, as the static figures
-FEM_COLOUR = "#d62728"
-SETTING_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2",
-                   "#7f7f7f")  # the static speed figure's, red left to the FEM
+COLOURS = tuple(to_hex(c) for c in MODE_COLOURS)  # the static figures' mode colours
 LAYOUT = dict(template="plotly_white", font=dict(size=12), margin=dict(l=60, r=20, t=50, b=50),
               hoverlabel=dict(align="left"))
 
@@ -57,23 +61,14 @@ def speed_vs_error(entries: dict[str, list[dict]], chosen: tuple[str, ...],
     seen: list[str] = []
     shapes = []
     for c, name in enumerate(names, start=1):
-        groups: dict[str, list[dict]] = {}
-        for e in entries[name]:
-            key = "fem" if e["model"] == "fem" else e["setting"].rsplit(",", 1)[0].strip()
-            groups.setdefault(key, []).append(e)
-        for key, rows in groups.items():
+        for key, rows, label in speed_curves(entries[name]):  # as the PDF's curves
             if key not in seen:
                 seen.append(key)
             colour = FEM_COLOUR if key == "fem" else SETTING_COLOURS[
                 seen.index(key) % len(SETTING_COLOURS)]
-            steps = ", ".join(e["setting"].rsplit(",", 1)[-1].split("=", 1)[-1]
-                              .replace("mm", "").strip() for e in rows)  # as the PDF's legend
-            label = (f"FEM (3D solid), h = {steps} mm" if key == "fem" else
-                     f"{key.replace('EB', 'Euler–Bernoulli')}, s = {steps}")
+            x, y = zip(*map(speed_point, rows))
             fig.add_trace(go.Scatter(
-                x=[max(e["seconds"], 1e-6) for e in rows],
-                y=[max(abs(e["worst_error_percent"]), 1e-3) for e in rows],
-                mode="lines+markers", name=label, legendgroup=key, showlegend=c == 1,
+                x=x, y=y, mode="lines+markers", name=label, legendgroup=key, showlegend=c == 1,
                 line=dict(color=colour, width=1), marker=dict(size=7),
                 text=[e["setting"] for e in rows],
                 customdata=[abs(e["worst_error_percent"]) for e in rows],
@@ -82,8 +77,7 @@ def speed_vs_error(entries: dict[str, list[dict]], chosen: tuple[str, ...],
                 row=1, col=c)
         picked = [e for e in entries[name] if e["setting"] in chosen]
         fig.add_trace(go.Scatter(
-            x=[max(e["seconds"], 1e-6) for e in picked],
-            y=[max(abs(e["worst_error_percent"]), 1e-3) for e in picked],
+            x=[speed_point(e)[0] for e in picked], y=[speed_point(e)[1] for e in picked],
             mode="markers", name="the run's settings", legendgroup="chosen",
             showlegend=c == 1, marker=dict(size=16, symbol="circle-open", color="black",
                                            line=dict(width=2)),

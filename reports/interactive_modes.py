@@ -20,7 +20,13 @@ import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
 from .render3d import Platform, _covers_platform, _platform_disk, read_modes
-from .results import joint_points, leg_axis_shapes, platform_centre, platform_motion
+from .results import (
+    base_circle_points,
+    joint_points,
+    leg_axis_shapes,
+    platform_centre,
+    platform_motion,
+)
 
 SCALE_FRACTION = 0.1  # the largest displacement drawn as this fraction of the model's size
 DIGITS = 5  # decimals of metres kept (10 µm): far below a pixel of a 0.5 m machine
@@ -138,9 +144,7 @@ def mode_viewer(case: Any, manipulator: dict, results_path: Path) -> dict | None
         fig.add_trace(go.Mesh3d(**_xyz(disk_points + first["disk"]), i=disk_faces[:, 0],
                                 j=disk_faces[:, 1], k=disk_faces[:, 2], color="#8a8fa0",
                                 hoverinfo="skip"), row=1, col=1)
-    angles = np.radians(manipulator["leg_angles_deg"])  # the base circle's B_i (3-PRS: feet)
-    feet = manipulator["base_radius_mm"] * 1e-3 * np.stack(
-        [np.cos(angles), np.sin(angles), np.zeros(len(angles))], axis=1)
+    feet = base_circle_points(manipulator)  # a 3-PRS's rails start there
     t = np.linspace(0, 2 * math.pi, 73)
     circle = np.linalg.norm(feet[0, :2]) * np.stack([np.cos(t), np.sin(t), 0 * t], axis=1)
     rails = [np.stack([f, b]) for f, b in zip(feet, base) if np.linalg.norm(b - f) > 1e-9]

@@ -36,6 +36,14 @@ def joint_points(case: Case) -> tuple[np.ndarray, np.ndarray]:
             np.asarray(pose["platform_points_mm"], float) * 1e-3)
 
 
+def base_circle_points(manipulator: dict) -> np.ndarray:
+    """The base circle's points B_i of a results' manipulator record (a 3-PRS's rail feet),
+    (legs, 3) in m."""
+    angles = np.radians(manipulator["leg_angles_deg"])
+    return manipulator["base_radius_mm"] * 1e-3 * np.stack(
+        [np.cos(angles), np.sin(angles), np.zeros(len(angles))], axis=1)
+
+
 def platform_centre(case: Case) -> np.ndarray:
     """The platform centre o, (3,) in m."""
     return np.asarray(case["pose"]["centre_mm"], float) * 1e-3

@@ -49,7 +49,7 @@ from typing import Callable, Iterator
 from common.errors import RpsError
 
 # An existing directory holding one of these may be replaced (outputs of earlier runs).
-OUTPUT_MARKERS = ("results.json", "report.html", "bench.json")
+OUTPUT_MARKERS = ("results.json", "report.html", "bench.json", "design.json")
 
 _AT_FDCWD = -100
 _RENAME_EXCHANGE = 2  # linux/fs.h
@@ -85,27 +85,28 @@ def exchange(a: Path, b: Path) -> None:
         raise OSError(code, os.strerror(code))
 
 
-def check_output_dir(out: str | os.PathLike) -> Path:
-    """The absolute output directory, or OutputError if it must not be replaced whole."""
+def check_output_dir(out: str | os.PathLike, option: str = "--out") -> Path:
+    """The absolute output directory, or OutputError if it must not be replaced whole
+    (`option`: the command-line option that named it)."""
     text = str(out)
     path = Path(os.path.abspath(out))
     cwd = Path.cwd()
     if path == cwd or path in cwd.parents or path.parent == path:
-        raise OutputError(f"--out {text}: each run replaces the output directory whole, so it "
+        raise OutputError(f"{option} {text}: each run replaces the output directory whole, so it "
                           "cannot be the current directory or one of its parents; give a "
                           "directory of its own (e.g. out)")
     if path.is_symlink():
-        raise OutputError(f"--out {text}: is a symbolic link; give the directory itself")
+        raise OutputError(f"{option} {text}: is a symbolic link; give the directory itself")
     if path.exists() and not path.is_dir():
-        raise OutputError(f"--out {text}: exists and is not a directory")
+        raise OutputError(f"{option} {text}: exists and is not a directory")
     if path.is_dir():
         try:
             names = sorted(os.listdir(path))
         except OSError as exc:
-            raise OutputError(f"--out {text}: cannot be read ({exc.strerror})") from None
+            raise OutputError(f"{option} {text}: cannot be read ({exc.strerror})") from None
         if names and not any(n in names for n in OUTPUT_MARKERS):
             shown = ", ".join(names[:3]) + (", ..." if len(names) > 3 else "")
-            raise OutputError(f"--out {text}: holds {shown} but no results.json or report: not "
+            raise OutputError(f"{option} {text}: holds {shown} but no results.json or report: not "
                               "an output directory of this pipeline, and each run replaces it "
                               "whole; choose another directory")
     return path

@@ -71,8 +71,8 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> dict:
     def compute() -> tuple[dict, dict]:
         out: dict = {"moving_mass_kg": moving_mass(m)}
         try:
-            band = level_band(m)
             found = workspace_minimum(m, spec.model, mode=spec.constraints.mode)
+            band = found.band
         except RpsError as exc:  # no workspace, or a model that cannot solve it: refused
             return {**out, "refused": str(exc)}, {}
         return {**out, "refused": None, "level_band_mm": (band.high - band.low) * 1e3,

@@ -143,3 +143,34 @@ def test_the_design_report_shows_the_front_and_the_optimum(small_study, tmp_path
     assert f"{best['moving_mass_kg']:.3f} kg" in html
     assert f"{best['min_frequency_hz']:.3f} Hz" in html
     assert f"{result['fem_check']['error_percent']:+.3f} %" in html
+
+
+@pytest.mark.parametrize("where, message", [
+    (["--out", "{tmp}/missing/design.json"], "does not exist"),
+    (["--out", "{tmp}"], "is a directory"),
+    (["--report", "{tmp}/stranger"], "not an output directory"),
+])
+def test_where_the_study_goes_is_checked_before_it_starts(tmp_path, monkeypatch, capsys,
+                                                          where, message):
+    """A study takes minutes: an --out or --report that cannot take it is refused (exit 2,
+    one line) before any design is solved; a --report folder of an earlier study is not."""
+    import rps.app as cli
+
+    (tmp_path / "stranger").mkdir()
+    (tmp_path / "stranger" / "notes.txt").write_text("mine")
+    monkeypatch.setattr(design, "run_design", lambda *a, **k: pytest.fail("the study ran"))
+    args = [a.format(tmp=tmp_path) for a in where]
+    path = write(tmp_path, SMALL)
+    assert cli.main(["design", "--design", str(path), *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "\n" not in err
+
+
+def test_a_report_folder_of_an_earlier_study_may_be_replaced(tmp_path):
+    from runtime.outdir import check_output_dir
+
+    earlier = tmp_path / "design-out"
+    earlier.mkdir()
+    for name in ("design.json", "design.html", "design.pdf", "front.png", "map.png"):
+        (earlier / name).write_text("x")
+    assert check_output_dir(earlier, "--report") == earlier.resolve()

@@ -55,15 +55,31 @@ def _print(result: dict) -> None:
         f"({r['moving_mass_kg']:.2f}, {r['min_frequency_hz']:.2f})" for r in result["front"]))
 
 
+def check_output_file(path: Path) -> None:
+    """--out must name a file in an existing directory (checked before the study runs)."""
+    from runtime.outdir import OutputError
+
+    if path.is_dir():
+        raise OutputError(f"--out {path}: is a directory; give a file name (e.g. design.json)")
+    if not path.absolute().parent.is_dir():
+        raise OutputError(f"--out {path}: its directory {path.absolute().parent} does not "
+                          "exist")
+
+
 def run(args: argparse.Namespace) -> int:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from common.atomic import write_json_atomic
     from runtime.cache import ResultCache
+    from runtime.outdir import check_output_dir
     from scene.design_file import load_design
     from studies.design import run_design
 
     spec = load_design(args.design)  # every check before the first design is solved
+    if args.report is not None:  # where the study goes, before it starts (it takes minutes)
+        check_output_dir(args.report, "--report")
+    if args.out is not None:
+        check_output_file(args.out)
     cache = ResultCache(cache_dir(args))
     with Progress(TextColumn("designs"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
                   TimeElapsedColumn(), transient=True, disable=args.json) as progress:
