@@ -312,6 +312,12 @@ def check_manipulator(m: Manipulator) -> None:
         raise InputError(
             f"platform_shape = {m.platform_shape!r}: expected one of {', '.join(PLATFORM_SHAPES)}"
         )
+    spacing = [math.remainder(a - m.leg_angles[0], 2 * math.pi) for a in m.leg_angles]
+    if any(abs(math.remainder(x - k * 2 * math.pi / 3, 2 * math.pi)) > 1e-9
+           for k, x in enumerate(spacing)):  # as kinematics.pose_geometry requires
+        shown = [float(f"{math.degrees(a):.6g}") for a in m.leg_angles]
+        raise InputError(f"leg_angles_deg = {shown}: the parasitic-motion closure (Eq. 2) needs "
+                         "the legs 120 degrees apart, in order (e.g. [0, 120, 240])")
     _check_proportions(m)
     m.stiffness.check_joints(m.base_joint, m.platform_joint)
 
@@ -320,6 +326,7 @@ def _check_profile(m: Manipulator) -> None:
     """A housing and a rod: the manipulator's leg diameter is their largest, and the rod
     reaches out of the housing at the shortest leg."""
     leg = m.leg
+    leg.check_rod_fits()  # the most basic fault of a leg first (analytical.plausibility)
     if not math.isclose(m.leg_diameter, leg.largest_diameter, rel_tol=1e-12):
         raise InputError(f"{_named(Manipulator, 'leg_diameter', m.leg_diameter)} with a [leg] "
                          f"housing and rod: the leg's diameter is theirs (the largest outer one, "

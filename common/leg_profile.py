@@ -28,6 +28,9 @@ ENDS = ("base", "platform")
 # the solid end zones of half a diameter at both its coupled faces and a beam between them
 # (analytical.end_zones), at every reachable pose.
 MIN_PART_DIAMETERS = 1.2
+# The rod slides in the housing's bore with room for a guide bush or wear ring between them:
+# this much radially at least (a wall thinner than MIN_PART is a foil, not a part).
+MIN_ROD_GAP = MIN_PART
 
 
 @dataclass(frozen=True)
@@ -99,6 +102,28 @@ class LegProfile:
                              f"at least {MIN_PART_DIAMETERS:g} housing diameters, "
                              f"{MIN_PART_DIAMETERS * self.housing_outer_diameter * 1e3:g} mm "
                              "(a tube, not a ring)")
+
+    def check_rod_fits(self) -> None:
+        """Refuse a rod that cannot slide in the housing's bore (InputError naming both keys):
+        a solid housing has no bore; the bore is at least the rod plus MIN_ROD_GAP each side.
+        Not a check of the geometry itself (the models build any two sections), but of a
+        machine that can exist: `analytical.plausibility`."""
+        if not self.stepped:
+            return
+        rod, bore = self.rod_outer_diameter, self.housing_inner_diameter
+        need = rod + 2 * MIN_ROD_GAP
+        if bore == 0.0:
+            raise InputError(
+                f"leg.housing_inner_diameter_mm = 0 (a solid housing) with rod_outer_diameter_mm "
+                f"= {rod * 1e3:g}: the rod slides in the housing's bore; give the bore, "
+                f"housing_inner_diameter_mm >= {need * 1e3:g} (rule 'rod in bore'), or leave "
+                "[leg] out for a uniform solid leg")
+        if bore < need * (1 - 1e-12):
+            raise InputError(
+                f"leg.rod_outer_diameter_mm = {rod * 1e3:g} with housing_inner_diameter_mm = "
+                f"{bore * 1e3:g}: the rod does not fit the housing's bore with "
+                f"{MIN_ROD_GAP * 1e3:g} mm of radial room (rule 'rod in bore'); expected "
+                f"rod_outer_diameter_mm <= {(bore - 2 * MIN_ROD_GAP) * 1e3:g}")
 
     @property
     def stepped(self) -> bool:

@@ -50,6 +50,15 @@ MAX_ANGLE = 2 * math.pi  # rad
 # compared ones to pair by shape, solvers.compare.EXTRA_MODES).
 MAX_MODES = 60
 MAX_SOLVED_MODES = 100
+# Free text that reaches the reports (names, titles, reasons): a title is one line of at most
+# MAX_LINE_TEXT characters (it heads a table or a page), a reason a few paragraphs of at most
+# MAX_PARAGRAPH_TEXT; neither may hold a character the PDF and HTML renderers cannot lay out or
+# that hides what is written: control characters (a reason keeps its line breaks and tabs), line
+# and paragraph separators (U+2028, U+2029), format characters (bidirectional overrides,
+# zero-width joiners), surrogates, private-use and unassigned code points.
+MAX_LINE_TEXT = 200
+MAX_PARAGRAPH_TEXT = 4000
+_HIDDEN = ("Cc", "Cf", "Cs", "Co", "Cn", "Zl", "Zp")
 
 
 @dataclass(frozen=True)
@@ -69,6 +78,7 @@ class Setting:
     scene: bool = True  # read from scene files
     scene_required: bool = False  # a scene must give it even though Python has a default
     scene_name: str | None = None  # scene key stem when it differs from the field name
+    paragraphs: bool = False  # text: several lines (a reason) rather than one (a title)
 
     def scene_key(self, name: str) -> str:
         return (self.scene_name or name) + UNITS[self.unit][0]
@@ -85,6 +95,9 @@ class Setting:
         """The admitted values, in the edge unit (or in SI), unit included."""
         if self.choices:
             return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.kind is str:
+            return (f"at most {MAX_PARAGRAPH_TEXT} characters, line breaks allowed"
+                    if self.paragraphs else f"one line of at most {MAX_LINE_TEXT} characters")
         convert = self.edge if edge else float
         parts = []
         if self.minimum is not None:
@@ -104,7 +117,7 @@ class Setting:
                 return "expected a string"
             if self.choices and value not in self.choices:
                 return f"expected one of {', '.join(self.choices)}"
-            return None
+            return None if self.choices else text_problem(value, self.paragraphs)
         if self.kind is tuple:
             if self.item is str:
                 if not isinstance(value, tuple) or not all(isinstance(v, str) for v in value):
@@ -146,6 +159,24 @@ class Setting:
                                                               and v <= self.minimum)):
             return True
         return self.maximum is not None and v > self.maximum
+
+
+def text_problem(text: str, paragraphs: bool = False) -> str | None:
+    """Why free text cannot reach a report (see MAX_LINE_TEXT), or None."""
+    import unicodedata
+
+    limit = MAX_PARAGRAPH_TEXT if paragraphs else MAX_LINE_TEXT
+    if len(text) > limit:
+        return f"is {len(text)} characters long, more than {limit}"
+    allowed = "\n\t" if paragraphs else ""
+    for k, char in enumerate(text):
+        if char not in allowed and unicodedata.category(char) in _HIDDEN:
+            name = unicodedata.name(char, "a control character")
+            allowed_text = ("printable text, tabs and line breaks" if paragraphs
+                            else "one line of printable text")
+            return (f"holds U+{ord(char):04X} ({name}) at character {k + 1}, which the "
+                    f"reports cannot show (expected {allowed_text})")
+    return None
 
 
 def _is_infinite(x: Any) -> bool:

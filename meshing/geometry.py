@@ -36,6 +36,7 @@ from .mesh import SolidMesh
 
 MIN_MESH_SIZE = MIN_PART / 100  # m: a hundredth of the smallest machine part (common.settings)
 MIN_RIM_FACTOR = 0.005  # the deepest rim grading measured (fem_reference.harmonic's references)
+MIN_RIM_GRADING = 0.1  # a flatter exponent grades nothing: (r / zone)^0.1 = 0.4 at r = 1e-4 zone
 
 
 class GmshFailure(ComputeError):
@@ -69,8 +70,9 @@ class MeshSettings:
     rim_grading: float = setting(
         1.0, doc="exponent a of the graded size h (distance / rim_zone)^a near the rims, "
         "bounded by rim_factor h below and h above; 1: geometric (elements as large as a "
-        "fixed fraction of their distance to the rim)", minimum=0.0, exclusive_minimum=True,
-        maximum=1.0)
+        "fixed fraction of their distance to the rim); at least 0.1: below it the size reaches "
+        "rim_factor h only in the last 1e-4 of the zone (no grading; rim_factor = 1 says so)",
+        minimum=MIN_RIM_GRADING, maximum=1.0)
 
     def __post_init__(self):
         check_settings(self)

@@ -41,6 +41,8 @@ from solvers.refinement import fem_refinement, size_index, study_sizes, two_mesh
 from studies.fidelity import validate_fidelity
 from studies.reachable import check as check_workspace
 
+from .preflight import check_sizes
+
 PROJECT = "rps-elastodynamics"
 
 
@@ -130,6 +132,7 @@ def scene_summary(scene: Scene, path: str) -> dict:
             [schema.Calibrated(name="platform shape", value=m.platform_shape,
                                reason=" ".join(scene.platform_shape_reason.split()))]
             if scene.platform_shape_reason else []),
+        warnings=list(scene.warnings),
     )
 
 
@@ -242,6 +245,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
     case_names = list(scene.cases) if profile == "full" else list(scene.ci_cases)
     # every case and the workspace the studies take their poses from, before any expensive work
     reachable_workspace = check_workspace(scene, profile)
+    check_sizes(scene, profile)  # every mesh the run plans, against the DOF and memory guard
     cache = ResultCache(cache_dir)
     scene = with_cache_dir(scene, cache.directory)  # solid end zones beside the other entries
     workers = workers or min(os.cpu_count() or 1, 8)

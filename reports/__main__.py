@@ -7,17 +7,20 @@ leaves the output directory as it was and exits 130.
 from __future__ import annotations
 
 import argparse
+import re
 import signal
 import sys
-from pathlib import Path
 
 from common.errors import RpsError
 from common.messages import EXIT_BAD_INPUT, failed
+from runtime.places import path_argument
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # noqa: D401 - argparse hook: one line, exit 2
-        self.exit(EXIT_BAD_INPUT, f"error: {self.prog}: {message}\n")
+        message = re.sub(r"^argument (--[\w-]+): '", r"\1 '", message)  # a refused value
+        where = "" if message.startswith("--") else f"{self.prog}: "
+        self.exit(EXIT_BAD_INPUT, f"error: {where}{message}\n")
 
 
 def _terminate(signum, frame):
@@ -26,9 +29,9 @@ def _terminate(signum, frame):
 
 def main(argv: list[str] | None = None) -> int:
     parser = _Parser(prog="python -m reports", description=__doc__)
-    parser.add_argument("--results", default="out/results.json", type=Path,
+    parser.add_argument("--results", default="out/results.json", type=path_argument,
                         help="results file written by the pipeline (default: out/results.json)")
-    parser.add_argument("--out", default="out", type=Path,
+    parser.add_argument("--out", default="out", type=path_argument,
                         help="directory for report.html, report.pdf and figures/ (default: out)")
     args = parser.parse_args(argv)
     previous = signal.signal(signal.SIGTERM, _terminate)

@@ -152,7 +152,7 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
         "fig_ws_height": _figure(figs.get("workspace_height")),
         "ws_heights": figs.get("workspace_heights"),
         "ws_settings": ws["settings"] if ws else None,
-        "notes": figs["notes"],
+        "notes": [f"Warning: {w}" for w in results["scene"]["warnings"]] + figs["notes"],
         "has_paper": has_paper(results),
         "paper_seconds": PAPER_SECONDS if has_paper(results) else None,
         "generated": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),

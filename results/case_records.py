@@ -98,6 +98,7 @@ class SceneSummary(TypedDict):
     analytical: AnalyticalSettings
     fem: FemSettings
     calibrated: list[Calibrated]
+    warnings: list[str]  # a machine that strains a shared idealisation (plausibility rules)
 
 
 @with_config(STRICT)

@@ -14,7 +14,7 @@ from pydantic import AfterValidator, ConfigDict, Field, FiniteFloat
 
 from common.paths import name_problem
 
-SCHEMA_VERSION = 11
+SCHEMA_VERSION = 12
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
 # No structural mode of a machine the scene ranges admit comes near 1 GHz; a larger value in
 # a results file is a doctored or corrupted one (1e308 Hz), never a result.
@@ -23,6 +23,12 @@ MAX_FREQUENCY_HZ = 1e9
 # workspace maps); one nested deeper than this is refused before it is parsed (`read`), so no
 # input reaches the parser's or the validator's recursion limit.
 MAX_DEPTH = 32
+# The largest results file measured is a few MB (a full run of a shipped scene: 1.9 MB, the
+# workspace maps most of it); one above MAX_BYTES is not read. No field of a results file holds
+# more text than MAX_TEXT characters (the scene's titles at most 200, its reasons 4000:
+# common.settings); a longer one is refused before any report is drawn from it.
+MAX_BYTES = 64_000_000
+MAX_TEXT = 10_000
 
 
 def _ascending(values: list[float]) -> list[float]:

@@ -9,6 +9,7 @@ are modules of `rps.commands`, each registered once with its options.
 from __future__ import annotations
 
 import argparse
+import re
 import signal
 import sys
 import textwrap
@@ -29,6 +30,7 @@ class _Parser(argparse.ArgumentParser):
     is named first, as typed (`error: --tilt 100 deg: must be ...`)."""
 
     def error(self, message: str):  # noqa: D401 - argparse hook
+        message = re.sub(r"^argument (--[\w-]+): '", r"\1 '", message)  # a refused value
         where = "" if message.startswith("--") else f"{self.prog}: "
         self.exit(EXIT_BAD_INPUT, f"error: {where}{message}\n")
 

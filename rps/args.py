@@ -6,11 +6,13 @@ import argparse
 import json
 import math
 import re
+import sys
 from dataclasses import replace
 from pathlib import Path
 
 from common.errors import InputError
 from common.locations import DISTRIBUTION, cache_root, checkout_root, default_scene
+from runtime.places import path_argument
 
 from . import human
 from .options import declared_option, typed
@@ -32,7 +34,7 @@ def scene_args(p: argparse.ArgumentParser) -> None:
                     help="tilt azimuth phi, degrees (default: the case's)")
     declared_option(p, "--tilt", CaseSettings, "tilt", metavar="DEG",
                     help="tilt theta, degrees (default: the case's)")
-    p.add_argument("--from-results", metavar="JSON", type=Path,
+    p.add_argument("--from-results", metavar="JSON", type=path_argument,
                    help="use the model the validated run chose for this scene, read from "
                    "the fidelity block of its results.json (e.g. out/results.json, written "
                    "by `make`); options given beside it still override (default: the scene's "
@@ -45,13 +47,20 @@ def cache_option(p: argparse.ArgumentParser) -> None:
         where = str(cache_root())
     except RuntimeError:  # without the [fem] extra there is nothing to cache
         where = "the user cache directory"
-    p.add_argument("--cache", metavar="DIR", type=Path,
+    p.add_argument("--cache", metavar="DIR", type=path_argument,
                    help=f"result and mesh cache (default: {where}; the checkout's .cache/ "
                         "when run from the repository)")
 
 
-def cache_dir(args: argparse.Namespace) -> Path:
-    return args.cache if args.cache is not None else cache_root()
+def cache_dir(args: argparse.Namespace, stores: bool = True) -> Path:
+    """The cache directory, checked to be a directory the run can write into with room for
+    what it `stores` (one line naming --cache otherwise, before any work)."""
+    from runtime.places import MIN_FREE_CACHE, check_free_space, check_writable_dir
+    option = "--cache" if args.cache is not None else "the cache directory (default of --cache)"
+    path = check_writable_dir(args.cache if args.cache is not None else cache_root(), option)
+    if stores:
+        check_free_space(path, MIN_FREE_CACHE, option, typed=str(args.cache or path))
+    return path
 
 
 def pose_case(scene, args):
@@ -98,7 +107,7 @@ def run_choice(args: argparse.Namespace, scene) -> dict | None:
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from None
     digest = hashlib.sha256(Path(args.scene).read_bytes()).hexdigest()
-    if results["scene"]["sha256"] != digest:
+    if results["scene"]["sha256"] != digest or results["scene"]["name"] != scene.name:
         raise InputError(f"{where}: a run of scene {results['scene']['path']} "
                          f"({results['scene']['name']!r}), not of --scene {args.scene} as it "
                          "is now; run `rps validate --scene` on it first")
@@ -111,11 +120,28 @@ def pose_payload(pose) -> dict:
             "tilt_deg": round(math.degrees(pose.tilt), 9)}
 
 
+def load(args: argparse.Namespace):
+    """The scene of --scene (every check of its values and of the machine as a whole)."""
+    from scene import load_scene
+    return load_scene(args.scene)
+
+
 def emit(payload: dict, as_json: bool) -> None:
+    """The command's result on stdout; its "warnings" (the scene's, analytical.plausibility)
+    stay in the JSON object and are printed on stderr after the result."""
+    warnings = payload.get("warnings") or []
     if as_json:
         print(json.dumps(payload, indent=None))
-        return
-    print("\n".join(human.payload_lines(payload)))
+    else:
+        print("\n".join(human.payload_lines({k: v for k, v in payload.items()
+                                             if k != "warnings"})))
+    warn(warnings)
+
+
+def warn(warnings) -> None:
+    """The scene's warnings on stderr, one line each, after a command's result."""
+    for text in warnings:
+        print(f"warning: {text}", file=sys.stderr)
 
 
 def checkout(command: str) -> Path:

@@ -116,6 +116,7 @@ def summary(results: dict, out: Path, report: bool) -> str:
     text += [line(row) for row in body]
     if all(r["fem_error_percent"] is None for r in rows):
         text.append("FEM est. err: no refinement study in this profile (run the full profile).")
+    text += [f"warning: {w}" for w in results["scene"]["warnings"]]
     out = Path(out).resolve()
     text.append(f"results: {out / 'results.json'}")
     if report:

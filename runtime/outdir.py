@@ -109,6 +109,11 @@ def check_output_dir(out: str | os.PathLike, option: str = "--out") -> Path:
             raise OutputError(f"{option} {text}: holds {shown} but no results.json or report: not "
                               "an output directory of this pipeline, and each run replaces it "
                               "whole; choose another directory")
+    from .places import PlaceError, check_writable_dir
+    try:  # the run is staged beside it, in its parent
+        check_writable_dir(path.parent, option, typed=text)
+    except PlaceError as exc:
+        raise OutputError(str(exc)) from None
     return path
 
 

@@ -10,12 +10,11 @@ meshing) and `common`, never the studies, the run or the reports.
 """
 from __future__ import annotations
 
+from .cases import CaseSettings, HeightCalibration
 from .fidelity import FidelitySettings
 from .load import (
                    Case,
-                   CaseSettings,
                    FemStudy,
-                   HeightCalibration,
                    Scene,
                    SceneError,
                    load_scene,

@@ -37,10 +37,10 @@ from analytical.params import Manipulator, ModelOptions
 from analytical.substructure import model_coordinates
 from common.leg_profile import LegProfile
 from common.payload import Payload
-from common.settings import MAX_MODES, Setting, declared, setting
+from common.settings import MAX_MODES, Setting, declared, setting, text_problem
 from common.stiffness import Stiffness
 
-from .load import Scene, SceneError, _Table, parse_scene, read_toml
+from .load import Scene, SceneError, _short, _Table, parse_scene, read_toml
 
 TABLES = {"manipulator": Manipulator, "leg": LegProfile, "stiffness": Stiffness,
           "payload": Payload}
@@ -142,6 +142,9 @@ def load_design(path: str | Path) -> DesignSpec:
     where = str(path)
     top = _Table(raw, where)
     name = top._get("name", "design study")
+    why = "expected a string" if not isinstance(name, str) else text_problem(name)
+    if why is not None:
+        raise SceneError(f"{where}.name = {_short(name)}: {why}")
     scene_ref = top._get("scene", None)
     if not isinstance(scene_ref, str) or not scene_ref:
         raise SceneError(f"{where}.scene: missing (the scene file the design varies, relative "

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from analytical.architecture import ARCHITECTURE_REQUIRED
 from analytical.params import Manipulator, Material, ModelOptions
+from analytical.plausibility import RULES
 from common.leg_profile import LegProfile
 from common.paths import MAX_LENGTH
 from common.payload import Payload
@@ -20,15 +21,9 @@ from common.stiffness import Stiffness
 from fem_reference.model import FemOptions, FemRuntime
 from meshing.geometry import MeshSettings
 
+from .cases import PAPER_ROWS_RULE, CaseSettings, HeightCalibration
 from .fidelity import FidelitySettings
-from .load import (
-    GEOMETRY_DEFAULTS_TEXT,
-    CaseSettings,
-    FemStudy,
-    HeightCalibration,
-    ManipulatorNotes,
-    SceneSettings,
-)
+from .load import GEOMETRY_DEFAULTS_TEXT, FemStudy, ManipulatorNotes, SceneSettings
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "scenes.md"
@@ -133,6 +128,15 @@ def render() -> str:
                     f"`{spec.scene_key(name)}`", _type(spec), spec.unit or "",
                     _default(name, spec, default), spec.range_text(), spec.doc)) + " |")
         lines.append("")
+    lines += ["## Physical consistency", "",
+              "Rules that tie values together, checked when a scene is read, before any work "
+              "(analytical/plausibility.py): a machine that breaks one cannot exist and is "
+              "refused in one line naming the keys and the rule; a rule that says warning lets "
+              "the scene run and states the warning in the command's output and the report.",
+              ""]
+    lines += [f"- **{name}**: {_cell(text)}." for name, text in
+              RULES + (("paper's rows", PAPER_ROWS_RULE),)]
+    lines.append("")
     return "\n".join(lines)
 
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from analytical import plausibility
 from analytical.architecture import ARCHITECTURE_KEYS, ARCHITECTURE_REQUIRED
 from analytical.params import (
     Manipulator,
@@ -26,7 +27,6 @@ from common.leg_profile import LegProfile
 from common.paths import UnsafeName, distinct_stems
 from common.payload import Payload
 from common.settings import (
-    MAX_ANGLE,
     MAX_LENGTH,
     MISSING,
     Setting,
@@ -39,6 +39,7 @@ from fem_reference.convergence import sequence_problem
 from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
 from meshing.geometry import MIN_MESH_SIZE
 
+from .cases import CaseSettings, HeightCalibration, check_paper_rows
 from .fidelity import FidelitySettings
 
 
@@ -73,46 +74,8 @@ class SceneSettings:
 class ManipulatorNotes:
     """Free text beside the [manipulator] values."""
 
-    platform_shape_reason: str = setting("", kind=str,
+    platform_shape_reason: str = setting("", kind=str, paragraphs=True,
                                          doc="why this platform shape (when it is an assumption)")
-
-
-# A structural mode of a machine of this kind lies far below 1 MHz (the paper's: 0.1-1 kHz).
-MAX_FREQUENCY = 1e6  # Hz
-
-
-@dataclass(frozen=True)
-class CaseSettings:
-    """One pose of a [cases.NAME] table, and the paper's rows for it where there are any."""
-
-    height: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True, maximum=MAX_LENGTH,
-                            doc='z of the platform centre o, or "calibrated" for '
-                            "[calibration.height]")
-    description: str = setting(None, kind=str, doc="title of the case (default: its name)")
-    azimuth: float = setting(0.0, unit="deg", minimum=-MAX_ANGLE, maximum=MAX_ANGLE,
-                             doc="phi, direction of the tilt axis (Eq. 1; one turn either way "
-                             "reaches every direction)")
-    tilt: float = setting(0.0, unit="deg", minimum=-math.pi / 2, maximum=math.pi / 2,
-                          doc="theta, tilt of the platform (Eq. 1; beyond 90 degrees the "
-                          "platform would face the base)")
-    paper_fea_hz: tuple[float, ...] | None = setting(
-        None, kind=tuple, minimum=0.0, exclusive_minimum=True, maximum=MAX_FREQUENCY,
-        doc="the paper's FEA frequencies for this pose (Table I), Hz")
-    paper_theory_hz: tuple[float, ...] | None = setting(
-        None, kind=tuple, minimum=0.0, exclusive_minimum=True, maximum=MAX_FREQUENCY,
-        doc="the paper's theoretical frequencies for this pose (Table I), Hz")
-    paper_error_percent: tuple[float, ...] | None = setting(
-        None, kind=tuple, minimum=-100.0, maximum=100.0,
-        doc="the paper's errors as printed (Table I), %")
-
-
-@dataclass(frozen=True)
-class HeightCalibration:
-    """[calibration.height]: a value the paper leaves wrong or open, with its reason."""
-
-    value: float = setting(unit="mm", minimum=0.0, exclusive_minimum=True, maximum=MAX_LENGTH,
-                           doc="the calibrated platform height")
-    reason: str = setting(kind=str, doc="why and how it was calibrated (required, non-empty)")
 
 
 # Defaults that follow the geometry: element sizes as fractions of the leg diameter d (measured
@@ -170,6 +133,8 @@ class Scene:
     fidelity: FidelitySettings = FidelitySettings()
     analytical_given: bool = False  # [analytical] in the file: an explicit override
     fem_size_given: bool = False  # [fem] mesh_size_mm in the file: an explicit override
+    warnings: tuple[str, ...] = ()  # a machine that strains a shared idealisation
+                                    # (analytical.plausibility): the output and report say so
 
     def case(self, name: str) -> Case:
         if name not in self.cases:
@@ -424,6 +389,10 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         else:
             spec = c.settings(CaseSettings)
             origin = "scene"
+        try:
+            check_paper_rows(spec, f"{where}.cases.{case_name}", fidelity.modes)
+        except InputError as exc:
+            raise SceneError(str(exc)) from None
         cases[case_name] = Case(
             name=case_name,
             description=(spec.description or case_name).strip(),
@@ -442,6 +411,10 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         raise SceneError(f"{where}.ci_cases = {_short(list(ci_cases))}: every name must be a "
                          f"case of the scene (it has: {', '.join(cases)})")
     top.done()
+    try:  # the machine as a whole, before any work (the rules of analytical.plausibility)
+        warnings = plausibility.check(manipulator, [(n, c.pose) for n, c in cases.items()])
+    except InputError as exc:
+        raise SceneError(f"{where}: {exc}") from None
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
                  reason, shape_reason, raw, tuple(ci_cases), fidelity, analytical_given,
-                 fem_size_given)
+                 fem_size_given, warnings)

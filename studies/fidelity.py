@@ -189,7 +189,8 @@ def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
     seconds = _fem_seconds_of(refinements, fem.size, coarse)
 
     def announce(plan):
-        if console is not None and plan.to_compute:
+        if console is not None and console.is_terminal and plan.to_compute:  # a failure
+            # later is one line on stderr: progress is for a person watching, as the bar
             eta = "" if plan.estimated_seconds is None else \
                 f", about {plan.estimated_seconds:.0f} s on {workers} worker(s)"
             console.print(f"workspace validation: {plan.to_compute} of {plan.total} poses to "

@@ -35,6 +35,17 @@ MIN_BAND = 1e-3  # m: a level band narrower than this leaves the layered studies
 FLAT_TILT = math.radians(0.01)  # a layer whose theta_r is below this cannot tilt every way
 
 
+def case_keys(name: str, case) -> str:
+    """A case's pose as the scene file gives it: `cases.NAME.height_mm = 490 (azimuth_deg =
+    10, tilt_deg = -12)`, the calibrated height shown as such."""
+    p = case.pose
+    angles = f"azimuth_deg = {math.degrees(p.azimuth):g}, tilt_deg = {math.degrees(p.tilt):g}"
+    if case.height_origin == "calibrated":
+        return (f"calibration.height.value_mm = {p.height * 1e3:g} (the height of "
+                f"cases.{name}, {angles})")
+    return f"cases.{name}.height_mm = {p.height * 1e3:g} ({angles})"
+
+
 def check(scene: Scene, profile: str = "full") -> schema.ReachableWorkspace:
     """The scene's reachable workspace (see the module docstring); ValueError if a case is
     unreachable or the workspace is empty or too thin for the studies."""
@@ -43,7 +54,7 @@ def check(scene: Scene, profile: str = "full") -> schema.ReachableWorkspace:
         try:
             pose_geometry(m, case.pose)
         except PoseError as exc:
-            raise PoseError(f"case {name}: {exc}") from None
+            raise PoseError(f"{case_keys(name, case)}: {exc}") from None
     band = level_band(m)  # WorkspaceError (a ValueError) names the binding limit
     if band.width < MIN_BAND:
         raise WorkspaceError(

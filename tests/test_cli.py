@@ -96,7 +96,9 @@ def test_validate_refuses_an_unreachable_case_before_any_work(tmp_path):
     proc = run("validate", "--scene", str(path), "--out", str(out), "--cache",
                str(tmp_path / "cache"))
     assert proc.returncode == 2
-    assert proc.stderr.strip().splitlines()[-1].startswith("error: case case1_literal: leg 1")
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        "error: cases.case1_literal.height_mm = 1200 (azimuth_deg = 0, tilt_deg = 0): leg 1")
     assert not out.exists() and not (tmp_path / "cache").exists()
 
 

@@ -59,6 +59,9 @@ def scene_with(**changes):
      "platform_thickness_mm = 5000 mm: thicker than the platform radius platform_radius_mm = "
      "200 mm"),
     ({"manipulator__leg_angles_deg": [0.0, 10.0, 240.0]},
+     "leg_angles_deg = [0.0, 10.0, 240.0]: the parasitic-motion closure (Eq. 2) needs the legs "
+     "120 degrees apart"),
+    ({"manipulator__base_radius_mm": 55.0},
      "leg_diameter_mm = 100 mm: legs 1 and 2 overlap at their joints B1, B2"),
     ({"manipulator__platform_radius_mm": 55.0, "manipulator__platform_thickness_mm": 20.0},
      "legs 1 and 2 overlap at their joints A1, A2"),

@@ -89,5 +89,6 @@ def test_the_ci_profile_checks_every_case_of_the_scene_before_any_work(tmp_path)
     scene.write_text(text, encoding="utf-8")
     with pytest.raises(ValueError) as info:
         run.validate(str(scene), tmp_path / "out", tmp_path / "cache", profile="ci")
-    assert str(info.value).startswith("case unreachable:") and "\n" not in str(info.value)
+    assert str(info.value).startswith("cases.unreachable.height_mm = 5000 (azimuth_deg = 0, "
+                                      "tilt_deg = 0): leg 1") and "\n" not in str(info.value)
     assert not (tmp_path / "out").exists() and not (tmp_path / "cache").exists()

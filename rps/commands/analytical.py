@@ -11,7 +11,7 @@ from analytical.params import BEAM_THEORIES, JOINT_ENDS, PLATFORM_INERTIAS, Mode
 from common.errors import InputError
 from scene import FidelitySettings
 
-from ..args import emit, named_first, pose_case, pose_payload, run_choice, scene_args
+from ..args import emit, load, named_first, pose_case, pose_payload, run_choice, scene_args
 from ..options import declared_option, typed
 from .registry import Command
 
@@ -21,9 +21,8 @@ CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "elements", "platform_inerti
 def cmd_analytical(args: argparse.Namespace) -> dict:
     from analytical.modal import ModalError
     from analytical.model import analyse
-    from scene import load_scene
 
-    scene = load_scene(args.scene)
+    scene = load(args)
     case, _ = pose_case(scene, args)
     opts = scene.analytical
     chosen = run_choice(args, scene)
@@ -50,6 +49,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
     return {
         "case": case.name,
         "pose": pose_payload(case.pose),
+        "warnings": list(scene.warnings),
         "model": "analytical",
         "settings_from": source + (" with options" if overrides else ""),
         "elements": opts.elements,

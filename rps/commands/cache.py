@@ -16,15 +16,16 @@ def add_arguments(k: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from common.locations import cache_root
     from runtime.cache import cache_info, clear
 
-    directory = cache_dir(args)
     if args.action == "clear":
+        directory = cache_dir(args, stores=False)  # clearing a full disk frees it
         removed = clear(directory)
         print(f"cleared {directory}: {removed['entries']} entries, "
               f"{removed['bytes'] / 1e6:.1f} MB")
         return 0
-    info = cache_info(directory)
+    info = cache_info(args.cache if args.cache is not None else cache_root())  # read only
     if args.json:
         print(json.dumps(info))
         return 0

@@ -7,6 +7,8 @@ import argparse
 import json
 from pathlib import Path
 
+from runtime.places import path_argument
+
 from ..args import cache_dir, cache_option
 from .registry import Command
 
@@ -15,9 +17,9 @@ def add_arguments(d: argparse.ArgumentParser) -> None:
     d.add_argument("--design", metavar="TOML", required=True,
                    help="design file: the scene, the variables and their bounds, the "
                    "constraints, the objective (designs/*.toml; required, no default)")
-    d.add_argument("--out", metavar="FILE", type=Path, default=None,
+    d.add_argument("--out", metavar="FILE", type=path_argument, default=None,
                    help="also write the study as JSON to this file (default: print only)")
-    d.add_argument("--report", metavar="DIR", type=Path, default=None,
+    d.add_argument("--report", metavar="DIR", type=path_argument, default=None,
                    help="write design.json, design.html and design.pdf (the front, the "
                    "optimum's frequency map) into this directory, replaced whole (default: "
                    "none)")
@@ -64,6 +66,11 @@ def check_output_file(path: Path) -> None:
     if not path.absolute().parent.is_dir():
         raise OutputError(f"--out {path}: its directory {path.absolute().parent} does not "
                           "exist")
+    from runtime.places import PlaceError, check_writable_dir
+    try:
+        check_writable_dir(path.absolute().parent, "--out", typed=str(path))
+    except PlaceError as exc:
+        raise OutputError(str(exc)) from None
 
 
 def run(args: argparse.Namespace) -> int:

@@ -8,6 +8,7 @@ from dataclasses import replace
 
 from common.errors import InputError
 from meshing.geometry import MeshSettings
+from runtime.places import path_argument
 from scene import FidelitySettings
 
 from ..args import (
@@ -15,6 +16,7 @@ from ..args import (
     cache_option,
     emit,
     fem_choices,
+    load,
     named_first,
     pose_case,
     pose_payload,
@@ -39,16 +41,32 @@ def fem_size(args: argparse.Namespace, scene) -> tuple[float, str]:
                                  "out/results.json)")
 
 
+def check_vtu(path) -> None:
+    """--vtu names a file (its .pvd beside it) in a folder the command can write into."""
+    from runtime.places import check_writable_dir
+
+    text = str(path)
+    if path.is_dir():
+        raise InputError(f"--vtu {text}: is a directory; give a file name (e.g. modes.vtu)")
+    check_writable_dir(path.absolute().parent, "--vtu", typed=text)
+
+
+def source_key(source: str) -> str:
+    """The scene key behind a size that was not typed (named in a refusal)."""
+    return "" if source.startswith(("--", "the run's")) else "fem.mesh_size_mm"
+
+
 def cmd_fem(args: argparse.Namespace) -> dict:
     from fem_reference import solve_pose
     from fem_reference.convergence import sequence_around
     from fem_reference.model import FemError, check_mesh_size
     from meshing.bodies import pose_assembly
     from runtime.cache import ResultCache
-    from scene import load_scene
     from solvers.compare import fem_options, fem_runtime
 
-    scene = load_scene(args.scene)
+    scene = load(args)
+    if args.vtu:  # written after the solve: where, before it
+        check_vtu(args.vtu)
     case, geometry = pose_case(scene, args)
     size, source = fem_size(args, scene)
     count = args.modes or scene.analytical.modes
@@ -60,13 +78,18 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     assembly = pose_assembly(scene.manipulator, geometry,
                              elastic_platform=options.platform == "elastic")
     what = typed(args, "size")
-    try:  # every size of the study checked up front, the finest first
-        for h in reversed(sorted(set(sizes) | {size})):
+    for h in reversed(sorted(set(sizes) | {size})):  # every size of the study, finest first
+        try:
             check_mesh_size(assembly, options.with_size(h), runtime)
-    except FemError as exc:
-        if sizes:  # a size of the study, not necessarily the one typed
-            raise InputError(f"{what + ' ' if what else ''}--estimate-error: {exc}") from None
-        raise named_first(exc, "mesh_size_mm", what) from None
+        except FemError as exc:
+            if h != size:  # a size of the study, not the one typed: say where it comes from
+                tail = str(exc).split(": ", 1)[-1]
+                raise InputError(
+                    f"{what + ' ' if what else ''}--estimate-error: the refinement study's "
+                    f"{h * 1e3:g} mm mesh (fem.refinement_mm = "
+                    f"{[float(f'{r * 1e3:.6g}') for r in scene.fem_study.refinement]}, its "
+                    f"ratios around the size): {tail}") from None
+            raise named_first(exc, "mesh_size_mm", what or source_key(source)) from None
     start = time.perf_counter()
     try:
         result = solve_pose(scene.manipulator, geometry, options, runtime)
@@ -78,6 +101,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     payload = {
         "case": case.name,
         "pose": pose_payload(case.pose),
+        "warnings": list(scene.warnings),
         "model": "fem",
         "mesh_size_from": source,
         "platform": options.platform,
@@ -120,7 +144,7 @@ def add_arguments(f: argparse.ArgumentParser) -> None:
                    "(default: the scene's; an elastic plate takes tetrahedra)")
     declared_option(f, "--modes", FidelitySettings, "modes", metavar="N",
                     help="number of modes (default: the scene's)")
-    f.add_argument("--vtu", metavar="PATH",
+    f.add_argument("--vtu", metavar="PATH", type=path_argument,
                    help="also write the mode shapes for ParaView: PATH (.vtu, legs and "
                         "platform) and a .pvd beside it (default: not written)")
     f.add_argument("--estimate-error", action="store_true",

@@ -4,13 +4,16 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from common.errors import InputError
+from runtime.places import path_argument
+
 from ..args import checkout
 from .registry import Command
 
 
 def add_arguments(r: argparse.ArgumentParser) -> None:
-    r.add_argument("--results", metavar="PATH", type=Path, default=Path("out/results.json"),
-                   help="results file of a full run")
+    r.add_argument("--results", metavar="PATH", type=path_argument,
+                   default=Path("out/results.json"), help="results file of a full run")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -18,7 +21,18 @@ def run(args: argparse.Namespace) -> int:
     from results import read
 
     readme = checkout(args.command) / "README.md"
-    update_readme(readme, read(args.results))
+    results = read(args.results)
+    where = f"--results {args.results}"
+    if results["profile"] != "full":
+        raise InputError(f"{where}: a run of the {results['profile']} profile; the README's "
+                         "block is written from a full run (`make`)")
+    for case in results["cases"]:  # a run whose folder is whole, not a results file alone
+        for key in ("vtu", "pvd"):
+            name = case["fem"][key]
+            if name is not None and not (args.results.parent / name).is_file():
+                raise InputError(f"{where}: names {name} (case {case['name']}), which is not "
+                                 "beside it: an incomplete or moved run; rerun `make`")
+    update_readme(readme, results)
     return 0
 
 

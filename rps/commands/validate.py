@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from runtime.places import path_argument
+
 from .. import human
 from ..args import cache_dir, cache_option, scene_option
 from ..options import Workers, declared_option
@@ -13,7 +15,7 @@ from .registry import Command
 
 def add_arguments(v: argparse.ArgumentParser) -> None:
     scene_option(v)
-    v.add_argument("--out", metavar="DIR", type=Path, default=Path("out"),
+    v.add_argument("--out", metavar="DIR", type=path_argument, default=Path("out"),
                    help="output directory: results.json, tables/, modes/, report.html/.pdf")
     cache_option(v)
     v.add_argument("--profile", choices=("full", "ci"), default="full",
@@ -35,8 +37,14 @@ def run(args: argparse.Namespace) -> int:
     if not args.no_report:  # the [report] extra only when a report is asked for
         from reports.build import render_report
         report = render_report
-    results = validate(args.scene, args.out, cache_dir(args), args.profile, report=report,
-                       workers=args.workers, scheduler=args.scheduler)
+    from runtime.outdir import check_output_dir
+    from runtime.places import check_scheduler
+
+    check_output_dir(args.out)  # every place the run uses, before the scene is read
+    cache = cache_dir(args)
+    scheduler = check_scheduler(args.scheduler) if args.scheduler is not None else None
+    results = validate(args.scene, args.out, cache, args.profile, report=report,
+                       workers=args.workers, scheduler=scheduler)
     print(human.summary(results, args.out, report=not args.no_report))
     return 0
 

@@ -7,12 +7,14 @@ import json
 import sys
 from pathlib import Path
 
+from runtime.places import path_argument
+
 from ..args import cache_dir, cache_option
 from .registry import Command
 
 
 def add_arguments(v: argparse.ArgumentParser) -> None:
-    v.add_argument("--out", metavar="DIR", type=Path, default=Path("out"),
+    v.add_argument("--out", metavar="DIR", type=path_argument, default=Path("out"),
                    help="output directory of verification.json (default: out)")
     cache_option(v)
     v.add_argument("--json", action="store_true", help="print the record as one JSON object")
@@ -47,9 +49,12 @@ def run(args: argparse.Namespace) -> int:
     from common.atomic import write_json_atomic
     from common.paths import inside
     from runtime.cache import ResultCache
+    from runtime.places import check_writable_dir
     from studies.fem_verification import verification_record
 
-    record = verification_record(ResultCache(cache_dir(args)),
+    check_writable_dir(args.out, "--out")  # where it goes, before the benchmarks run
+    cache = ResultCache(cache_dir(args))
+    record = verification_record(cache,
                                  progress=lambda name: print(f"benchmark {name} ...",
                                                              file=sys.stderr, flush=True))
     path = inside(args.out, "verification.json")

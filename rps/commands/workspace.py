@@ -11,7 +11,7 @@ import time
 from common.errors import InputError
 from scene import FidelitySettings
 
-from ..args import scene_option
+from ..args import load, scene_option, warn
 from ..options import MAX_MAP_POSES, MapGrid, declared_option, typed
 from .registry import Command
 
@@ -20,12 +20,11 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
     """The frequency map; the grid and the mode count checked against what the model holds
     before any pose is solved."""
     from analytical.workspace import followed_modes
-    from scene import load_scene
     from studies.workspace_map import workspace_map
 
-    scene = load_scene(args.scene)
+    scene = load(args)
     if args.minimum is not None:
-        return _minimum(scene, args)
+        return {**_minimum(scene, args), "warnings": list(scene.warnings)}
     poses = args.layers * args.rings * args.azimuths
     if poses > MAX_MAP_POSES:
         raise InputError(f"{typed(args, 'layers', 'rings', 'azimuths') or 'the grid'}: "
@@ -39,6 +38,7 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
     start = time.perf_counter()
     fmap = workspace_map(scene, args.layers, args.rings, args.azimuths, args.modes)
     fmap["seconds"] = time.perf_counter() - start
+    fmap["warnings"] = list(scene.warnings)
     return fmap
 
 
@@ -109,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
         _print_minimum(fmap)
     else:
         _print_workspace(fmap)
+    warn(fmap["warnings"])
     return 0
 
 
