@@ -167,6 +167,12 @@ def _check_weight(m: Manipulator, band) -> tuple[str, ...]:
     where = f"at z = {ends.heights[k] * 1e3:.1f} mm, legs {lengths[k] * 1e3:.1f} mm long"
     if ratio[k] >= 1.0:
         most = buckling[k] * 3 * vertical[k] / GRAVITY - platform_mass(m)
+        if most <= 0.0:
+            raise InputError(
+                f"payload.mass_kg = {m.payload.mass:g}: the platform's own weight "
+                f"({platform_mass(m):.4g} kg) already loads each leg beyond its Euler buckling "
+                f"load {buckling[k] / 1e3:.4g} kN {where} (rule 'payload weight'): legs this "
+                "slender cannot carry it; thicker legs or a lighter platform")
         raise InputError(
             f"payload.mass_kg = {m.payload.mass:g}: with the platform's, its weight loads each "
             f"leg to {ratio[k]:.3g} times its Euler buckling load {buckling[k] / 1e3:.4g} kN "

@@ -76,10 +76,9 @@ def pose_case(scene, args):
     try:
         geometry = pose_geometry(scene.manipulator, pose)
     except PoseError as exc:
+        from studies.reachable import case_keys
         what = typed(args, "height", "azimuth", "tilt") or (
-            f"case {case.name} of {args.scene} (height_mm = {pose.height * 1e3:g}, "
-            f"azimuth_deg = {math.degrees(pose.azimuth):g}, tilt_deg = "
-            f"{math.degrees(pose.tilt):g})")
+            f"{case_keys(case.name, case)} in {args.scene}")
         raise InputError(f"{what}: {exc}") from None
     return replace(case, pose=pose), geometry
 
