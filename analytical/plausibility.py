@@ -13,16 +13,19 @@ rule is declared once in `RULES` (docs/scenes.md is generated from it) and check
 - payload above the base: the payload's centre stays above the base plane (z > 0, base frame)
   at every pose of the level band: each of BAND_HEIGHTS heights, level and at its largest tilt
   in each of BAND_AZIMUTHS directions;
-- payload weight: the weight of the payload and the platform, shared by the three legs of a
-  level pose (two-force members) at either end of the level band, is below a leg's Euler
-  buckling load (pinned ends, the leg's length there, the least bending stiffness of its
-  parts); above PRELOAD_WARNING of it the scene runs with a warning, since both models
-  neglect the legs' gravity preload, which lowers a leg's bending frequencies by about half
-  that fraction.
+- payload weight: the weight of the payload and the platform, held by the legs in the
+  platform's static equilibrium (`leg_forces`) at every pose of that grid and every case, is
+  below each leg's Euler buckling load (pinned ends, its length there, the least bending
+  stiffness of its parts); above PRELOAD_WARNING of it the scene runs with a warning, since
+  both models neglect the legs' gravity preload, which lowers a leg's bending frequencies by
+  about half that fraction. A platform without payload is checked too (on the coarser
+  PLATE_GRID), unless it weighs under NEGLIGIBLE_LOAD of a leg's buckling load (so a scene
+  without payload and with legs of sense costs nothing here).
 """
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -31,7 +34,7 @@ from common.leg_profile import MIN_PART_DIAMETERS, MIN_ROD_GAP
 from common.settings import MIN_PART
 from common.stiffness import MIN_SPRING
 
-from .architecture import is_prs
+from .architecture import is_prs, leg_length_range
 from .params import Manipulator
 from .platform import platform_mass
 from .pose_batch import pose_batch
@@ -41,8 +44,14 @@ PAYLOAD_REACH = 4.0  # platform radii: the envelope of a payload's centre and of
 BAND_HEIGHTS = 24  # heights of the level band at which the payload's centre is checked ...
 BAND_AZIMUTHS = 72  # ... level and at the largest tilt in each of these directions
 TILT_TOLERANCE = 1e-4  # rad: the largest tilts, by bisection
+BAND_GRID = (BAND_HEIGHTS, BAND_AZIMUTHS, TILT_TOLERANCE)
+PLATE_GRID = (8, 24, 1e-3)  # a plate alone: its weight at o, the load varies smoothly
 GRAVITY = 9.80665  # m/s2
 PRELOAD_WARNING = 0.02  # of the buckling load: a leg's bending frequencies about 1 % low
+# A plate (no payload) weighing under this fraction of one leg's Euler load at its longest is
+# not checked further: its weight shared by three legs would have to be amplified some 60
+# times (legs within a degree of horizontal, a near-singular pose) to reach the warning.
+NEGLIGIBLE_LOAD = 1e-3
 
 RULES = (
     ("rod out of the housing", f"a [leg]'s housing is at least {MIN_PART_DIAMETERS:g} of its "
@@ -66,9 +75,12 @@ RULES = (
      "no machine; at most its declared maximum, rigid to every digit of a double"),
     ("legs apart", "the three legs 120 degrees apart in leg_angles_deg (the parasitic-motion "
      "closure, Eq. 2), and no two legs overlapping at their joints on either circle"),
-    ("payload weight", "the weight of the payload and the platform, shared by the three legs "
-     "of a level pose at either end of the level band, below a leg's Euler buckling load "
-     "(pinned ends, the leg's length there, its least bending stiffness): refused at or above "
+    ("payload weight", "the weight of the payload (at its centre) and the platform, held by "
+     "the legs in the platform's static equilibrium (each leg's force through its spherical "
+     "joint, in the plane of its axis and its revolute joint's axis; gravity along -z of the "
+     "base frame) at every pose of the payload rule's grid and every case, below each leg's "
+     "Euler buckling load (pinned ends, its length there, the least bending stiffness of its "
+     "parts all along: a lower bound); the legs' own weight is left out: refused at or above "
      f"it; above {PRELOAD_WARNING:.0%} of it the scene runs with a warning in the command's "
      "output and the report (both models neglect the legs' gravity preload, which lowers "
      "their bending frequencies by about half that fraction)"),
@@ -78,18 +90,82 @@ RULES = (
 def check(m: Manipulator, poses=()) -> tuple[str, ...]:
     """Refuse (InputError, one line naming the keys and the rule) a machine that cannot be;
     return the warnings of one that strains a shared idealisation. `poses`: (name, Pose) of
-    the scene's cases, where the payload's centre is checked too."""
+    the scene's cases, checked too where reachable (an unreachable one is named by the run's
+    workspace check, never blamed on the payload). The same machine and cases are checked
+    once per process (a scene read again costs nothing)."""
+    return _checked(m, tuple((str(name), pose) for name, pose in poses))
+
+
+@lru_cache(maxsize=64)
+def _checked(m: Manipulator, poses: tuple) -> tuple[str, ...]:
     if m.leg.stepped:  # also checked first of the leg's proportions (params.check_manipulator)
         m.leg.check_rod_fits()
-    if m.payload.mass == 0.0:
+    loaded = m.payload.mass > 0.0
+    if loaded:
+        _check_envelope(m)
+    elif _weight(m) < NEGLIGIBLE_LOAD * _buckling(m, leg_length_range(m)[1]):
+        return ()  # the plate alone, far below what its legs carry: nothing to check
+    found = _poses(m, poses, BAND_GRID if loaded else PLATE_GRID)
+    if found is None:
         return ()
-    _check_envelope(m)
+    if loaded:
+        _check_above_base(m, *found)
+    return _check_weight(m, *found)
+
+
+def _weight(m: Manipulator) -> float:
+    return (m.payload.mass + platform_mass(m)) * GRAVITY
+
+
+def _buckling(m: Manipulator, lengths):
+    """Euler load of a pinned leg of these lengths, its least bending stiffness all along
+    (a lower bound for a stepped leg)."""
+    parts = m.leg_parts(float(np.max(lengths)))
+    stiffness = m.material.youngs_modulus * min(
+        math.pi / 64 * (p.outer**4 - p.inner**4) for p in parts)
+    return math.pi**2 * stiffness / np.asarray(lengths, float) ** 2
+
+
+def _poses(m: Manipulator, poses, grid: tuple[int, int, float]):
+    """The reachable poses the rules are checked at: the level band's grid (heights,
+    azimuths, tilt tolerance) and the cases."""
+    count, directions, tolerance = grid
+    z: list[float] = []
+    phi: list[float] = []
+    theta: list[float] = []
+    names: list[str | None] = []
     try:
         band = level_band(m)
     except WorkspaceError:  # no level pose: the run's own workspace check names the limit
-        return ()
-    _check_above_base(m, band, poses)
-    return _check_weight(m, band)
+        band = None
+    if band is not None:
+        heights = np.linspace(band.low, band.high, count)
+        azimuths = np.linspace(0.0, 2 * math.pi, directions, endpoint=False)
+        tilts = max_tilts(m, heights, azimuths, tolerance)
+        zz, pp = np.meshgrid(heights, azimuths, indexing="ij")
+        z += [*heights, *zz.ravel()]
+        phi += [0.0] * count + list(pp.ravel())
+        theta += [0.0] * count + list(tilts.ravel())
+        names += [None] * (count + zz.size)
+    for name, pose in poses:
+        z.append(pose.height)
+        phi.append(pose.azimuth)
+        theta.append(pose.tilt)
+        names.append(f"case {name}")
+    if not z:
+        return None
+    batch = pose_batch(m, z, phi, theta)
+    keep = np.flatnonzero(batch.feasible)
+    if not len(keep):
+        return None
+    return batch.take(keep), [names[k] for k in keep]
+
+
+def _where(batch, names, k: int) -> str:
+    name = names[k]
+    return name if name is not None else (
+        f"z = {batch.heights[k] * 1e3:.1f} mm, azimuth {math.degrees(batch.azimuths[k]):.0f} "
+        f"deg, tilt {math.degrees(batch.tilts[k]):.1f} deg")
 
 
 def _mm(value: float) -> str:
@@ -120,68 +196,75 @@ def _centre_heights(m: Manipulator, batch) -> np.ndarray:
     return batch.platform_centre[:, 2] + batch.rotation[:, 2, :] @ centre
 
 
-def _check_above_base(m: Manipulator, band, poses) -> None:
-    found = []
-    for name, pose in poses:
-        case = pose_batch(m, pose.height, pose.azimuth, pose.tilt)
-        found.append((float(_centre_heights(m, case)[0]), f"case {name}"))
-    if band.low > np.linalg.norm(m.payload.centre):  # no pose of the band takes it that low
-        return _refuse_below(m, found)
-    heights = np.linspace(band.low, band.high, BAND_HEIGHTS)
-    azimuths = np.linspace(0.0, 2 * math.pi, BAND_AZIMUTHS, endpoint=False)
-    tilts = max_tilts(m, heights, azimuths, TILT_TOLERANCE)
-    z, phi = np.meshgrid(heights, azimuths, indexing="ij")
-    batch = pose_batch(m, np.concatenate([heights, z.ravel()]),
-                       np.concatenate([np.zeros(BAND_HEIGHTS), phi.ravel()]),
-                       np.concatenate([np.zeros(BAND_HEIGHTS), tilts.ravel()]))
-    found += [(float(zc), f"z = {h * 1e3:.1f} mm, azimuth {math.degrees(a):.0f} deg, tilt "
-               f"{math.degrees(t):.1f} deg") for zc, h, a, t in zip(
-        _centre_heights(m, batch), batch.heights, batch.azimuths, batch.tilts)]
-    _refuse_below(m, found)
-
-
-def _refuse_below(m: Manipulator, found) -> None:
-    if not found:
-        return
-    lowest, where = min(found)
-    if lowest <= 0.0:
+def _check_above_base(m: Manipulator, batch, names) -> None:
+    heights = _centre_heights(m, batch)
+    k = int(np.argmin(heights))
+    if heights[k] <= 0.0:
         raise InputError(
             f"payload.centre_mm = {[float(f'{c * 1e3:.6g}') for c in m.payload.centre]}: the "
-            f"payload's centre reaches {lowest * 1e3:.1f} mm, below the base plane, at {where} "
-            "(rule 'payload above the base': it would pass through the base)")
+            f"payload's centre reaches {heights[k] * 1e3:.1f} mm, below the base plane, at "
+            f"{_where(batch, names, k)} (rule 'payload above the base': it would pass through the "
+            "base)")
 
 
-def _check_weight(m: Manipulator, band) -> tuple[str, ...]:
-    weight = (m.payload.mass + platform_mass(m)) * GRAVITY
-    ends = pose_batch(m, [band.low, band.high], 0.0, 0.0)
-    lengths = ends.leg_lengths.max(axis=1)
-    directions = ends.platform_points - ends.base_points
-    vertical = np.abs(directions[:, :, 2]).min(axis=1) / lengths
-    force = weight / (3 * np.maximum(vertical, 1e-12))
-    parts = m.leg_parts(float(lengths.max()))
-    stiffness = m.material.youngs_modulus * min(
-        math.pi / 64 * (p.outer**4 - p.inner**4) for p in parts)
-    buckling = math.pi**2 * stiffness / lengths**2
-    ratio = force / buckling
-    k = int(np.argmax(ratio))
-    where = f"at z = {ends.heights[k] * 1e3:.1f} mm, legs {lengths[k] * 1e3:.1f} mm long"
-    if ratio[k] >= 1.0:
-        most = buckling[k] * 3 * vertical[k] / GRAVITY - platform_mass(m)
-        if most <= 0.0:
-            raise InputError(
-                f"payload.mass_kg = {m.payload.mass:g}: the platform's own weight "
-                f"({platform_mass(m):.4g} kg) already loads each leg beyond its Euler buckling "
-                f"load {buckling[k] / 1e3:.4g} kN {where} (rule 'payload weight'): legs this "
-                "slender cannot carry it; thicker legs or a lighter platform")
+def leg_forces(m: Manipulator, batch, mass: float, centre) -> np.ndarray:
+    """(N, 3): the axial force of each leg (compression positive, N) holding up a mass `mass`
+    at `centre` (platform frame, from o) under gravity along -z, at every pose of `batch`.
+
+    Each leg passes to the platform a force through its spherical joint in the plane of its
+    axis e_i and its revolute joint's axis a_i (the revolute joint takes no moment about a_i,
+    so the force has no component along a_i x e_i): f_i e_i + g_i a_i. The six unknowns
+    solve the platform's equilibrium of forces and of moments about o; f_i > 0 pushes the
+    platform away from the base, a compressed leg. Poses near a singularity (condition above
+    1e10) give NaN."""
+    spherical = batch.platform_points if m.platform_joint == "S" else batch.base_points
+    arm = spherical - batch.platform_centre[:, None, :]  # (N, 3, 3)
+    axes = np.concatenate([batch.leg_frames[:, :, :, 0], batch.joint_axes], axis=1)  # (N,6,3)
+    arms = np.concatenate([arm, arm], axis=1)
+    wrench = np.concatenate([axes, np.cross(arms, axes)], axis=2).transpose(0, 2, 1)
+    load = np.array([0.0, 0.0, -mass * GRAVITY])
+    lever = batch.rotation @ np.asarray(centre, float)  # (N, 3)
+    rhs = -np.concatenate([np.broadcast_to(load, lever.shape), np.cross(lever, load)], axis=1)
+    cond = np.linalg.cond(wrench)
+    good = np.isfinite(cond) & (cond < 1e10)
+    out = np.full((len(rhs), 3), np.nan)
+    if good.any():
+        out[good] = np.linalg.solve(wrench[good], rhs[good][..., None])[:, :3, 0]
+    return out
+
+
+def _check_weight(m: Manipulator, batch, names) -> tuple[str, ...]:
+    buckling = _buckling(m, batch.leg_lengths)  # (N, 3)
+    plate = leg_forces(m, batch, platform_mass(m), (0.0, 0.0, 0.0)) / buckling
+    per_kg = leg_forces(m, batch, 1.0, m.payload.centre) / buckling
+    ratio = plate + m.payload.mass * per_kg
+    if not np.isfinite(ratio).any():
+        return ()
+    k, leg = (int(i) for i in np.unravel_index(int(np.nanargmax(ratio)), ratio.shape))
+    worst = float(ratio[k, leg])
+    kind = "slider link" if is_prs(m) else "leg"
+    where = (f"{kind} {leg + 1} at {_where(batch, names, k)}, "
+             f"{batch.leg_lengths[k, leg] * 1e3:.1f} mm long")
+    if m.payload.mass > 0.0:
+        what = f"payload.mass_kg = {m.payload.mass:g} (centre_mm = " \
+               f"{[float(f'{c * 1e3:.6g}') for c in m.payload.centre]})"
+    else:
+        what = (f"platform_thickness_mm = {m.platform_thickness * 1e3:g} with leg_diameter_mm = "
+                f"{m.leg_diameter * 1e3:g}")
+    if worst >= 1.0:
+        if m.payload.mass > 0.0 and np.nanmax(plate) < 1.0:
+            room = np.where(per_kg > 0, (1.0 - plate) / np.where(per_kg > 0, per_kg, 1.0),
+                            np.inf)
+            advice = f"expected at most {float(np.nanmin(room)):.4g} kg there"
+        else:
+            advice = ("the platform's own weight already buckles it: thicker legs or a "
+                      "lighter plate")
         raise InputError(
-            f"payload.mass_kg = {m.payload.mass:g}: with the platform's, its weight loads each "
-            f"leg to {ratio[k]:.3g} times its Euler buckling load {buckling[k] / 1e3:.4g} kN "
-            f"{where} (rule 'payload weight'): the machine cannot carry it; expected at most "
-            f"{max(most, 0.0):.4g} kg")
-    if ratio[k] > PRELOAD_WARNING:
-        kind = "slider links" if is_prs(m) else "legs"
-        return (f"payload.mass_kg = {m.payload.mass:g}: its weight loads the {kind} to "
-                f"{ratio[k]:.1%} of their Euler buckling load {where}; both models neglect "
-                f"this preload, which lowers the {kind}' bending frequencies by about "
-                f"{ratio[k] / 2:.1%} (rule 'payload weight')",)
+            f"{what}: the weight on the platform loads {where}, to {worst:.3g} times its "
+            f"Euler buckling load (rule 'payload weight'): the machine cannot carry it; "
+            f"{advice}")
+    if worst > PRELOAD_WARNING:
+        return (f"{what}: the weight on the platform loads {where}, to {worst:.1%} of its "
+                f"Euler buckling load; both models neglect this preload, which lowers the "
+                f"{kind}s' bending frequencies by about {worst / 2:.1%} (rule 'payload weight')",)
     return ()

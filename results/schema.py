@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import json
 import re
+import stat
 from pathlib import Path
 from typing import Literal
 
@@ -83,14 +84,23 @@ def read(path) -> Results:
     """Load and check a results file; ValueError (one line, naming the path) otherwise."""
     path = Path(path)
     try:
-        size = path.stat().st_size
-    except OSError:
-        size = 0  # a missing or unreadable file is named by the read below
-    if size > MAX_BYTES:
-        raise InputError(f"{path}: {size / 1e6:.1f} MB, larger than any results file ("
-                         f"{MAX_BYTES / 1e6:g} MB at most): not read")
+        info = path.stat()
+    except FileNotFoundError:
+        raise InputError(f"{path}: results file not found") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read results file ({exc.strerror})") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise InputError(f"{path}: not a regular file (a results file is one)")
+    if info.st_size > MAX_BYTES:
+        raise InputError(f"{path}: {info.st_size / 1e6:.1f} MB, larger than any results file "
+                         f"({MAX_BYTES / 1e6:g} MB at most): not read")
     try:
-        text = path.read_text(encoding="utf-8")
+        with path.open("rb") as handle:  # at most MAX_BYTES, whatever stat said
+            data = handle.read(MAX_BYTES + 1)
+        if len(data) > MAX_BYTES:
+            raise InputError(f"{path}: larger than any results file ({MAX_BYTES / 1e6:g} MB "
+                             "at most): not read")
+        text = data.decode("utf-8")
     except FileNotFoundError:
         raise InputError(f"{path}: results file not found") from None
     except OSError as exc:

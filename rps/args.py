@@ -52,14 +52,15 @@ def cache_option(p: argparse.ArgumentParser) -> None:
                         "when run from the repository)")
 
 
-def cache_dir(args: argparse.Namespace, stores: bool = True) -> Path:
+def cache_dir(args: argparse.Namespace, stores: bool = True, need: int | None = None) -> Path:
     """The cache directory, checked to be a directory the run can write into with room for
-    what it `stores` (one line naming --cache otherwise, before any work)."""
+    what it `stores` (`need` bytes, default runtime.places.MIN_FREE_CACHE; one line naming
+    --cache otherwise, before any work)."""
     from runtime.places import MIN_FREE_CACHE, check_free_space, check_writable_dir
     option = "--cache" if args.cache is not None else "the cache directory (default of --cache)"
     path = check_writable_dir(args.cache if args.cache is not None else cache_root(), option)
     if stores:
-        check_free_space(path, MIN_FREE_CACHE, option, typed=str(args.cache or path))
+        check_free_space(path, need or MIN_FREE_CACHE, option, typed=str(args.cache or path))
     return path
 
 

@@ -20,10 +20,14 @@ from urllib.parse import urlsplit
 from common.errors import InputError
 
 CONNECT_TIMEOUT = 5.0  # s: a scheduler on the network answers far sooner
-# A cache holds FEM mode files: a full run of the paper's scene stores 290 MB from empty, and a
-# single solve a few MB. Below this much free space a run would fail part-way (a full disk),
-# so a cache directory on a file system with less is refused up front.
+# A cache holds FEM mode files: a full run of the paper's scene stores 290 MB from empty
+# (measured), a CI-profile run about a tenth of it, a single solve a few MB. Below this much
+# free space a command would fail part-way (a full disk), so a cache directory on a file system
+# with less is refused up front: MIN_FREE_CACHE for a command of a few solves, MIN_FREE_RUN for
+# a full validation (its cold-cache need with room to spare; a warm cache needs less, but the
+# refusal says how much is free, and a run that dies on a full disk costs more).
 MIN_FREE_CACHE = 64_000_000  # bytes
+MIN_FREE_RUN = 400_000_000  # bytes
 SCHEMES = ("tcp", "tls")
 
 
@@ -70,8 +74,9 @@ def check_writable_dir(place: str | os.PathLike, option: str, typed: str | None 
         raise PlaceError(f"{shown}: exists and is not a directory")
     base = existing_part(path)
     if not base.is_dir():
-        raise PlaceError(f"{shown}: {base} is a file, not a directory, so nothing can be "
-                         "created under it")
+        what = ("a broken symbolic link" if base.is_symlink() and not base.exists()
+                else "a file, not a directory")
+        raise PlaceError(f"{shown}: {base} is {what}, so nothing can be created under it")
     try:
         fd, probe = tempfile.mkstemp(prefix=".rps-write-check-", dir=base)
     except OSError as exc:

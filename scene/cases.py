@@ -49,19 +49,14 @@ class HeightCalibration:
 
 PAPER_ROWS = ("paper_fea_hz", "paper_theory_hz", "paper_error_percent")
 PAPER_ROWS_RULE = ("a case's paper_fea_hz, paper_theory_hz and paper_error_percent, where "
-                   "given, have one length, at most [fidelity] modes (one value per compared "
-                   "mode)")
+                   "given, have one length (one value per mode); the first [fidelity] modes "
+                   "of them are compared")
 
 
 def check_paper_rows(spec: CaseSettings, where: str, modes: int) -> None:
-    """The paper's rows of a case: one value per compared mode at most, all of one length."""
-    rows = {key: getattr(spec, key) for key in PAPER_ROWS}
-    given = {key: row for key, row in rows.items() if row is not None}
-    for key, row in given.items():
-        if len(row) > modes:
-            raise InputError(f"{where}.{key}: {len(row)} values for the {modes} modes the "
-                             f"scene compares ([fidelity] modes = {modes}); give at most one "
-                             "per compared mode")
+    """The paper's rows of a case, where given, have one length (one value per mode; the
+    first `modes` are compared, the rest are kept as printed)."""
+    given = {key: row for key in PAPER_ROWS if (row := getattr(spec, key)) is not None}
     lengths = {len(row) for row in given.values()}
     if len(lengths) > 1:
         shown = ", ".join(f"{key} {len(row)}" for key, row in given.items())

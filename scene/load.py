@@ -298,6 +298,9 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     top = _Table(raw, where)
     top_settings = top.settings(SceneSettings)
     name = top_settings.name
+    if not name.strip():
+        raise SceneError(f"{where}.name = {name!r}: empty; give the scene a title (or leave "
+                         "the key out)")
 
     man = top.table("manipulator")
     mat = top.table("material")

@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import argparse
 
+from runtime.places import path_argument
+
 from ..args import checkout
 from .registry import Command
 
 
 def add_arguments(c: argparse.ArgumentParser) -> None:
-    c.add_argument("--results", metavar="PATH", help="read the tables from this results.json "
+    c.add_argument("--results", metavar="PATH", type=path_argument,
+                   help="read the tables from this results.json "
                    "(computed at the baselines' mesh size) instead of recomputing them "
                    "(default: none)")
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from runtime.places import path_argument
 
-from ..args import cache_dir, cache_option
+from ..args import cache_dir, cache_option, warn
 from .registry import Command
 
 
@@ -93,6 +93,7 @@ def run(args: argparse.Namespace) -> int:
         task = progress.add_task("designs", total=spec.search.designs)
         result = run_design(spec, cache, lambda done, total: progress.update(task,
                                                                             completed=done))
+    result["warnings"] = design_warnings(spec, result)
     if args.out is not None:
         write_json_atomic(args.out, result)
     if args.report is not None:
@@ -105,7 +106,20 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(result))
     else:
         _print(result)
+    warn(result["warnings"])
     return 0
+
+
+def design_warnings(spec, result: dict) -> list[str]:
+    """The plausibility warnings of the design file's scene and of the optimum's."""
+    from scene import parse_scene
+    from scene.design_file import design_scene
+
+    found = list(parse_scene(spec.raw_scene, spec.scene_path).warnings)
+    if result["optimum"] is not None:
+        found += [w for w in design_scene(spec, result["optimum"]["values"]).warnings
+                  if w not in found]
+    return found
 
 
 COMMAND = Command("design", "optimise named scene values: least frequency over the workspace "

@@ -38,10 +38,10 @@ def run(args: argparse.Namespace) -> int:
         from reports.build import render_report
         report = render_report
     from runtime.outdir import check_output_dir
-    from runtime.places import check_scheduler
+    from runtime.places import MIN_FREE_RUN, check_scheduler
 
     check_output_dir(args.out)  # every place the run uses, before the scene is read
-    cache = cache_dir(args)
+    cache = cache_dir(args, need=MIN_FREE_RUN if args.profile == "full" else None)
     scheduler = check_scheduler(args.scheduler) if args.scheduler is not None else None
     results = validate(args.scene, args.out, cache, args.profile, report=report,
                        workers=args.workers, scheduler=scheduler)
