@@ -1,7 +1,7 @@
 """Architectures: where each leg's base joint sits and what its locked actuator is.
 
 A 3-RPS and a 3-PRS place the same kinds of joints differently, and that is all that differs
-between them here (DESIGN.md, "Architectures differ in kinematics"). The platform's side is
+between them here: architectures differ in kinematics, never in the models. The platform's side is
 common: in both, each leg's revolute joint has a horizontal axis perpendicular to the vertical
 plane through O and the leg's base point B_i, so each A_i stays in that plane and the platform
 moves as Eq. (2) says. What this module adds, for poses in batches (the pose first):

@@ -172,13 +172,18 @@ def _mm(value: float) -> str:
     return f"{value * 1e3:g}"
 
 
+def _centre(m: Manipulator) -> list[float]:
+    """The payload's centre as the scene gives it (mm)."""
+    return [float(f"{c * 1e3:.6g}") for c in m.payload.centre]
+
+
 def _check_envelope(m: Manipulator) -> None:
     p = m.payload
     reach = PAYLOAD_REACH * m.platform_radius
     distance = float(np.linalg.norm(p.centre))
     if distance > reach:
         raise InputError(
-            f"payload.centre_mm = {[float(f'{c * 1e3:.6g}') for c in p.centre]}: "
+            f"payload.centre_mm = {_centre(m)}: "
             f"{distance * 1e3:.6g} mm from the platform centre, beyond {PAYLOAD_REACH:g} "
             f"platform radii (platform_radius_mm = {_mm(m.platform_radius)}: at most "
             f"{reach * 1e3:.6g} mm, rule 'payload envelope')")
@@ -201,7 +206,7 @@ def _check_above_base(m: Manipulator, batch, names) -> None:
     k = int(np.argmin(heights))
     if heights[k] <= 0.0:
         raise InputError(
-            f"payload.centre_mm = {[float(f'{c * 1e3:.6g}') for c in m.payload.centre]}: the "
+            f"payload.centre_mm = {_centre(m)}: the "
             f"payload's centre reaches {heights[k] * 1e3:.1f} mm, below the base plane, at "
             f"{_where(batch, names, k)} (rule 'payload above the base': it would pass through the "
             "base)")
@@ -247,7 +252,7 @@ def _check_weight(m: Manipulator, batch, names) -> tuple[str, ...]:
              f"{batch.leg_lengths[k, leg] * 1e3:.1f} mm long")
     if m.payload.mass > 0.0:
         what = f"payload.mass_kg = {m.payload.mass:g} (centre_mm = " \
-               f"{[float(f'{c * 1e3:.6g}') for c in m.payload.centre]})"
+               f"{_centre(m)})"
     else:
         what = (f"platform_thickness_mm = {m.platform_thickness * 1e3:g} with leg_diameter_mm = "
                 f"{m.leg_diameter * 1e3:g}")

@@ -31,7 +31,7 @@ from .errors import InputError
 MAX_LENGTH = 64  # characters; the longest file name built from one is ~90 bytes
 SAFE_CHARACTERS = "letters, digits, spaces, '.', '_' and '-'"
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]")
-_INVISIBLE = ("Cc", "Cf", "Cs", "Co", "Cn", "Zl", "Zp")  # controls, formats, surrogates, ...
+INVISIBLE = ("Cc", "Cf", "Cs", "Co", "Cn", "Zl", "Zp")  # controls, formats, surrogates, ...
 RESERVED = frozenset(["CON", "PRN", "AUX", "NUL", "CONIN$", "CONOUT$"]
                      + [f"{d}{k}" for d in ("COM", "LPT") for k in range(1, 10)])
 
@@ -60,7 +60,7 @@ def name_problem(name: object) -> str | None:
         return f"is {len(name)} characters long, more than {MAX_LENGTH}"
     if "/" in name or "\\" in name:
         return "holds a path separator"
-    odd = next((c for c in name if unicodedata.category(c) in _INVISIBLE), None)
+    odd = next((c for c in name if unicodedata.category(c) in INVISIBLE), None)
     if odd is not None:
         return f"holds the control or invisible character U+{ord(odd):04X}"
     if name.startswith("."):

@@ -22,6 +22,7 @@ from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 from typing import Any
 
 from .errors import InputError
+from .paths import INVISIBLE
 
 # edge unit -> (scene-key suffix, SI value of one edge unit, SI unit name)
 UNITS = {
@@ -58,7 +59,6 @@ MAX_SOLVED_MODES = 100
 # zero-width joiners), surrogates, private-use and unassigned code points.
 MAX_LINE_TEXT = 200
 MAX_PARAGRAPH_TEXT = 4000
-_HIDDEN = ("Cc", "Cf", "Cs", "Co", "Cn", "Zl", "Zp")
 
 
 @dataclass(frozen=True)
@@ -170,7 +170,7 @@ def text_problem(text: str, paragraphs: bool = False) -> str | None:
         return f"is {len(text)} characters long, more than {limit}"
     allowed = "\n\t" if paragraphs else ""
     for k, char in enumerate(text):
-        if char not in allowed and unicodedata.category(char) in _HIDDEN:
+        if char not in allowed and unicodedata.category(char) in INVISIBLE:
             name = unicodedata.name(char, "a control character")
             allowed_text = ("printable text, tabs and line breaks" if paragraphs
                             else "one line of printable text")

@@ -1,4 +1,5 @@
-"""The command line contract (DESIGN.md) and its behaviour on bad input."""
+"""The command line contract (rps/README.md: one JSON object with ascending frequencies_hz;
+exit 2 and one line on bad input) and its behaviour on bad input."""
 from __future__ import annotations
 
 import argparse

@@ -27,7 +27,7 @@ def test_report_modules_stay_under_250_lines():
 
 def test_the_fem_takes_only_the_pose_geometry_from_the_analytical_model():
     """The referee shares the kinematics with the model it checks, never model code
-    (DESIGN.md: two models that check each other must not share physics code)."""
+    (two models that check each other must not share physics code: common/README.md)."""
     allowed = re.compile(r"from analytical\.kinematics import|import analytical\.kinematics")
     shared = re.compile(r"common\.plate|common import plate")
     found = [f"{path.relative_to(ROOT)}:{n}: {line.strip()}"
