@@ -64,6 +64,14 @@ def cache_dir(args: argparse.Namespace, stores: bool = True, need: int | None = 
     return path
 
 
+def zone_cache(args: argparse.Namespace, options):
+    """The model options whose solid end zones are kept under --cache (checked writable with
+    room first); options without solid joint ends store nothing and are returned as they are."""
+    if options.joint_ends != "solid":
+        return options
+    return replace(options, cache_dir=str(cache_dir(args)))
+
+
 def pose_case(scene, args):
     """The named case, its pose overridden by --height/--azimuth/--tilt (read in mm and deg,
     in SI here), and its geometry; an unreachable pose is refused naming what was typed."""

@@ -36,6 +36,20 @@ def test_timoshenko_and_mode_count_options():
     assert len(json.loads(proc.stdout)["frequencies_hz"]) == 9
 
 
+def test_analytical_keeps_its_solid_end_zones_under_the_cache_it_is_given(tmp_path):
+    cache = tmp_path / "cache"
+    proc = run("analytical", "--case", "case1", "--beam", "timoshenko", "--joint-ends", "solid",
+               "--cache", str(cache), "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert len(json.loads(proc.stdout)["frequencies_hz"]) == 6
+    assert sorted(p.suffix for p in (cache / "joint_ends").iterdir()) == [".json", ".npz"]
+    taken = tmp_path / "file"
+    taken.write_text("not a directory")
+    proc = run("analytical", "--case", "case1", "--joint-ends", "solid", "--cache", str(taken))
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1
+    assert "--cache" in proc.stderr
+
+
 def scene_with(tmp_path, old, new):
     text = PAPER_SCENE.read_text()
     assert old in text

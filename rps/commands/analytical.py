@@ -11,7 +11,17 @@ from analytical.params import BEAM_THEORIES, JOINT_ENDS, PLATFORM_INERTIAS, Mode
 from common.errors import InputError
 from scene import FidelitySettings
 
-from ..args import emit, load, named_first, pose_case, pose_payload, run_choice, scene_args
+from ..args import (
+    cache_option,
+    emit,
+    load,
+    named_first,
+    pose_case,
+    pose_payload,
+    run_choice,
+    scene_args,
+    zone_cache,
+)
 from ..options import declared_option, typed
 from .registry import Command
 
@@ -36,7 +46,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
     overrides = {k: getattr(args, k) for k in ("elements", "beam", "shear", "joint_ends",
                                                "end_zone", "platform_inertia", "modes")
                  if getattr(args, k) is not None}
-    opts = replace(opts, **overrides)
+    opts = zone_cache(args, replace(opts, **overrides))
     start = time.perf_counter()
     try:
         result = analyse(scene.manipulator, case.pose, opts)
@@ -84,6 +94,7 @@ def add_arguments(a: argparse.ArgumentParser) -> None:
                         "(default: the scene's)")
     declared_option(a, "--modes", FidelitySettings, "modes", metavar="N",
                     help="number of modes (default: the scene's)")
+    cache_option(a)
 
 
 def run(args: argparse.Namespace) -> int:

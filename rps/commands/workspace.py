@@ -7,11 +7,12 @@ import argparse
 import json
 import math
 import time
+from dataclasses import replace
 
 from common.errors import InputError
 from scene import FidelitySettings
 
-from ..args import load, scene_option, warn
+from ..args import cache_option, load, scene_option, warn, zone_cache
 from ..options import MAX_MAP_POSES, MapGrid, declared_option, typed
 from .registry import Command
 
@@ -23,6 +24,7 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
     from studies.workspace_map import workspace_map
 
     scene = load(args)
+    scene = replace(scene, analytical=zone_cache(args, scene.analytical))
     if args.minimum is not None:
         return {**_minimum(scene, args), "warnings": list(scene.warnings)}
     poses = args.layers * args.rings * args.azimuths
@@ -99,6 +101,7 @@ def add_arguments(w: argparse.ArgumentParser) -> None:
                     help="instead of the map: the least f_K over the whole reachable workspace "
                     "and its pose (coarse grid, then local searches; default: the map)")
     w.add_argument("--json", action="store_true", help="print one JSON object, exact values")
+    cache_option(w)
 
 
 def run(args: argparse.Namespace) -> int:
