@@ -1,20 +1,42 @@
-"""The house: rooms on floors, imports only downwards, no circles, no module too long to read.
+"""The house: rooms on floors, each importing only the rooms it declares, no circles, no module
+too long to read.
 
-FLOORS lists the project's packages from the bottom up (each room's README says the same). A
-module may import its own package and the floors below it, never a floor above: the report
-reads results, the run never imports the report, the FEM never imports the analytical model.
-The graph is read from the source (every import, at the top of a module or inside a function),
-so a lazy import cannot hide an arrow."""
+ROOMS is the one declaration: the project's packages from the bottom up, and for each the
+rooms it may import (always below it: the report reads results, the run never imports the
+report, the FEM never imports the analytical model). Each room's README quotes its own line
+("**May import:**", the project rooms it names before "Never"), and a test holds the two
+together. The graph is read from the source (every import, at the top of a module or inside a
+function), so a lazy import cannot hide an arrow."""
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-FLOORS = ("common", "meshing", "fem_reference", "verification", "joint_ends", "analytical",
-          "scene", "results", "runtime", "solvers", "studies", "pipeline", "reports", "rps")
+ROOMS: dict[str, frozenset[str]] = {
+    "common": frozenset(),
+    "meshing": frozenset({"common"}),
+    "fem_reference": frozenset({"common", "meshing"}),
+    "verification": frozenset({"common", "meshing", "fem_reference"}),
+    "joint_ends": frozenset({"common", "meshing", "fem_reference"}),
+    "analytical": frozenset({"common", "joint_ends"}),
+    "scene": frozenset({"common", "meshing", "fem_reference", "analytical"}),
+    "results": frozenset({"common"}),
+    "runtime": frozenset({"common"}),
+    "solvers": frozenset({"common", "meshing", "fem_reference", "analytical", "scene",
+                          "results", "runtime"}),
+    "studies": frozenset({"common", "verification", "fem_reference", "analytical", "scene",
+                          "results", "runtime", "solvers"}),
+    "pipeline": frozenset({"common", "meshing", "fem_reference", "analytical", "scene",
+                           "results", "runtime", "solvers", "studies"}),
+    "reports": frozenset({"common", "results", "runtime"}),
+    "rps": frozenset({"common", "meshing", "fem_reference", "analytical", "scene", "results",
+                      "runtime", "solvers", "studies", "pipeline", "reports"}),
+}
+FLOORS = tuple(ROOMS)
 MAX_LINES = 450
 
 
@@ -61,10 +83,53 @@ def test_every_package_is_on_a_floor():
     assert packages == set(FLOORS), packages ^ set(FLOORS)
 
 
+def test_every_room_is_allowed_only_rooms_below_it():
+    up = sorted(f"{room} -> {other}" for room, allowed in ROOMS.items() for other in allowed
+                if other not in ROOMS or floor(other) >= floor(room))
+    assert not up, up
+
+
 def test_imports_only_go_down(graph):
     up = sorted(f"{m} -> {t}" for m, targets in graph.items() for t in targets
                 if floor(t) > floor(m))
     assert not up, up
+
+
+def arrows_outside_the_rules(graph: dict[str, set[str]], rooms: dict) -> list[str]:
+    """Every import from one room into another that the importing room does not declare."""
+    return sorted(f"{m} -> {t}" for m, targets in graph.items() for t in targets
+                  if t.split(".")[0] != m.split(".")[0]
+                  and t.split(".")[0] not in rooms[m.split(".")[0]])
+
+
+def test_every_room_imports_only_the_rooms_it_declares(graph):
+    assert not arrows_outside_the_rules(graph, ROOMS), arrows_outside_the_rules(graph, ROOMS)
+
+
+def test_an_undeclared_arrow_would_be_found():
+    """Not vacuous: reports importing the analytical model is below it, and still refused."""
+    graph = {"reports.page": {"analytical.model", "results.schema"}}
+    assert arrows_outside_the_rules(graph, ROOMS) == ["reports.page -> analytical.model"]
+
+
+def quoted_rooms(readme: str) -> set[str]:
+    """The project rooms a README's "**May import:**" paragraph names (in backticks) before
+    its "Never"."""
+    text = readme.split("**May import:**", 1)[1].split("\n\n", 1)[0]
+    allowed = re.split(r"\bnever\b", text, maxsplit=1, flags=re.IGNORECASE)[0]
+    return {name.split(".")[0] for name in re.findall(r"`([A-Za-z_][\w.]*)`", allowed)
+            if name.split(".")[0] in ROOMS}
+
+
+def test_every_readme_quotes_its_rooms_rule():
+    wrong = {}
+    for room, allowed in ROOMS.items():
+        text = (ROOT / room / "README.md").read_text(encoding="utf-8")
+        if "**May import:**" not in text:
+            wrong[room] = "no **May import:** paragraph"
+        elif quoted_rooms(text) != set(allowed):
+            wrong[room] = f"README names {sorted(quoted_rooms(text))}, declared {sorted(allowed)}"
+    assert not wrong, wrong
 
 
 def circles(graph: dict[str, set[str]]) -> list[list[str]]:
