@@ -48,7 +48,8 @@ def cache_option(p: argparse.ArgumentParser) -> None:
     except RuntimeError:  # without the [fem] extra there is nothing to cache
         where = "the user cache directory"
     p.add_argument("--cache", metavar="DIR", type=path_argument,
-                   help=f"result and mesh cache (default: {where}; the checkout's .cache/ "
+                   help=f"cache of FEM results, meshes and solid end zones (default: {where}; "
+                        "the checkout's .cache/ "
                         "when run from the repository)")
 
 
