@@ -39,6 +39,7 @@ from .modal import ModalError
 from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
 from .pose_batch import PoseBatch
+from .solid_legs import part_blocks
 from .substructure import (
     LegLayout,
     SingularJointMap,
@@ -175,6 +176,7 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
     arms = poses.platform_points - poses.platform_centre[:, None, :]
     parts = leg_segments(manipulator, options, zone_for(manipulator, options),
                          poses.leg_lengths.T)  # (s, 2, 3, N, 12, 12), Eq. (4)
+    solid = part_blocks(manipulator, options, poses.leg_lengths.T)  # legs = "solid"
     maps = []
     for i, (basis, per_element) in enumerate(plan.legs):
         try:
@@ -190,6 +192,14 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
             reduced = np.swapaxes(rows, 1, 2) @ parts[e, :, i] @ rows  # (2, N, c_e, c_e)
             for to_rows, a in runs:
                 for to_cols, b in runs:
+                    matrices[:, :, to_rows, to_cols] += reduced[:, :, a, b]
+        for first, block in solid:  # legs = "solid": whole parts, (2, 3, N, d, d)
+            span = slice(6 * first, 6 * first + block.shape[-1])
+            columns = basis.touched(span)
+            rows = local[:, span][:, :, columns]
+            reduced = np.swapaxes(rows, 1, 2) @ block[:, i] @ rows
+            for to_rows, a in _runs(basis.columns[columns]):
+                for to_cols, b in _runs(basis.columns[columns]):
                     matrices[:, :, to_rows, to_cols] += reduced[:, :, a, b]
         maps.append((basis.columns, t))
         joints = (Joint.at(poses.base_joint, np.zeros(3), np.zeros(3), "base"),

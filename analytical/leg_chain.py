@@ -32,7 +32,9 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class LegChain:
     """The pose-independent layout of every leg's chain: its segments, in order from B_i,
-    each ("element", part index), ("zone", part index, "start" | "end") or ("drive",)."""
+    each ("element", part index), ("zone", part index, "start" | "end"), ("drive",) or, with
+    `legs = "solid"`, ("solid", part index): one station interval of a condensed part, whose
+    matrices come whole from `solid_legs.part_blocks`."""
 
     kinds: tuple[tuple, ...]
 
@@ -51,7 +53,8 @@ class LegChain:
 
 def leg_chain(manipulator: Manipulator, options: ModelOptions) -> LegChain:
     """The segments of every leg of this machine with these options (the module doc)."""
-    solid = options.joint_ends == "solid"
+    solid = options.joint_ends == "solid" and options.legs == "beam"
+    element = "solid" if options.legs == "solid" else "element"
     drive = manipulator.stiffness.actuator_axial > 0.0
     parts = 2 if manipulator.leg.stepped else 1
     kinds: list[tuple] = []
@@ -62,7 +65,7 @@ def leg_chain(manipulator: Manipulator, options: ModelOptions) -> LegChain:
             kinds.append(("drive",))
         if solid:
             kinds.append(("zone", p, "start"))
-        kinds.extend(("element", p) for _ in range(options.elements))
+        kinds.extend((element, p) for _ in range(options.elements))
         if solid:
             kinds.append(("zone", p, "end"))
     return LegChain(tuple(kinds))
@@ -73,7 +76,7 @@ def segments(manipulator: Manipulator, options: ModelOptions) -> int:
     return leg_chain(manipulator, options).segments
 
 
-def _part_bounds(manipulator: Manipulator, lengths: np.ndarray) -> list[tuple]:
+def part_bounds(manipulator: Manipulator, lengths: np.ndarray) -> list[tuple]:
     """(start, end, LegPart at the base-end unit scale) of every part, arrays over lengths."""
     leg = manipulator.leg
     if not leg.stepped:
@@ -106,7 +109,7 @@ def leg_stations(manipulator: Manipulator, options: ModelOptions, zones, lengths
         inner = lz + np.linspace(0.0, 1.0, s + 1) * (1.0 - 2.0 * lz)
         return np.concatenate([np.zeros(lengths.shape + (1,)), inner,
                                np.ones(lengths.shape + (1,))], axis=-1)
-    bounds = _part_bounds(manipulator, lengths)
+    bounds = part_bounds(manipulator, lengths)
     positions = [np.zeros_like(lengths)]
     counters = [0] * len(bounds)
     for kind in chain.kinds:
@@ -135,7 +138,7 @@ def leg_segments(manipulator: Manipulator, options: ModelOptions,
     chain = leg_chain(manipulator, options)
     s = options.elements
     elements, zone_blocks = [], []
-    for start, end, part in _part_bounds(manipulator, lengths):
+    for start, end, part in part_bounds(manipulator, lengths):
         lz = _zone_length(options, zones, part)
         middle = end - start - 2.0 * lz
         if zones is not None and np.any(middle < MIN_MIDDLE * part.outer):
@@ -157,6 +160,8 @@ def leg_segments(manipulator: Manipulator, options: ModelOptions,
     for kind in chain.kinds:
         if kind[0] == "element":
             out.append(elements[kind[1]])
+        elif kind[0] == "solid":  # the part's block carries it (solid_legs.part_blocks)
+            out.append(np.zeros(shape))
         elif kind[0] == "zone":
             out.append(np.stack([np.broadcast_to(a, shape[1:])
                                  for a in zone_blocks[kind[1]][kind[2]]]))

@@ -32,6 +32,7 @@ PLATFORM_INERTIAS = ("plate", "paper-eq8")
 PLATFORM_SHAPES = ("disk", "triangle")
 R_JOINT_COORDINATES = ("axis", "paper-eq18")
 JOINT_ENDS = ("beam", "solid")
+LEG_MODELS = ("beam", "solid")
 MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
 
 # Plausible materials and proportions (checked at load, `check_manipulator`).
@@ -236,6 +237,11 @@ class ModelOptions:
                                   "coupling)")
     end_zone: float = setting(0.5, minimum=0.1, maximum=3.0,
                               doc="length of each solid end zone, in leg diameters")
+    legs: str = setting("beam", kind=str, choices=LEG_MODELS,
+                        doc="the legs' parts: frame elements (beam, shear and joint_ends "
+                        "apply), or each part condensed from its solid of revolution onto its "
+                        "s + 1 section nodes (solid: the FEM's own leg, slower; beam, shear and "
+                        "joint_ends do not apply)")
     # Not a setting (no scene key) and not part of what the model is: the cache directory
     # whose joint_ends/ holds the condensed solid end zones (None: the default one,
     # common.locations.cache_root). The run sets it from --cache, and it travels with the
@@ -245,8 +251,10 @@ class ModelOptions:
 
     def __post_init__(self) -> None:
         check_settings(self)
-
-
+        if self.legs == "solid" and self.joint_ends == "solid":
+            raise InputError("analytical.legs = 'solid' with analytical.joint_ends = 'solid': "
+                             "a solid leg's faces are its own, it has no end zones (set "
+                             "joint_ends = 'beam')")
 
 
 def _named(cls, name: str, value: float) -> str:

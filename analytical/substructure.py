@@ -48,6 +48,7 @@ from .kinematics import PoseGeometry
 from .leg_chain import leg_chain, leg_segments, leg_stations
 from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
+from .solid_legs import part_blocks
 
 
 class SingularJointMap(InputError):
@@ -273,7 +274,8 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
     """Reduced stiffness K and mass M of the whole manipulator in one pose (Eqs. 4-22).
 
     Every leg is its chain of segments (`leg_chain`: frame elements of each part, solid end
-    zones at the coupled faces with solid joint ends, the drive's node); the joints act on the
+    zones at the coupled faces with solid joint ends, the drive's node; with solid legs each
+    part whole, `solid_legs`); the joints act on the
     chain's end nodes exactly as on a beam's end nodes; the joint and drive springs add their
     energy on their coordinates (`spring_stiffness`).
     """
@@ -291,6 +293,7 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
     lengths = np.asarray(geometry.leg_lengths, float)
     stations = leg_stations(manipulator, options, zones, lengths)
     parts = leg_segments(manipulator, options, zones, lengths)  # (n, 2, 3, 12, 12), Eq. (4)
+    solid = part_blocks(manipulator, options, lengths)  # legs = "solid": whole parts
     for i in range(geometry.leg_count):
         k_local = np.zeros((6 * (n + 1), 6 * (n + 1)))
         m_local = np.zeros_like(k_local)
@@ -298,6 +301,10 @@ def assemble(manipulator: Manipulator, geometry: PoseGeometry,
             sl = slice(6 * e, 6 * e + 12)
             k_local[sl, sl] += parts[e, 0, i]
             m_local[sl, sl] += parts[e, 1, i]
+        for first, whole in solid:
+            sl = slice(6 * first, 6 * first + whole.shape[-1])
+            k_local[sl, sl] += whole[0, i]
+            m_local[sl, sl] += whole[1, i]
         arm = geometry.platform_points[i] - geometry.platform_centre
         joints = geometry.leg_joints(i)
         t = _leg_map(layout, i, joints, arm, options.r_joint_coordinate,

@@ -20,7 +20,7 @@ from common.rigid_body import skew
 
 from .constraints import ConstraintBuilder
 from .leg_points import LegPoints, needs_phi, tie_distributing, tie_rigid_map
-from .meridian import LegHarmonics, families
+from .meridian import Meridian, families
 
 
 def rigid_face_coefficients(n: int, family: str, rho: np.ndarray) -> np.ndarray:
@@ -42,7 +42,7 @@ def rigid_face_coefficients(n: int, family: str, rho: np.ndarray) -> np.ndarray:
     return h
 
 
-def section_constants(leg: LegHarmonics) -> tuple[float, float, float]:
+def section_constants(leg: Meridian) -> tuple[float, float, float]:
     """(A, I_xx, I_zz) of the part's section: a circle, or an annulus of a tube."""
     r, ri = leg.radius, leg.inner
     if not ri:
@@ -51,7 +51,7 @@ def section_constants(leg: LegHarmonics) -> tuple[float, float, float]:
             math.pi * (r**4 - ri**4) / 2)
 
 
-def face_projection_coefficients(leg: LegHarmonics, face: int, n: int, family: str
+def face_projection_coefficients(leg: Meridian, face: int, n: int, family: str
                                  ) -> np.ndarray:
     """(6, len(face nodes), 3): the L2 projection of the face's displacement onto rigid
     motions about its centre, a = G^-1 int Phi^T u dA (constraints.face_projection), read from

@@ -56,24 +56,39 @@ def part_size(size: float, radius: float, inner: float = 0.0) -> float:
 # ---------------------------------------------------------------- meridian mesh (gmsh, 2D)
 
 @functools.lru_cache(maxsize=64)
-def meridian_mesh(radius: float, length: float, size: float, inner: float = 0.0) -> MeshTri:
+def meridian_mesh(radius: float, length: float, size: float, inner: float = 0.0,
+                  sections: tuple = ()) -> MeshTri:
     """Linear triangles of the rectangle [r_in, R] x [0, L] (x = r, y = z), graded toward the
     rim corners (R, 0) and (R, L) (and (r_in, 0), (r_in, L) of a tube: every end face of a
     part is coupled); the P2 basis adds the mid-edge nodes (straight edges: the geometry is
-    exact). `size` is the part's (`part_size`). Read-only, remembered per process."""
+    exact). `sections`: interior heights 0 < z < L where the mesh has a line of nodes across
+    the wall (the stations of a condensed part, `joint_ends.leg_part`). `size` is the part's
+    (`part_size`). Read-only, remembered per process."""
     h = float(size)
     h_min = h * CORNER_FACTOR
     zone = CORNER_ZONE * (radius - inner)
+    heights = [0.0, *sorted(float(z) for z in sections), float(length)]
     try:
         with gmsh_session({"Mesh.ElementOrder": 1, "Mesh.MeshSizeMax": h,
                            "Mesh.MeshSizeMin": h_min}) as gmsh:
             model = gmsh.model
             model.add("meridian")
             geo = model.geo
-            corners = [geo.addPoint(inner, 0, 0), geo.addPoint(radius, 0, 0),
-                       geo.addPoint(radius, length, 0), geo.addPoint(inner, length, 0)]
-            lines = [geo.addLine(corners[k], corners[(k + 1) % 4]) for k in range(4)]
-            geo.addPlaneSurface([geo.addCurveLoop(lines)])
+            if not sections:  # one rectangle (the FEM's legs: the same mesh as always)
+                corners = [geo.addPoint(inner, 0, 0), geo.addPoint(radius, 0, 0),
+                           geo.addPoint(radius, length, 0), geo.addPoint(inner, length, 0)]
+                lines = [geo.addLine(corners[k], corners[(k + 1) % 4]) for k in range(4)]
+                geo.addPlaneSurface([geo.addCurveLoop(lines)])
+            else:  # rectangles stacked on the section lines
+                inside = [geo.addPoint(inner, z, 0) for z in heights]
+                outside = [geo.addPoint(radius, z, 0) for z in heights]
+                across = [geo.addLine(a, b) for a, b in zip(inside, outside)]
+                for k in range(len(heights) - 1):
+                    up_out = geo.addLine(outside[k], outside[k + 1])
+                    up_in = geo.addLine(inside[k + 1], inside[k])
+                    geo.addPlaneSurface([geo.addCurveLoop([across[k], up_out, -across[k + 1],
+                                                           up_in])])
+                corners = [inside[0], outside[0], outside[-1], inside[-1]]
             geo.synchronize()
             dist = model.mesh.field.add("Distance")
             rims = corners if inner > 0 else [corners[1], corners[2]]
@@ -102,6 +117,8 @@ def meridian_mesh(radius: float, length: float, size: float, inner: float = 0.0)
         scale = hi - lo
         p[np.abs(p[:, col] - lo) <= 1e-12 * scale, col] = lo
         p[np.abs(p[:, col] - hi) <= 1e-12 * scale, col] = hi
+    for z in heights[1:-1]:
+        p[np.abs(p[:, 1] - z) <= 1e-12 * length, 1] = z
     # counter-clockwise triangles
     a, b, c = (p[tri[:, k]] for k in range(3))
     cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
@@ -146,16 +163,22 @@ class LegHarmonics(Meridian):
 
 
 @functools.lru_cache(maxsize=64)
-def meridian(radius: float, length: float, size: float, inner: float = 0.0) -> Meridian:
-    """The part's meridian (read-only, remembered per process: same part, same mesh)."""
-    mesh = meridian_mesh(radius, length, size, inner) if inner else meridian_mesh(
-        radius, length, size)
+def meridian(radius: float, length: float, size: float, inner: float = 0.0,
+             sections: tuple = ()) -> Meridian:
+    """The part's meridian (read-only, remembered per process: same part, same mesh). With
+    interior `sections` (heights, `meridian_mesh`), `face_nodes` and `face_weights` hold every
+    line across the wall in z order: the face at z = 0, the sections, the face at z = L."""
+    if sections:
+        mesh = meridian_mesh(radius, length, size, inner, tuple(sections))
+    else:
+        mesh = meridian_mesh(radius, length, size, inner) if inner else meridian_mesh(
+            radius, length, size)
     basis = Basis(mesh, ElementTriP2(), intorder=6)
     locs = basis.doflocs.T  # (n_s, 2)
     axis = (np.flatnonzero(locs[:, 0] <= AXIS_TOL * radius) if not inner
             else np.zeros(0, np.int64))
     faces, weights = [], []
-    for z0 in (0.0, length):
+    for z0 in (0.0, *sorted(sections), length):
         facets = mesh.facets_satisfying(lambda x, z0=z0: np.abs(x[1] - z0) <= FACE_TOL * length)
         fb = FacetBasis(mesh, ElementTriP2(), facets=facets, intorder=6)
         on = np.flatnonzero(np.abs(locs[:, 1] - z0) <= FACE_TOL * length)

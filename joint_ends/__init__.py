@@ -13,10 +13,11 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+from .leg_part import PartMesh, PartModel
 from .superelement import EndZone
 from .zone import COUPLINGS, ZoneMesh
 
-__all__ = ["COUPLINGS", "EndZone", "ZoneMesh", "end_zone"]
+__all__ = ["COUPLINGS", "EndZone", "PartMesh", "PartModel", "ZoneMesh", "end_zone", "leg_part"]
 
 
 def end_zone(diameter: float, length: float, youngs_modulus: float, shear_modulus: float,
@@ -41,3 +42,26 @@ def _memo(diameter, length, youngs_modulus, shear_modulus, density, coupling, me
     model.stiffness.setflags(write=False)
     model.mass.setflags(write=False)
     return EndZone(model.length, model.stiffness, model.mass)
+
+
+def leg_part(outer: float, inner: float, length: float, stations: int, youngs_modulus: float,
+             shear_modulus: float, density: float, couplings: tuple[str, str],
+             mesh: PartMesh = PartMesh()) -> PartModel:
+    """A whole leg part condensed onto `stations` + 1 section nodes (`leg_part.build_part`),
+    remembered in this process (a part of fixed length is built once; a rod is built for each
+    leg length it takes). SI units; `inner` 0 for a solid part."""
+    return _part_memo(float(outer), float(inner), round(float(length), 12), int(stations),
+                      float(youngs_modulus), float(shear_modulus), float(density),
+                      tuple(couplings), mesh)
+
+
+@lru_cache(maxsize=64)
+def _part_memo(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
+               couplings, mesh):
+    from .leg_part import build_part
+
+    model = build_part(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
+                       couplings, mesh)
+    model.stiffness.setflags(write=False)
+    model.mass.setflags(write=False)
+    return model

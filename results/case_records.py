@@ -150,6 +150,7 @@ class AnalyticalRecord(TypedDict):
     beam: str
     shear: str  # Timoshenko shear coefficient: cowper | hutchinson
     joint_ends: str  # beam | solid (end zones condensed from a solid, joint_ends/)
+    legs: str  # beam | solid (every part condensed whole, joint_ends/leg_part.py)
     platform_inertia: str
     frequencies_hz: Hz
     timings: dict[str, FiniteFloat]  # seconds; "total": one pose

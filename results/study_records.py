@@ -294,6 +294,7 @@ class AnalyticalChoice(TypedDict):
     beam: str
     shear: str
     joint_ends: str
+    legs: str  # beam | solid
     elements: int
     platform_inertia: str
     setting: str  # label of the chosen candidate

@@ -14,7 +14,7 @@ from pydantic import AfterValidator, ConfigDict, Field, FiniteFloat
 
 from common.paths import name_problem
 
-SCHEMA_VERSION = 12
+SCHEMA_VERSION = 13
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
 # No structural mode of a machine the scene ranges admit comes near 1 GHz; a larger value in
 # a results file is a doctored or corrupted one (1e308 Hz), never a result.

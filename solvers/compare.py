@@ -78,7 +78,8 @@ def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
         0.5 * scene.manipulator.leg_diameter)
     record = results.AnalyticalRecord(
         elements=options.elements, beam=options.beam, shear=options.shear,
-        joint_ends=options.joint_ends, platform_inertia=options.platform_inertia,
+        joint_ends=options.joint_ends, legs=options.legs,
+        platform_inertia=options.platform_inertia,
         frequencies_hz=[float(f) for f in res.frequencies_hz],
         timings={"total": seconds}, dofs=int(res.model.stiffness.shape[0]),
         platform_motion=platform_motion(res.model, res.modal.shapes).tolist())

@@ -10,16 +10,32 @@ from scene import Scene
 
 
 def _setting(base: ModelOptions, beam: str, elements: int, shear: str = "cowper",
-             joint_ends: str = "beam", platform_inertia: str = "plate") -> ModelOptions:
+             joint_ends: str = "beam", platform_inertia: str = "plate",
+             legs: str = "beam") -> ModelOptions:
     """The scene's analytical options with one compared setting in place."""
     return replace(base, beam=beam, elements=elements, shear=shear, joint_ends=joint_ends,
-                   platform_inertia=platform_inertia)
+                   platform_inertia=platform_inertia, legs=legs)
+
+
+SOLID_LEG_ELEMENTS = 8  # stations per part of the solid-legs setting (joint_ends/README.md)
+SOLID_LEGS = f"Solid legs, s={SOLID_LEG_ELEMENTS}"
+
+
+def _solid_legs(scene: Scene) -> dict[str, ModelOptions]:
+    """The solid-legs setting where a scene needs it: legs of a housing and a rod, short thick
+    tubes no beam represents to 0.1 % (docs/legs.md); a uniform solid leg's beam models are
+    within 0.05 % already, and the solid legs would only cost time there."""
+    if not scene.manipulator.leg.stepped:
+        return {}
+    return {SOLID_LEGS: _setting(scene.analytical, "timoshenko", SOLID_LEG_ELEMENTS,
+                                 legs="solid")}
 
 
 def model_variants(scene: Scene) -> dict[str, ModelOptions]:
     """The analytical settings compared throughout: the paper's and ours. Every Timoshenko
     label names its shear coefficient (analytical.beam: Cowper's or Hutchinson's); "solid
-    ends" are the condensed solid end zones at the joints (analytical.end_zones)."""
+    ends" are the condensed solid end zones at the joints (analytical.end_zones); "solid
+    legs", on a housing and a rod, every part condensed whole (analytical.solid_legs)."""
     base = scene.analytical
     eb, timo = "euler-bernoulli", "timoshenko"
     return {
@@ -30,7 +46,7 @@ def model_variants(scene: Scene) -> dict[str, ModelOptions]:
         "Timoshenko (Cowper), s=10, plate inertia": _setting(base, timo, 10),
         "Timoshenko (Hutchinson), s=5, solid ends, plate inertia": _setting(
             base, timo, 5, "hutchinson", joint_ends="solid"),
-    }
+    } | _solid_legs(scene)
 
 
 SOLID_END_ELEMENTS = (1, 2, 3, 4, 5)  # s of the beam middle between two solid end zones
@@ -38,8 +54,8 @@ SOLID_END_ELEMENTS = (1, 2, 3, 4, 5)  # s of the beam middle between two solid e
 
 def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
     """Every analytical setting whose time and error the speed-vs-error plot shows: beam
-    theories (with their shear coefficient) at s = 1..10, and Timoshenko (Hutchinson) middles
-    between solid end zones."""
+    theories (with their shear coefficient) at s = 1..10, Timoshenko (Hutchinson) middles
+    between solid end zones, and on a housing and a rod the solid legs."""
     base, out = scene.analytical, {}
     for beam, shear, tag in (("euler-bernoulli", "cowper", "EB"),
                              ("timoshenko", "cowper", "Timoshenko (Cowper)"),
@@ -49,4 +65,4 @@ def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
     for s in SOLID_END_ELEMENTS:
         out[f"Timoshenko (Hutchinson) + solid ends, s={s}"] = _setting(
             base, "timoshenko", s, "hutchinson", joint_ends="solid")
-    return out
+    return out | _solid_legs(scene)

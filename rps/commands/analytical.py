@@ -7,7 +7,13 @@ import time
 from dataclasses import replace
 
 from analytical.beam import SHEAR_COEFFICIENTS
-from analytical.params import BEAM_THEORIES, JOINT_ENDS, PLATFORM_INERTIAS, ModelOptions
+from analytical.params import (
+    BEAM_THEORIES,
+    JOINT_ENDS,
+    LEG_MODELS,
+    PLATFORM_INERTIAS,
+    ModelOptions,
+)
 from common.errors import InputError
 from scene import FidelitySettings
 
@@ -25,7 +31,7 @@ from ..args import (
 from ..options import declared_option, typed
 from .registry import Command
 
-CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "elements", "platform_inertia")
+CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "legs", "elements", "platform_inertia")
 
 
 def cmd_analytical(args: argparse.Namespace) -> dict:
@@ -44,8 +50,10 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
                   "the scene's defaults, not the model a validated run chooses (that one: "
                   "--from-results out/results.json)")
     overrides = {k: getattr(args, k) for k in ("elements", "beam", "shear", "joint_ends",
-                                               "end_zone", "platform_inertia", "modes")
+                                               "legs", "end_zone", "platform_inertia", "modes")
                  if getattr(args, k) is not None}
+    if args.legs == "solid" and args.joint_ends is None:  # solid legs have no end zones
+        overrides["joint_ends"] = "beam"
     opts = zone_cache(args, replace(opts, **overrides))
     start = time.perf_counter()
     try:
@@ -66,6 +74,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
         "beam": opts.beam,
         "shear": opts.shear,
         "joint_ends": opts.joint_ends,
+        "legs": opts.legs,
         "platform_inertia": opts.platform_inertia,
         **({"end_zone_diameters": opts.end_zone} if opts.joint_ends == "solid" else {}),
         "frequencies_hz": [float(x) for x in result.frequencies_hz],
@@ -86,6 +95,10 @@ def add_arguments(a: argparse.ArgumentParser) -> None:
     a.add_argument("--joint-ends", choices=JOINT_ENDS,
                    help="leg ends: beam elements to the joint centre, or condensed solid end "
                    "zones (default: the scene's)")
+    a.add_argument("--legs", choices=LEG_MODELS,
+                   help="the legs' parts: frame elements, or each part condensed whole from its "
+                   "solid (slower; --beam, --shear and --joint-ends do not apply) (default: the "
+                   "scene's)")
     declared_option(a, "--end-zone", ModelOptions, "end_zone", metavar="D",
                     help="length of each solid end zone, in leg diameters (default: the "
                     "scene's)")

@@ -1,0 +1,225 @@
+"""A whole leg part condensed from its solid of revolution onto section nodes (`legs = "solid"`).
+
+A part (a uniform leg, a housing or a rod: a solid or hollow circular cylinder of length L) is
+meshed on its meridian and solved in Fourier harmonics in the polar angle, as the FEM
+reference's harmonic legs are (`fem_reference.meridian`: P2 triangles graded toward the coupled
+rims, K_n and M per harmonic). A rigid motion of a section is harmonics 0 and 1 only, and so is
+every coupling below, so harmonics n >= 2 meet no master and the condensation is exact with
+n = 0 and n = 1 (cos and sin) alone: no mesh in the polar angle, no averaging over turns.
+
+The masters are s + 1 section nodes at x_k = k L / s (x along the axis from the part's first
+face), each with a translation and a rotation in the part's frame (x along the axis, y and z
+across, as a frame element's):
+
+- the two end faces (k = 0 and k = s) are tied to their node as the FEM ties a coupled face
+  (`couplings`): "rigid", every face node follows the node rigidly (harmonics 0 and 1 of the
+  face, `fem_reference.harmonic_faces.rigid_face_coefficients`; n >= 2 held); "distributing",
+  the node is the face's L2 rigid-motion projection;
+- every interior station is a section of the continuing solid, its node the section's L2
+  rigid-motion projection (the definition of a section's motion both models use): the solid
+  runs through it untouched, only its mean rigid motion is named.
+
+Static condensation (Guyan) onto the 6 (s + 1) masters: the constraint modes minimise the
+strain energy for each unit master motion (one saddle-point solve with the couplings and the
+projections as constraints, `zone.condense`), K = Psi^T K Psi and M = Psi^T M Psi. The part's
+inertia between stations is carried by the static shapes, so the model converges from above as
+s grows (measured in joint_ends/README.md, "Solid legs").
+
+Why a whole part and not a beam with end zones: on a short thick tube (a 110/80 mm housing
+3-5 diameters long) no beam with any end springs reproduces the solid under a distributed
+(inertial) load; the measurements are in docs/legs.md.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from common.errors import InputError
+from common.joints import COUPLINGS
+from common.settings import check_settings, setting
+
+# the harmonic frame (x, y across, z along the axis) from the part's frame (x along the axis):
+# h = (l_y, l_z, l_x), a proper rotation, so translations and rotations map alike
+_TO_HARMONIC = np.kron(np.eye(2), np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]))
+_FAMILIES = ((0, "c"), (1, "c"), (1, "s"))
+
+
+@dataclass(frozen=True)
+class PartMesh:
+    """How finely a condensed leg part's meridian is meshed (chosen by the convergence study in
+    joint_ends/README.md, "Solid legs")."""
+
+    size: float = setting(1.0, doc="meridian element size, in outer radii of the part (a "
+                          "tube's wall always gets at least two P2 elements across: "
+                          "fem_reference.meridian.part_size)", minimum=0.0,
+                          exclusive_minimum=True, maximum=2.0)
+
+    def __post_init__(self):
+        check_settings(self)
+
+
+@dataclass(frozen=True)
+class PartModel:
+    """The condensed part in its frame: nodes k = 0..s at x_k = k L / s, each (t, theta)."""
+
+    stiffness: np.ndarray  # (6 (s + 1), 6 (s + 1)), SI
+    mass: np.ndarray  # (6 (s + 1), 6 (s + 1))
+    length: float  # L, m
+    raw_dofs: int  # dofs of the harmonic solid (harmonics 0, 1c, 1s)
+
+
+def build_part(outer: float, inner: float, length: float, stations: int,
+               youngs_modulus: float, shear_modulus: float, density: float,
+               couplings: tuple[str, str], mesh: PartMesh = PartMesh()) -> PartModel:
+    """Mesh, assemble and condense one leg part onto `stations` + 1 section nodes (module
+    doc). SI units; `inner` 0 for a solid part; `couplings` ties the face at x = 0 and the one
+    at x = L."""
+    from fem_reference.meridian import (
+        harmonic_stiffness,
+        meridian,
+        part_size,
+        unit_mass,
+    )
+
+    for name, value in zip(("first face", "last face"), couplings):
+        if value not in COUPLINGS:
+            raise InputError(f"{name} coupling = {value!r}: expected one of "
+                             f"{', '.join(COUPLINGS)}")
+    if not (stations >= 1 and length > 0.0 and outer > inner >= 0.0):
+        raise InputError(f"leg part of {outer * 1e3:g}/{inner * 1e3:g} mm, {length * 1e3:g} mm "
+                         f"long, {stations} stations: not a part")
+    radius, bore = outer / 2.0, inner / 2.0
+    nu = youngs_modulus / (2.0 * shear_modulus) - 1.0
+    lam = youngs_modulus * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    h = part_size(mesh.size * radius, radius, bore)
+    sections = tuple(float(length) * k / stations for k in range(1, stations))
+    extra = (bore,) if bore else ()
+    part = meridian(radius, float(length), h, bore, sections) if sections else meridian(
+        radius, float(length), h, *extra)
+    blocks = {n: harmonic_stiffness(radius, float(length), h, lam, shear_modulus, n, *extra)
+              for n in (0, 1)} if not sections else _stiffness(part, lam, shear_modulus)
+    unit = unit_mass(radius, float(length), h, *extra) if not sections else _mass(part)
+    k = sp.block_diag([blocks[0], blocks[1], blocks[1]], format="csr")
+    m = density * sp.block_diag([2.0 * unit, unit, unit], format="csr")
+    constraints, masters = _constraints(part, couplings, stations)
+    n = k.shape[0]
+    # condense() takes B x = a with one row per master; here the rows are many (a rigid face
+    # ties each of its nodes), so the masters ride on extra unknowns appended to x and held
+    # by selector rows: x = [u, a], B = [[C_u, -C_a], [0, I]]
+    nm = 6 * (stations + 1)
+    k_x = sp.block_diag([k, sp.csr_matrix((nm, nm))], format="csr")
+    m_x = sp.block_diag([m, sp.csr_matrix((nm, nm))], format="csr")
+    coupled = sp.hstack([constraints, -masters], format="csr")
+    rows = constraints.shape[0]
+    full = sp.vstack([coupled, sp.hstack([sp.csr_matrix((nm, n)), sp.identity(nm)])],
+                     format="csr")
+    k_red, m_red = _condense_rows(k_x, m_x, full, rows, nm)
+    return PartModel(k_red, m_red, float(length), n)
+
+
+def _stiffness(part, lam: float, mu: float) -> dict:
+    from fem_reference.meridian import meridian_stiffness
+
+    return {n: meridian_stiffness(part.basis, lam, mu, n) for n in (0, 1)}
+
+
+def _mass(part):
+    from fem_reference.meridian import meridian_mass
+
+    return meridian_mass(part.basis)
+
+
+def _condense_rows(k, m, b, zero_rows: int, nm: int):
+    """Guyan constraint modes of B x = [0; a] (the first `zero_rows` rows homogeneous, the
+    last nm select the masters), through `zone.condense`'s saddle-point solve."""
+    import scipy.sparse.linalg as sla
+
+    n, c = k.shape[0], b.shape[0]
+    # the constraint rows scaled to the stiffness (the multipliers' units): the saddle point
+    # is then well balanced and the rigid-body modes come out to round-off, not to 1e-6
+    scale = float(np.median(np.abs(k.diagonal()[k.diagonal() != 0.0])))
+    saddle = sp.bmat([[k, scale * b.T], [scale * b, None]], format="csc")
+    rhs = np.zeros((n + c, nm))
+    rhs[n + zero_rows:] = scale * np.eye(nm)
+    psi = sla.splu(saddle).solve(rhs)[:n]
+    k_red = psi.T @ (k @ psi)
+    m_red = psi.T @ (m @ psi)
+    return 0.5 * (k_red + k_red.T), 0.5 * (m_red + m_red.T)
+
+
+def _constraints(part, couplings, stations: int):
+    """(C_u, C_a): C_u u = C_a a for every tie of the part (module doc) and the regularity of
+    harmonics 0 and 1 on the axis of a solid part; u in blocks (0c, 1c, 1s) of 3 n_s dofs,
+    a the 6 (s + 1) masters in the part's frame."""
+    from fem_reference.harmonic_faces import (
+        face_projection_coefficients,
+        rigid_face_coefficients,
+    )
+
+    n3 = 3 * part.n_scalar
+    base = {family: j * n3 for j, family in enumerate(_FAMILIES)}
+    rows_u: list[tuple] = []  # (row, column, value) of C_u
+    rows_a: list[tuple] = []  # (row, master, value) of C_a
+    count = 0
+    rigid_nodes = []
+    for station in range(stations + 1):
+        nodes = part.face_nodes[station]
+        how = (couplings[0] if station == 0 else couplings[1] if station == stations
+               else "distributing")
+        masters = 6 * station + np.arange(6)
+        if how == "rigid":
+            rigid_nodes.append(nodes)
+            rho = part.node_rz[nodes, 0]
+            for family in _FAMILIES:
+                h = rigid_face_coefficients(*family, rho) @ _TO_HARMONIC  # (nf, 3, 6)
+                for c in range(3):
+                    dofs = base[family] + 3 * nodes + c
+                    for j, dof in enumerate(dofs):
+                        rows_u.append((count, dof, 1.0))
+                        rows_a.extend((count, masters[q], h[j, c, q]) for q in range(6)
+                                      if h[j, c, q] != 0.0)
+                        count += 1
+            continue
+        projection = np.hstack([face_projection_coefficients(part, station, *f).reshape(6, -1)
+                                for f in _FAMILIES])
+        projection = _TO_HARMONIC.T @ projection  # the part's frame
+        dofs = np.concatenate([(base[f] + 3 * nodes[:, None] + np.arange(3)).ravel()
+                               for f in _FAMILIES])
+        for q in range(6):
+            used = np.flatnonzero(projection[q])
+            rows_u.extend((count, dofs[j], projection[q, j]) for j in used)
+            rows_a.append((count, masters[q], 1.0))
+            count += 1
+    axis = part.axis_nodes
+    if len(axis) and rigid_nodes:  # a rigid face's own rule holds its axis node
+        axis = np.setdiff1d(axis, np.concatenate(rigid_nodes))
+    for node in axis:  # n = 0: U_r = U_t = 0; n = 1: U_z = 0, U_t = -U_r
+        zero = base[(0, "c")] + 3 * node
+        for dof in (zero, zero + 1):
+            rows_u.append((count, dof, 1.0))
+            count += 1
+        for family in _FAMILIES[1:]:
+            one = base[family] + 3 * node
+            rows_u.append((count, one + 2, 1.0))
+            count += 1
+            rows_u.extend([(count, one + 1, 1.0), (count, one, 1.0)])
+            count += 1
+    shape_u, shape_a = (count, 3 * n3), (count, 6 * (stations + 1))
+    c_u = _coo(rows_u, shape_u)
+    c_a = _coo(rows_a, shape_a)
+    return c_u, c_a
+
+
+def _coo(entries, shape) -> sp.csr_matrix:
+    if not entries:
+        return sp.csr_matrix(shape)
+    r, c, v = (np.asarray(x) for x in zip(*entries))
+    return sp.csr_matrix((v.astype(float), (r.astype(int), c.astype(int))), shape=shape)
+
+
+def part_mass(outer: float, inner: float, length: float, density: float) -> float:
+    """rho pi (D^2 - d^2) L / 4: what the condensed mass must carry as a rigid body."""
+    return density * math.pi * (outer**2 - inner**2) * length / 4.0
