@@ -19,7 +19,7 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run setup test verify lint bench report readme docs clean clean-cache update-baselines design
+.PHONY: run setup test fuzz verify lint bench report readme docs clean clean-cache update-baselines design
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -33,9 +33,14 @@ run: $(STAMP)
 	$(PYTHON) -m rps validate --scene $(SCENE) --out out
 
 # two workers (pytest-xdist): the suite's heavy tests are single-threaded (one BLAS thread);
-# 12 min 28 s to 12 min 59 s on the project's 2-core machine (README, "make test")
+# loadgroup keeps the tests of one session run (the paper's CI run, the fixture report) on the
+# worker that made it, so each is made once
 test: $(STAMP)
-	$(PYTHON) -m pytest -n 2
+	$(PYTHON) -m pytest -n 2 --dist loadgroup
+
+# random plausible machines end to end (tests/test_fuzz_machines.py); RPS_FUZZ=slow for more
+fuzz: $(STAMP)
+	$(PYTHON) -m pytest -n 2 -m fuzz
 
 verify: $(STAMP)
 	$(PYTHON) -m pytest -m verification

@@ -1,7 +1,12 @@
-"""Solid end zones of the legs, condensed to superelements for the analytical model.
+"""Solid pieces of the legs, condensed to superelements for the analytical model.
 
-    from joint_ends import end_zone
+    from joint_ends import end_zone, leg_part
     zone = end_zone(diameter, length, E, G, rho, coupling)   # joint_ends.EndZone
+    part = leg_part(D, d, L, s, E, G, rho, (coupling, coupling))   # joint_ends.PartModel
+
+An end zone (`joint_ends = "solid"`) is the leg next to a coupled face, 12 x 12; a part
+(`legs = "solid"`) is a whole housing, rod or uniform leg on its s + 1 section nodes
+(`leg_part`, from the harmonic meridian of the FEM's legs, built in the process).
 
 The zone is built by `joint_ends.zone` (gmsh + scikit-fem, the FEM reference's machinery), once
 per content: the matrices are cached on disk (`joint_ends.cache`, in `joint_ends/` under the

@@ -11,11 +11,18 @@ height: the up-front check must refuse it). A draw either passes `studies.reacha
 (plus the scene's own load) or is refused there by ValueError in one line; after that check,
 nothing may fail on a pose the pipeline chose itself.
 
-Default profile (a fixed set of draws, derandomized so CI is repeatable; about a minute): the
-load and the workspace check of 50 machines with every pose generator of every study; the FEM
-(harmonic and tetrahedral legs, 0.4 leg diameters) and the pairing of 5; the analytical hard
-cases of 5; a CI-size validation of 3. `RPS_FUZZ=slow` draws at random, more of each (300, 30,
-30, 10), and runs full validations with the report.
+Machines with real legs (issue 35) are drawn apart (`real_leg_machines`): 3-RPS, a housing
+and a rod (rods 6-20 diameters for the mean leg, a bush gap of 2-15 % of the rod, housing walls
+of 8-30 % of the bore, a hollow or solid rod), rigid joints and drive or the springs of
+bearings and a ball screw; with solid legs each case must meet the FEM limit within 0.1 % on
+f1-f6.
+
+Default profile (a fixed set of draws, derandomized so CI is repeatable; `make fuzz`, about
+five minutes on two workers): the load and the workspace check of 50 machines with every pose
+generator of every study; the FEM (harmonic and tetrahedral legs, 0.4 leg diameters) and the
+pairing of 5; the analytical hard cases of 5; a CI-size validation of 3; the FEM limit of 3
+real-leg machines. `RPS_FUZZ=slow` draws at random, more of each (300, 30, 30, 10, 20), and
+runs full validations with the report.
 """
 from __future__ import annotations
 
@@ -37,6 +44,7 @@ from studies import reachable as envelope
 from studies.workspace_map import MAP_LAYERS, workspace_heights
 from studies.workspace_validation import FULL, design
 
+pytestmark = pytest.mark.fuzz  # `make fuzz` (CI runs it after `make test`)
 SLOW = os.environ.get("RPS_FUZZ") == "slow"
 MATERIALS = {  # E (GPa), G (GPa), rho (kg/m3)
     "steel": (200.0, 77.0, 7820.0),
@@ -82,6 +90,47 @@ def machines(draw) -> dict:
         "material": {"youngs_modulus_gpa": e, "shear_modulus_gpa": g, "density_kg_m3": rho},
         "fidelity": {"modes": 6, "tolerance_percent": 1.0},
     }
+    where, azimuth, tilt = f(0.2, 0.8), f(0.0, 360.0), f(0.5, 5.0)
+    raw["cases"] = _cases(raw, where, azimuth, tilt)
+    return raw
+
+
+@st.composite
+def real_leg_machines(draw) -> dict:
+    """A raw scene of a plausible 3-RPS with real legs: a housing and a rod (hollow or solid),
+    rigid joints and drive or springs of bearings and ball screws (issue 35)."""
+    f = lambda lo, hi: draw(st.floats(lo, hi, allow_nan=False))  # noqa: E731
+    r1 = f(200.0, 600.0)
+    r2 = r1 * f(0.4, 1.0)
+    l_max = r1 * f(1.4, 3.0)
+    l_min = l_max * f(0.55, 0.8)
+    rod = 0.5 * (l_min + l_max) / f(6.0, 20.0)  # the rod's outer diameter
+    gap = max(1.0, rod * f(0.02, 0.15))  # radial room for a guide bush, >= 1 mm (MIN_ROD_GAP)
+    bore = rod + 2.0 * gap
+    housing = bore + 2.0 * max(2.0, bore * f(0.08, 0.3))  # a wall of 8-30 % of the bore
+    length = max(1.25 * housing, (l_min - 1.3 * rod) * f(0.5, 0.95))
+    l_min = max(l_min, length + 1.3 * rod)
+    l_max = max(l_max, l_min * 1.2)
+    e, g, rho = MATERIALS[draw(st.sampled_from(sorted(MATERIALS)))]
+    order = draw(st.sampled_from([("R", "S"), ("S", "R")]))
+    raw = {
+        "name": "fuzzed machine with real legs",
+        "manipulator": {
+            "base_radius_mm": r1, "platform_radius_mm": r2,
+            "platform_thickness_mm": min(max(10.0, housing * f(0.2, 0.5)), r2),
+            "actuator_min_mm": l_min, "actuator_max_mm": l_max,
+            "s_joint_max_deg": f(30.0, 60.0), "r_joint_max_deg": f(30.0, 60.0),
+            "base_joint": order[0], "platform_joint": order[1]},
+        "material": {"youngs_modulus_gpa": e, "shear_modulus_gpa": g, "density_kg_m3": rho},
+        "leg": {"housing_length_mm": length, "housing_outer_diameter_mm": housing,
+                "housing_inner_diameter_mm": bore, "rod_outer_diameter_mm": rod,
+                "rod_inner_diameter_mm": rod * draw(st.sampled_from([0.0, 0.3, 0.6]))},
+        "fidelity": {"modes": 6, "tolerance_percent": 1.0},
+    }
+    if draw(st.booleans()):  # bearings and a ball screw: N/um, N m/urad
+        raw["stiffness"] = {"actuator_axial_n_per_um": f(50.0, 500.0),
+                            "base_joint_translational_n_per_um": f(200.0, 2000.0),
+                            "platform_joint_translational_n_per_um": f(100.0, 1000.0)}
     where, azimuth, tilt = f(0.2, 0.8), f(0.0, 360.0), f(0.5, 5.0)
     raw["cases"] = _cases(raw, where, azimuth, tilt)
     return raw
@@ -215,6 +264,36 @@ def test_a_checked_machine_validates(raw, tmp_path_factory):
                        report=render_report if SLOW else None)
     assert results["studies"]["workspace_validation"]["failed"] == 0
     assert results["studies"]["reachable_workspace"]["validation_poses"] >= 1
+
+
+@_settings(3, 20)
+@given(raw=real_leg_machines())
+def test_solid_legs_meet_the_fem_limit_on_random_real_legs(raw):
+    """Issue 35's criterion on machines nobody tuned for: with solid legs (s = 8) every case
+    is within 0.1 % of the FEM limit (harmonic legs, the scene's Richardson sequence) on
+    f1-f6, plus the limit's own stated error."""
+    import tempfile
+    from dataclasses import replace
+
+    from runtime.cache import ResultCache
+    from solvers.refinement import fem_refinement, study_sizes
+
+    got = checked(raw)
+    if got is None:
+        return
+    scene, _ = got
+    event("compliant" if scene.manipulator.stiffness.actuator_axial > 0 else "rigid")
+    options = replace(scene.analytical, legs="solid", joint_ends="beam", elements=8, modes=6)
+    with tempfile.TemporaryDirectory() as tmp:
+        for case in scene.cases.values():
+            geometry = pose_geometry(scene.manipulator, case.pose)
+            study = fem_refinement(scene, geometry, ResultCache(tmp),
+                                   study_sizes(scene.fem_study.refinement))
+            limit = np.asarray(study["extrapolated_hz"][:6])
+            stated = np.asarray(study["estimated_error_percent"][:6])
+            error = 100 * np.abs(natural_frequencies(scene.manipulator, case.pose, options)
+                                 / limit - 1)
+            assert np.all(error <= 0.1 + stated), (case.name, error.round(3), stated.round(3))
 
 
 def _toml(raw: dict) -> str:
