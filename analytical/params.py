@@ -249,6 +249,15 @@ class ModelOptions:
     # (common.settings.as_dict) and two runs with different caches compute the same model.
     cache_dir: str | None = field(default=None, compare=False)
 
+    def describe(self) -> str:
+        """The model in one line, for records and messages: "solid legs, s = 8" or
+        "timoshenko (cowper), s = 5, solid joint ends, plate inertia"."""
+        if self.legs == "solid":
+            return f"solid legs, s = {self.elements}, {self.platform_inertia} inertia"
+        shear = f" ({self.shear})" if self.beam == "timoshenko" else ""
+        ends = ", solid joint ends" if self.joint_ends == "solid" else ""
+        return f"{self.beam}{shear}, s = {self.elements}{ends}, {self.platform_inertia} inertia"
+
     def __post_init__(self) -> None:
         check_settings(self)
         if self.legs == "solid" and self.joint_ends == "solid":

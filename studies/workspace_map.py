@@ -64,8 +64,7 @@ def workspace_map(scene: Scene, layers: int = MAP_LAYERS, rings: int = 6, azimut
             "open_rings": tracking.open_rings,
             "lost_families": [j + 1 for j in tracking.lost],
         },
-        "settings": f"{scene.analytical.beam}, s = {scene.analytical.elements}, "
-                    f"{scene.analytical.platform_inertia} inertia",
+        "settings": scene.analytical.describe(),
     })
 
 

@@ -158,3 +158,11 @@ def test_solid_legs_with_solid_end_zones_are_refused_in_one_line():
         ModelOptions(legs="solid", joint_ends="solid")
     text = str(info.value)
     assert "legs = 'solid'" in text and "joint_ends" in text and "\n" not in text
+
+
+def test_every_record_names_the_model_in_one_line():
+    assert ModelOptions(legs="solid", elements=8).describe() == "solid legs, s = 8, plate inertia"
+    assert ModelOptions(beam="timoshenko", shear="hutchinson", elements=5,
+                        joint_ends="solid").describe() == \
+        "timoshenko (hutchinson), s = 5, solid joint ends, plate inertia"
+    assert ModelOptions().describe() == "euler-bernoulli, s = 3, plate inertia"

@@ -64,7 +64,7 @@ def _minimum(scene, args: argparse.Namespace) -> dict:
                      "tilt_deg": math.degrees(found.pose.tilt)},
             "on_boundary": found.boundary, "at_band_end": found.band_end,
             "coarse_grid_hz": found.coarse_hz, "poses_solved": found.evaluations,
-            "settings": f"{options.beam}, s={options.elements}, joint ends {options.joint_ends}",
+            "settings": options.describe(),
             "seconds": time.perf_counter() - start}
 
 
