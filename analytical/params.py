@@ -250,8 +250,8 @@ class ModelOptions:
     cache_dir: str | None = field(default=None, compare=False)
 
     def describe(self) -> str:
-        """The model in one line, for records and messages: "solid legs, s = 8" or
-        "timoshenko (cowper), s = 5, solid joint ends, plate inertia"."""
+        """The model in one line, for records and messages: "solid legs, s = 8, plate inertia"
+        or "timoshenko (cowper), s = 5, solid joint ends, plate inertia"."""
         if self.legs == "solid":
             return f"solid legs, s = {self.elements}, {self.platform_inertia} inertia"
         shear = f" ({self.shear})" if self.beam == "timoshenko" else ""

@@ -60,7 +60,7 @@ def leg_part(outer: float, inner: float, length: float, stations: int, youngs_mo
                       tuple(couplings), mesh)
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=256)  # a batch of 64 poses takes 192 rods; the housing stays
 def _part_memo(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
                couplings, mesh):
     from .leg_part import build_part

@@ -19,8 +19,9 @@ from functools import lru_cache
 
 import numpy as np
 
+from analytical.kinematics import pose_geometry
 from analytical.model import natural_frequencies
-from analytical.params import ModelOptions
+from analytical.params import ModelOptions, Pose
 from common.settings import as_dict
 from runtime.cache import ResultCache
 from scene import Case, Scene
@@ -49,7 +50,7 @@ def seconds_per_pose(scene: Scene, case: Case, options, cache: ResultCache | Non
     if cache is None:
         return time_model(scene, case, options, runs=RUNS)
     payload = {"manipulator": as_dict(scene.manipulator), "pose": as_dict(case.pose),
-               "options": as_dict(options), "runs": RUNS, "machine": machine()}
+               "options": as_dict(options), "runs": runs_of(options), "machine": machine()}
     value, _, _ = cache.get_or_compute(
         KIND, payload, lambda: ({"seconds": time_model(scene, case, options, runs=RUNS)}, {}),
         required=("seconds",), modules=("solvers.timing",))
@@ -57,20 +58,39 @@ def seconds_per_pose(scene: Scene, case: Case, options, cache: ResultCache | Non
 
 
 SOLID_LEG_RUNS = 5  # solid legs take ~0.1-2 s a new pose: fewer repetitions
-NEW_POSE_STEP = 1e-6  # m: how far apart the poses of a solid-legs timing are
+NEW_POSE_STEP = 1e-6  # m and rad: how far apart the poses of a solid-legs timing are
+
+
+def runs_of(options: ModelOptions) -> int:
+    """Timed repetitions of a setting: RUNS, or SOLID_LEG_RUNS new poses with solid legs."""
+    return SOLID_LEG_RUNS if options.legs == "solid" else RUNS
+
+
+def new_pose(scene: Scene, pose: Pose, k: int) -> Pose:
+    """A reachable pose k steps from `pose` in height and tilt (so the three legs take three
+    new lengths, a level pose's too), stepping back where a limit is in the way; the pose
+    itself when no step is reachable (a pose pinned by its limits: its parts are remembered)."""
+    step = k * NEW_POSE_STEP
+    for dz, dt in ((step, step), (-step, -step), (step, -step), (-step, step)):
+        candidate = replace(pose, height=pose.height + dz, tilt=pose.tilt + dt)
+        try:
+            pose_geometry(scene.manipulator, candidate)
+        except ValueError:
+            continue
+        return candidate
+    return pose
 
 
 def time_model(scene: Scene, case: Case, options: ModelOptions, runs: int = 30) -> float:
     """Median wall time (s) of one pose: kinematics, synthesis and eigen solve. With solid legs
-    (`legs = "solid"`) each run is a new pose (the case's height plus k um), so the parts whose
-    length follows the pose are condensed afresh, as in a map of new poses; a part of fixed
-    length is built once, as there."""
+    (`legs = "solid"`) each run is a new pose (`new_pose`), so the parts whose length follows
+    the pose are condensed afresh, as in a map of new poses; a part of fixed length is built
+    once, as there."""
     natural_frequencies(scene.manipulator, case.pose, options)
     fresh = options.legs == "solid"
     samples = []
     for k in range(min(runs, SOLID_LEG_RUNS) if fresh else runs):
-        pose = replace(case.pose, height=case.pose.height + (k + 1) * NEW_POSE_STEP) \
-            if fresh else case.pose
+        pose = new_pose(scene, case.pose, k + 1) if fresh else case.pose
         start = time.perf_counter()
         natural_frequencies(scene.manipulator, pose, options)
         samples.append(time.perf_counter() - start)

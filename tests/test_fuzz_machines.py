@@ -31,7 +31,7 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, event, given, settings
+from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
 from analytical.kinematics import pose_geometry
@@ -279,8 +279,7 @@ def test_solid_legs_meet_the_fem_limit_on_random_real_legs(raw):
     from solvers.refinement import fem_refinement, study_sizes
 
     got = checked(raw)
-    if got is None:
-        return
+    assume(got is not None)  # the ranges give reachable machines: none compared is a failure
     scene, _ = got
     event("compliant" if scene.manipulator.stiffness.actuator_axial > 0 else "rigid")
     options = replace(scene.analytical, legs="solid", joint_ends="beam", elements=8, modes=6)
