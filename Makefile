@@ -32,11 +32,9 @@ setup: $(STAMP)
 run: $(STAMP)
 	$(PYTHON) -m rps validate --scene $(SCENE) --out out
 
-# two workers (pytest-xdist): the suite's heavy tests are single-threaded (one BLAS thread);
-# loadgroup keeps the tests of one session run (the paper's CI run, the fixture report) on the
-# worker that made it, so each is made once
+# two workers (pytest-xdist): the suite's heavy tests are single-threaded (one BLAS thread)
 test: $(STAMP)
-	$(PYTHON) -m pytest -n 2 --dist loadgroup
+	$(PYTHON) -m pytest -n 2
 
 # random plausible machines end to end (tests/test_fuzz_machines.py); RPS_FUZZ=slow for more
 fuzz: $(STAMP)

@@ -37,8 +37,6 @@ from tests.conftest import PAPER_SCENE, ROOT, copied
 FIXTURES = ROOT / "tests" / "fixtures"
 ENV = dict(os.environ, PYTHONPATH=str(ROOT), OPENBLAS_NUM_THREADS="1")
 
-pytestmark = pytest.mark.xdist_group("paper_ci_run")  # its runs copy the session's
-
 
 def command(module: str, *args, cwd=ROOT, **popen) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", module, *map(str, args)], cwd=cwd, env=ENV,

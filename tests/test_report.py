@@ -39,8 +39,6 @@ SECTIONS = ("1 Summary", "2 Fidelity: what the scene asked, what was chosen",
             "14 Reading the paper: angle conventions and height calibration", "15 Other cases")
 NUMBER = re.compile(r"^[+\-\u2212]?[\d\u2009]+(\.\d+)?(e[+\-\u2212]?\d+)?$")
 
-pytestmark = pytest.mark.xdist_group("fixture_report")  # the session's report, built once
-
 
 class _Cells(HTMLParser):
     """Table cells (with their attributes and text) and image sources of an HTML page."""

@@ -10,8 +10,7 @@ import pipeline.run as run
 from results import SCHEMA_VERSION
 from tests.conftest import PAPER_SCENE, copied
 
-# whole validation runs (CI profile): tens of seconds each; beside the session's paper run
-pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("paper_ci_run")]
+pytestmark = pytest.mark.slow  # whole validation runs (CI profile): tens of seconds each
 
 
 def test_interrupted_run_leaves_previous_outputs_intact(tmp_path, monkeypatch, paper_ci_run):

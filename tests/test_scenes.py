@@ -14,17 +14,14 @@ from pipeline.digest import differences, digest
 from pipeline.run import validate
 
 SCENES = sorted((Path(__file__).resolve().parents[1] / "scenes").glob("*.toml"))
-# the paper's scene reads the session's run of it (conftest.paper_ci_run): on the worker that
-# holds that run (pytest-xdist's loadgroup), so it is made once
-PARAMS = [pytest.param(p, id=p.stem, marks=[pytest.mark.xdist_group("paper_ci_run")])
-          if p.stem == "paper" else pytest.param(p, id=p.stem) for p in SCENES]
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("path", PARAMS)
+@pytest.mark.parametrize("path", SCENES, ids=lambda p: p.stem)
 def test_scene_validates_at_ci_size(path, tmp_path, request):
     out = tmp_path / "out"
-    if path.stem == "paper":  # the session's run of it (made from an empty cache too)
+    if path.stem == "paper":  # the session's run of it (made from an empty cache too), asked
+        # for here only, so a worker that runs the other scenes does not make it
         paper_ci_run = request.getfixturevalue("paper_ci_run")
         results, out = paper_ci_run.results, paper_ci_run.out
     else:
