@@ -34,6 +34,9 @@ R_JOINT_COORDINATES = ("axis", "paper-eq18")
 JOINT_ENDS = ("beam", "solid")
 LEG_MODELS = ("beam", "solid")
 MAX_ELEMENTS = 200  # dense 18 s x 18 s model: 3600 coordinates at most
+# solid legs: a part's Guyan modes are 6 (s + 1) dense columns of its harmonic solid (~10-60k
+# dofs): at s = 32 about 100 MB a part; s = 12 is within 0.04 % of the FEM (joint_ends/README)
+MAX_SOLID_STATIONS = 32
 
 # Plausible materials and proportions (checked at load, `check_manipulator`).
 # Poisson ratio nu = E / (2 G) - 1 in (0, 0.49]: the engineering solids a manipulator is built
@@ -260,6 +263,10 @@ class ModelOptions:
 
     def __post_init__(self) -> None:
         check_settings(self)
+        if self.legs == "solid" and self.elements > MAX_SOLID_STATIONS:
+            raise InputError(f"analytical.elements = {self.elements} with legs = 'solid': at "
+                             f"most {MAX_SOLID_STATIONS} stations a part (s = 12 is within "
+                             "0.04 % of the FEM already)")
         if self.legs == "solid" and self.joint_ends == "solid":
             raise InputError("analytical.legs = 'solid' with analytical.joint_ends = 'solid': "
                              "a solid leg's faces are its own, it has no end zones (set "

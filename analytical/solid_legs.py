@@ -34,17 +34,12 @@ def part_blocks(manipulator: Manipulator, options: ModelOptions, lengths
     mat = manipulator.material
     out = []
     for p, (start, end, part) in enumerate(part_bounds(manipulator, lengths)):
-        first = kinds.index(("solid", p))
-        span = np.round(np.broadcast_to(end - start, lengths.shape), 12)
-        size = 6 * (s + 1)
-        block = np.empty((2, *lengths.shape, size, size))
-        built: dict[float, tuple] = {}
-        for index in np.ndindex(lengths.shape):
-            length = float(span[index])
-            if length not in built:
-                built[length] = _part(part, length, s, mat, options.joint_coupling)
-            block[(0, *index)], block[(1, *index)] = built[length]
-        out.append((first, block))
+        span = np.broadcast_to(end - start, lengths.shape)
+        block = np.empty((2, *lengths.shape, 6 * (s + 1), 6 * (s + 1)))
+        for index in np.ndindex(lengths.shape):  # equal lengths: one build (joint_ends' memo)
+            block[(0, *index)], block[(1, *index)] = _part(
+                part, float(span[index]), s, mat, options.joint_coupling)
+        out.append((kinds.index(("solid", p)), block))
     return out
 
 

@@ -22,11 +22,17 @@ from .discretisation import Discretisation
 class Material(Protocol):
     """What the solid needs of an isotropic material (any record with these fields, e.g.
     `analytical.params.Material`, the one declaration of the scene's material): E, G, rho in
-    SI. The FEM reads the values only; nu = E / 2G - 1."""
+    SI. The FEM reads the values only (read-only members: a frozen dataclass or a NamedTuple
+    such as `joint_ends.zone.Solid` qualifies); nu = E / 2G - 1."""
 
-    youngs_modulus: float  # Pa
-    shear_modulus: float  # Pa
-    density: float  # kg/m^3
+    @property
+    def youngs_modulus(self) -> float: ...  # Pa
+
+    @property
+    def shear_modulus(self) -> float: ...  # Pa
+
+    @property
+    def density(self) -> float: ...  # kg/m^3
 
 
 def lame(material: Material) -> tuple[float, float]:

@@ -21,7 +21,8 @@ across, as a frame element's):
 
 Static condensation (Guyan) onto the 6 (s + 1) masters: the constraint modes minimise the
 strain energy for each unit master motion (one saddle-point solve with the couplings and the
-projections as constraints, `zone.condense`), K = Psi^T K Psi and M = Psi^T M Psi. The part's
+projections as constraints, as `zone.condense` does for an end zone's twelve), K = Psi^T K Psi
+and M = Psi^T M Psi. The part's
 inertia between stations is carried by the static shapes, so the model converges from above as
 s grows (measured in joint_ends/README.md, "Solid legs").
 
@@ -77,12 +78,12 @@ def build_part(outer: float, inner: float, length: float, stations: int,
     """Mesh, assemble and condense one leg part onto `stations` + 1 section nodes (module
     doc). SI units; `inner` 0 for a solid part; `couplings` ties the face at x = 0 and the one
     at x = L."""
-    from fem_reference.meridian import (
-        harmonic_stiffness,
-        meridian,
-        part_size,
-        unit_mass,
-    )
+    import scipy.sparse.linalg as sla
+
+    from fem_reference.assembly import lame
+    from fem_reference.meridian import meridian, meridian_mass, meridian_stiffness, part_size
+
+    from .zone import Solid
 
     for name, value in zip(("first face", "last face"), couplings):
         if value not in COUPLINGS:
@@ -92,62 +93,27 @@ def build_part(outer: float, inner: float, length: float, stations: int,
         raise InputError(f"leg part of {outer * 1e3:g}/{inner * 1e3:g} mm, {length * 1e3:g} mm "
                          f"long, {stations} stations: not a part")
     radius, bore = outer / 2.0, inner / 2.0
-    nu = youngs_modulus / (2.0 * shear_modulus) - 1.0
-    lam = youngs_modulus * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
-    h = part_size(mesh.size * radius, radius, bore)
+    lam, mu = lame(Solid(youngs_modulus, shear_modulus, density))
     sections = tuple(float(length) * k / stations for k in range(1, stations))
-    extra = (bore,) if bore else ()
-    part = meridian(radius, float(length), h, bore, sections) if sections else meridian(
-        radius, float(length), h, *extra)
-    blocks = {n: harmonic_stiffness(radius, float(length), h, lam, shear_modulus, n, *extra)
-              for n in (0, 1)} if not sections else _stiffness(part, lam, shear_modulus)
-    unit = unit_mass(radius, float(length), h, *extra) if not sections else _mass(part)
-    k = sp.block_diag([blocks[0], blocks[1], blocks[1]], format="csr")
-    m = density * sp.block_diag([2.0 * unit, unit, unit], format="csr")
-    constraints, masters = _constraints(part, couplings, stations)
-    n = k.shape[0]
-    # condense() takes B x = a with one row per master; here the rows are many (a rigid face
-    # ties each of its nodes), so the masters ride on extra unknowns appended to x and held
-    # by selector rows: x = [u, a], B = [[C_u, -C_a], [0, I]]
-    nm = 6 * (stations + 1)
-    k_x = sp.block_diag([k, sp.csr_matrix((nm, nm))], format="csr")
-    m_x = sp.block_diag([m, sp.csr_matrix((nm, nm))], format="csr")
-    coupled = sp.hstack([constraints, -masters], format="csr")
-    rows = constraints.shape[0]
-    full = sp.vstack([coupled, sp.hstack([sp.csr_matrix((nm, n)), sp.identity(nm)])],
-                     format="csr")
-    k_red, m_red = _condense_rows(k_x, m_x, full, rows, nm)
-    return PartModel(k_red, m_red, float(length), n)
-
-
-def _stiffness(part, lam: float, mu: float) -> dict:
-    from fem_reference.meridian import meridian_stiffness
-
-    return {n: meridian_stiffness(part.basis, lam, mu, n) for n in (0, 1)}
-
-
-def _mass(part):
-    from fem_reference.meridian import meridian_mass
-
-    return meridian_mass(part.basis)
-
-
-def _condense_rows(k, m, b, zero_rows: int, nm: int):
-    """Guyan constraint modes of B x = [0; a] (the first `zero_rows` rows homogeneous, the
-    last nm select the masters), through `zone.condense`'s saddle-point solve."""
-    import scipy.sparse.linalg as sla
-
-    n, c = k.shape[0], b.shape[0]
-    # the constraint rows scaled to the stiffness (the multipliers' units): the saddle point
-    # is then well balanced and the rigid-body modes come out to round-off, not to 1e-6
-    scale = float(np.median(np.abs(k.diagonal()[k.diagonal() != 0.0])))
-    saddle = sp.bmat([[k, scale * b.T], [scale * b, None]], format="csc")
-    rhs = np.zeros((n + c, nm))
-    rhs[n + zero_rows:] = scale * np.eye(nm)
-    psi = sla.splu(saddle).solve(rhs)[:n]
-    k_red = psi.T @ (k @ psi)
-    m_red = psi.T @ (m @ psi)
-    return 0.5 * (k_red + k_red.T), 0.5 * (m_red + m_red.T)
+    part = meridian(radius, float(length), part_size(mesh.size * radius, radius, bore), bore,
+                    sections)
+    k_n = {n: meridian_stiffness(part.basis, lam, mu, n) for n in (0, 1)}
+    unit = meridian_mass(part.basis)
+    k = sp.block_diag([k_n[0], k_n[1], k_n[1]], format="csc")
+    m = density * sp.block_diag([2.0 * unit, unit, unit], format="csc")
+    # Guyan constraint modes: Psi minimises the strain energy subject to C_u u = C_a a for each
+    # unit master motion a, [[K, C_u^T], [C_u, 0]] [Psi; Lambda] = [0; C_a]. The constraint
+    # rows are scaled to the stiffness (the multipliers' units): the saddle point is then
+    # balanced and the rigid-body modes come out to round-off, not to 1e-6.
+    c_u, c_a = _constraints(part, couplings, stations)
+    diagonal = k.diagonal()
+    scale = float(np.median(np.abs(diagonal[diagonal != 0.0])))
+    saddle = sp.bmat([[k, scale * c_u.T], [scale * c_u, None]], format="csc")
+    rhs = np.vstack([np.zeros((k.shape[0], c_a.shape[1])), scale * c_a.toarray()])
+    psi = sla.splu(saddle).solve(rhs)[:k.shape[0]]
+    k_red, m_red = psi.T @ (k @ psi), psi.T @ (m @ psi)
+    return PartModel(0.5 * (k_red + k_red.T), 0.5 * (m_red + m_red.T), float(length),
+                     k.shape[0])
 
 
 def _constraints(part, couplings, stations: int):

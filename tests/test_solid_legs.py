@@ -22,7 +22,7 @@ import pytest
 
 from analytical.batch_model import assemble_batch, batch_frequencies, standard_form
 from analytical.model import natural_frequencies
-from analytical.params import ModelOptions
+from analytical.params import MAX_SOLID_STATIONS, ModelOptions
 from analytical.pose_batch import pose_batch
 from joint_ends.leg_part import build_part, part_mass
 from scene import load_scene, parse_scene
@@ -161,11 +161,13 @@ def test_solid_legs_batched_are_the_per_pose_model(scene_name):
         assert np.allclose(hz[n], per_pose, rtol=1e-10, atol=0)
 
 
-def test_solid_legs_with_solid_end_zones_are_refused_in_one_line():
-    with pytest.raises(ValueError) as info:
-        ModelOptions(legs="solid", joint_ends="solid")
-    text = str(info.value)
-    assert "legs = 'solid'" in text and "joint_ends" in text and "\n" not in text
+def test_solid_legs_with_solid_end_zones_or_too_many_stations_are_refused_in_one_line():
+    for options, needle in ((dict(joint_ends="solid"), "joint_ends"),
+                            (dict(elements=MAX_SOLID_STATIONS + 1), "elements")):
+        with pytest.raises(ValueError) as info:
+            ModelOptions(legs="solid", **options)
+        text = str(info.value)
+        assert "legs = 'solid'" in text and needle in text and "\n" not in text
 
 
 def test_every_record_names_the_model_in_one_line():
