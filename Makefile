@@ -51,7 +51,7 @@ bench: $(STAMP)
 	$(PYTHON) -m pipeline.bench --scene $(SCENE) --out out/bench.json
 
 report: $(STAMP)
-	$(PYTHON) -m reports --results out/results.json --out out
+	$(PYTHON) -m rps report --results out/results.json --out out
 
 readme: $(STAMP)
 	$(PYTHON) -m rps readme --results out/results.json

@@ -170,6 +170,8 @@ def frame_element(youngs_modulus: float, shear_modulus: float, density: float,
         raise InputError(f"element length = {float(np.min(L))!r} m: must be positive")
     E, G, rho, s = youngs_modulus, shear_modulus, density, section
     # shear parameter of each bending plane: x-y bends on I_z, x-z bends on I_y
+    phi_xy: float | np.ndarray
+    phi_xz: float | np.ndarray
     if theory == "euler-bernoulli":
         phi_xy = phi_xz = 0.0
         rotary = False

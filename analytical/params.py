@@ -150,7 +150,7 @@ class Manipulator:
     def __post_init__(self) -> None:
         # the kinematics closes on the one joint of a leg with an axis (`axis_end`)
         kinds = [JOINTS.get(j) for j in (self.base_joint, self.platform_joint)]
-        if None in kinds or sum(k.has_axis for k in kinds) != 1:
+        if None in kinds or sum(k.has_axis for k in kinds if k is not None) != 1:
             raise InputError(f"base_joint = {self.base_joint!r}, platform_joint = "
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
@@ -305,10 +305,10 @@ def check_manipulator(m: Manipulator) -> None:
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             key = next(s for n, s, _ in declared(cls) if n == name).scene_key(name)
             raise InputError(f"{key} = {value!r} (SI): must be a finite positive number")
-    low, high = ("slider_min", "slider_max") if is_prs(m) else ("actuator_min", "actuator_max")
-    if getattr(m, low) >= getattr(m, high):
-        raise InputError(f"{_named(Manipulator, low, getattr(m, low))} is not below "
-                         f"{_named(Manipulator, high, getattr(m, high))}")
+    lower, upper = ("slider_min", "slider_max") if is_prs(m) else ("actuator_min", "actuator_max")
+    if getattr(m, lower) >= getattr(m, upper):
+        raise InputError(f"{_named(Manipulator, lower, getattr(m, lower))} is not below "
+                         f"{_named(Manipulator, upper, getattr(m, upper))}")
     if is_prs(m) and m.leg.stepped:
         raise InputError(f"leg.housing_length_mm = {m.leg.housing_length * 1e3:g} with "
                          "architecture = '3-PRS': its legs are links of fixed length, not "

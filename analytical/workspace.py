@@ -19,6 +19,7 @@ import multiprocessing
 import os
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
+from typing import Literal, cast
 
 import numpy as np
 
@@ -60,7 +61,7 @@ class Crossing:
     tilt: float  # rad
     azimuth: float  # rad
     frequency_hz: float
-    along: str  # the direction of the step: "azimuth", "tilt" or "height"
+    along: Literal["azimuth", "tilt", "height"]  # the direction of the map's step
 
 
 @dataclass(frozen=True)
@@ -139,7 +140,7 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radiu
     steps, closures = _steps(where, sorted_hz)
     shaped = np.unique([where[0, 0]] + [where[q] for a, b, need, _ in steps + closures
                                         if need for q in (a, b)])
-    probes = {}
+    probes: dict[int, np.ndarray] = {}
     for chunk, model, form in solved:
         inside = shaped[(shaped >= chunk.start) & (shaped < chunk.stop)] - chunk.start
         if len(inside):
@@ -277,7 +278,9 @@ def _link_layers(layers: list[_Layer], heights: np.ndarray, window: int):
         for a, b in zip(walk, walk[1:]):
             la, lb = layers[a], layers[b]
             hz_a, hz_b = la.sorted_hz[0, 0, :window], lb.sorted_hz[0, 0, :window]
-            target, mac = match_modes(la.level_shapes, hz_a, lb.level_shapes, hz_b)
+            # the walk visits reachable layers only: their level shapes are arrays
+            target, mac = match_modes(cast(np.ndarray, la.level_shapes), hz_a,
+                                      cast(np.ndarray, lb.level_shapes), hz_b)
             known = relabel[a] >= 0  # local numbers are sorted indices at the level pose
             relabel[b] = np.where(known & (mac[np.maximum(relabel[a], 0)] >= LOST_MAC),
                                   target[np.maximum(relabel[a], 0)], -1)
@@ -325,16 +328,17 @@ def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, ring
     layers = _run_layers(tasks, default_workers() if workers is None else workers)
     relabel, crossings, root, layer_steps = _link_layers(layers, heights, window)
     sorted_hz = np.stack([layer.sorted_hz for layer in layers])
-    tracked, lost, macs = [], [], []
+    tracked_by_layer, lost_by_layer, macs_by_layer = [], [], []
     for layer, numbers in zip(layers, relabel):
         local = np.broadcast_to(np.maximum(numbers, 0), layer.order.shape)
         order = np.take_along_axis(layer.order, local, -1)
         gone = np.take_along_axis(layer.lost, local, -1) | (numbers < 0)
-        tracked.append(np.where(gone, np.nan, family_values(layer.sorted_hz, order)))
-        lost.append(gone)
-        macs.append(np.take_along_axis(layer.mac, local, -1))
+        tracked_by_layer.append(np.where(gone, np.nan, family_values(layer.sorted_hz, order)))
+        lost_by_layer.append(gone)
+        macs_by_layer.append(np.take_along_axis(layer.mac, local, -1))
         crossings += [c for c in (_renumbered(c, numbers) for c in layer.crossings) if c]
-    tracked, lost, macs = np.stack(tracked), np.stack(lost), np.stack(macs)
+    tracked = np.stack(tracked_by_layer)
+    lost, macs = np.stack(lost_by_layer), np.stack(macs_by_layer)
     reached = np.isfinite(sorted_hz[..., :modes])
     reported = macs[..., :modes][reached & ~lost[..., :modes]]
     summary = Tracking(

@@ -18,7 +18,7 @@ def _umask() -> int:
     return mask
 
 
-def atomic_write(path: str | os.PathLike, write: Callable[[str], None]) -> Path:
+def atomic_write(path: str | os.PathLike, write: Callable[[str], object]) -> Path:
     """Call write(tmp_path) on a temporary file beside `path`, fsync it, move it into place.
 
     The file gets the permissions of an ordinary new file (0666 less the umask), not mkstemp's

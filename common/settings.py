@@ -202,6 +202,24 @@ def declared(cls_or_obj) -> list[tuple[str, Setting, Any]]:
     return out
 
 
+def edge_values(obj, names: tuple[str, ...] | None = None) -> dict[str, Any]:
+    """The declared fields of `obj` (those of `names`, or all) under their scene keys, in
+    their edge units (a tuple element by element): what a record of the scene holds, each
+    value converted once by its own declaration."""
+    out: dict[str, Any] = {}
+    for name, spec, _ in declared(obj):
+        if names is None or name in names:
+            value = getattr(obj, name)
+            if isinstance(value, tuple):
+                out[spec.scene_key(name)] = [spec.edge(v) for v in value]
+            else:
+                out[spec.scene_key(name)] = value if spec.kind is str else spec.edge(value)
+    if names is not None and len(out) != len(names):
+        raise ValueError(f"edge_values: {sorted(set(names) - {n for n, _, _ in declared(obj)})}"
+                         f" are not declared settings of {type(obj).__name__}")
+    return out
+
+
 def nested(cls_or_obj) -> list[tuple[str, type]]:
     """(name, dataclass type) of the fields that hold settings dataclasses of their own."""
     out = []

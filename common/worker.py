@@ -82,7 +82,7 @@ def _send(fd: int, fn, args, kwargs) -> None:
 
 
 def _receive(fd: int) -> bytes:
-    chunks = []
+    chunks: list[bytes] = []
     while True:
         chunk = os.read(fd, 1 << 20)
         if not chunk:

@@ -145,11 +145,14 @@ class ConstraintBuilder:
 
     def __init__(self, n_raw: int):
         self.n_raw = n_raw
-        self.rows, self.cols, self.vals = [], [], []
+        self.rows: list[np.ndarray] = []
+        self.cols: list[np.ndarray] = []
+        self.vals: list[np.ndarray] = []
         self.dependent = np.zeros(n_raw, bool)
         self.n_extra = 0
-        self.extra = {}
-        self.springs = []  # (extra coordinates, stiffness matrix on them): leg_points
+        self.extra: dict[str, np.ndarray] = {}
+        # (extra coordinates, stiffness matrix on them): leg_points
+        self.springs: list[tuple[np.ndarray, np.ndarray]] = []
         self.n_retained = 0
 
     def add_extra(self, name: str, count: int) -> np.ndarray:
@@ -215,6 +218,7 @@ def distributing_joint(bld: ConstraintBuilder, face_dofs: np.ndarray, projection
     (`leg_points.eliminate`). A joint without springs: `leg_points.LegPoints` builds the
     general point (springs, junctions) that `leg_points.tie_distributing` ties."""
     tied = JOINTS[joint.type].tied_rotations(joint.axis)  # (k, 3)
+    rhs: tuple | None  # RefPoint.distributing
     if len(tied) and joint.body == "platform":  # the platform's rotation reaches the tied ones
         rhs = (plat, np.vstack([t_vals, np.hstack([np.zeros((len(tied), 3)), tied])]), True)
     else:

@@ -104,7 +104,7 @@ def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = N
                             f"{', '.join(COUPLINGS)}")
     t0 = time.perf_counter()
     size = float(options.mesh.size)
-    harmonics = (0, 1)
+    harmonics: tuple[int, ...] = (0, 1)
     while True:
         result = _solve(manipulator, geometry, options, harmonics, t0, max_dofs)
         nxt = harmonics[-1] + 1
@@ -147,9 +147,12 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
                                                                   None))
     k_blocks, m_blocks = [], []
     for part in legs:
+        mass = part.leg.mass
+        if mass is None:  # leg_harmonics always sets it
+            raise TypeError(f"{part.name}: a leg part without its mass matrix")
         for n, _ in fams:
             k_blocks.append(part.leg.stiffness[n])
-            m_blocks.append(part.leg.mass * (2.0 if n == 0 else 1.0))
+            m_blocks.append(mass * (2.0 if n == 0 else 1.0))
     plate = platform_plate(manipulator, geometry)
     kq, mq = reduced_matrices(sp.block_diag(k_blocks, format="csr"),
                               sp.block_diag(m_blocks, format="csr"), t_map,

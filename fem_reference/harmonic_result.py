@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any, cast
 
 import numpy as np
 
@@ -16,6 +17,7 @@ from .answer import section_arms, solve_record, station_fractions, twist_from_se
 from .export import solid_to_meshio, write_mesh_vtu, write_mode_collection
 from .harmonic_faces import face_projection_coefficients, section_constants
 from .meridian import families
+from .options import FemOptions
 
 
 @dataclass
@@ -31,11 +33,12 @@ class HarmonicResult:
     clusters: list
     mesh_digest: str
     n_elements: int  # meridian triangles over the legs
-    options: object  # options.FemOptions
+    options: FemOptions
     min_quality: float  # smallest triangle quality 4 sqrt(3) area / sum of squared edges
     harmonics: tuple  # harmonic orders included
     excluded_above_hz: float  # no mode of the first harmonic left out lies below this
-    geometry: object = field(repr=False)
+    geometry: Any = field(repr=False)  # analytical.kinematics.PoseGeometry: duck-typed,
+    # the FEM never imports the analytical model
     modes_q: np.ndarray = field(repr=False)
     modes_raw: np.ndarray = field(repr=False)
     columns: dict = field(repr=False)
@@ -68,13 +71,13 @@ class HarmonicResult:
         indexes `legs` (the leg's index for uniform legs)."""
         leg = self.legs[part][0].leg
         nodes = leg.face_nodes[face]
-        out = 0.0
+        out: float | np.ndarray = 0.0
         for (n, fam), block in self._blocks(part).items():
             if n <= 1:
                 values = block.reshape(-1, 3, block.shape[1])[nodes]
                 projection = face_projection_coefficients(leg, face, n, fam).reshape(6, -1)
                 out = out + projection @ values.reshape(-1, block.shape[1])
-        return out
+        return cast(np.ndarray, out)  # an array: every solve has harmonics 0 and 1
 
     def local_displacements(self, part: int, r, theta, z) -> np.ndarray:
         """(n_points, 3, n_modes): the 3D displacement at points (r, theta, z) of a leg part

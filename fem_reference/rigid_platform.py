@@ -16,11 +16,12 @@ on o (to quadrature accuracy) but is kept: the matrix is the plate's, not an ass
 from __future__ import annotations
 
 import functools
+from typing import cast
 
 import numpy as np
 
 from common.rigid_body import rigid_body_mass
-from meshing.bodies import Assembly, Plate
+from meshing.bodies import Assembly, Plate, Point3
 from meshing.geometry import MeshSettings, build_mesh
 
 from .discretisation import discretise
@@ -30,8 +31,9 @@ def local_plate(plate: Plate, rotation: np.ndarray) -> Plate:
     """The same plate in its own frame: centre at the origin, normal along z."""
     rot = np.asarray(rotation, float)
     o = np.asarray(plate.centre, float)
-    corners = () if plate.shape == "disk" else tuple(  # rounded: one key for every pose
-        tuple(float(round(v, 12)) + 0.0 for v in rot.T @ (np.asarray(c) - o))
+    # rounded: one key for every pose (a 3x3 rotation of 3D corners: 3D corners)
+    corners: tuple[Point3, ...] = () if plate.shape == "disk" else tuple(
+        cast(Point3, tuple(float(round(v, 12)) + 0.0 for v in rot.T @ (np.asarray(c) - o)))
         for c in plate.corners)
     return Plate(plate.name, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), plate.thickness, plate.shape,
                  plate.radius, corners)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -39,6 +40,10 @@ from .options import FemError, FemOptions, FemRuntime
 from .probes import evaluate
 from .reduction import reduced_matrices
 
+if TYPE_CHECKING:
+    import scipy.sparse as sp
+
+
 
 @dataclass
 class FemResult:
@@ -56,13 +61,14 @@ class FemResult:
     n_elements: int
     options: FemOptions
     min_quality: float  # smallest scaled Jacobian of the curved elements (meshing.geometry)
-    geometry: object = field(repr=False)  # analytical.kinematics.PoseGeometry
+    geometry: Any = field(repr=False)  # analytical.kinematics.PoseGeometry: duck-typed,
+    # the FEM never imports the analytical model
     assembly: Assembly = field(repr=False)  # the meshed bodies (names of legs and faces)
     disc: Discretisation = field(repr=False)
     constraints: ConstraintMap = field(repr=False)
     modes_q: np.ndarray = field(repr=False)  # (n_free, modes), M-orthonormal
     modes_raw: np.ndarray = field(repr=False)  # (raw_dofs, modes) = T modes_q
-    mass_matrix: object = field(default=None, repr=False)  # raw consistent mass (CSR)
+    mass_matrix: sp.csr_matrix | None = field(default=None, repr=False)  # raw consistent mass
     plate: Plate | None = field(default=None, repr=False)  # the platform (meshed or rigid)
 
     def _stations(self, leg: int, t: np.ndarray):
@@ -181,6 +187,8 @@ class FemResult:
         nodes = self.disc.body_nodes("platform")
         dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
         u = self.modes_raw[dofs].reshape(len(nodes), 3, -1)
+        if self.mass_matrix is None:  # solve_pose_tetrahedra always sets it
+            raise TypeError("FemResult.mass_matrix is None: no mass to fit the platform with")
         return rigid_fit(self.disc.node_xyz[nodes], u, self.geometry.platform_centre,
                          mass=self.mass_matrix[dofs][:, dofs])
 

@@ -14,10 +14,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import cast
 
 import numpy as np
 
 from common.errors import InputError
+
+Point3 = tuple[float, float, float]  # a point or a direction in base coordinates, m
 
 
 class GeometryError(InputError):
@@ -141,7 +144,7 @@ class Assembly:
         """A JSON-ready description, rounded to 1e-12 m so that hashing is stable."""
         def r(x):
             return [round(float(v), 12) for v in np.ravel(x)]
-        out = {"cylinders": [c.canonical(r) for c in self.cylinders]}
+        out: dict[str, object] = {"cylinders": [c.canonical(r) for c in self.cylinders]}
         if self.plate is not None:
             p = self.plate
             out["plate"] = {"name": p.name, "centre": r(p.centre), "normal": r(p.normal),
@@ -154,7 +157,7 @@ def _finite_point(name: str, x) -> tuple[float, float, float]:
     arr = np.asarray(x, float).reshape(-1)
     if arr.shape != (3,) or not np.all(np.isfinite(arr)):
         raise GeometryError(f"{name} = {np.asarray(x).tolist()!r}: not a finite 3D point")
-    return tuple(float(v) for v in arr)
+    return cast(Point3, tuple(float(v) for v in arr))  # three values: shape checked above
 
 
 def segment_distance(p0, p1, q0, q1) -> float:
@@ -212,7 +215,8 @@ def leg_parts(legs: tuple[Cylinder, ...], profile) -> Assembly:
     into their profile's parts: `profile(length)` -> `common.leg_profile.LegPart`s, base joint
     first (the manipulator's `leg_parts`). A leg of one part named "leg" stays the cylinder it
     was (a solid of the leg's diameter), so uniform legs mesh as before."""
-    cylinders, parts = [], []
+    cylinders: list[Cylinder] = []
+    parts: list[tuple[int, ...]] = []
     for i, leg in enumerate(legs):
         b, a = np.asarray(leg.start, float), np.asarray(leg.end, float)
         length = float(np.linalg.norm(a - b))
@@ -228,8 +232,8 @@ def leg_parts(legs: tuple[Cylinder, ...], profile) -> Assembly:
             start = b if k == 0 else b + float(p.start) * e
             end = a if k == len(pieces) - 1 else b + float(p.end) * e
             own.append(len(cylinders))
-            cylinders.append(Cylinder(part_name(i, p.name), tuple(map(float, start)),
-                                      tuple(map(float, end)), 0.5 * float(p.outer),
+            cylinders.append(Cylinder(part_name(i, p.name), cast(Point3, tuple(map(float, start))),
+                                      cast(Point3, tuple(map(float, end))), 0.5 * float(p.outer),
                                       0.5 * float(p.inner)))
         parts.append(tuple(own))
     return Assembly(tuple(cylinders), None, tuple(parts))
@@ -241,7 +245,7 @@ def platform_plate(manipulator, geometry) -> Plate:
     plate = Plate(
         name="platform",
         centre=_finite_point("platform centre o", geometry.platform_centre),
-        normal=tuple(float(v) for v in normal / np.linalg.norm(normal)),
+        normal=cast(Point3, tuple(float(v) for v in normal / np.linalg.norm(normal))),
         thickness=float(manipulator.platform_thickness),
         shape=manipulator.platform_shape,
         radius=float(manipulator.platform_radius),

@@ -336,7 +336,8 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
     index = np.full(int(node_tags.max()) + 1, -1, np.int64)
     index[node_tags] = np.arange(len(node_tags))
 
-    tets, tet_body, elem_tags = [], [], []
+    blocks_of: list[np.ndarray] = []
+    tet_body, elem_tags = [], []
     for k, (name, vtag) in enumerate(volumes):
         types, etags, enodes = model.mesh.getElements(3, vtag)
         blocks = [(np.asarray(t_, np.int64), np.asarray(n_, np.int64))
@@ -345,10 +346,10 @@ def _build(gmsh, assembly: Assembly, settings: MeshSettings) -> SolidMesh:
             raise GmshFailure(f"gmsh produced no 10-node tetrahedra in {name}")
         for t_, n_ in blocks:
             conn = index[n_.reshape(-1, 10)][:, GMSH_TETRA10_TO_MESHIO]
-            tets.append(conn)
+            blocks_of.append(conn)
             tet_body.append(np.full(len(conn), k, np.int32))
             elem_tags.append(t_)
-    tets = np.concatenate(tets)
+    tets = np.concatenate(blocks_of)
     all_tags = np.concatenate(elem_tags)
     quality = np.asarray(model.mesh.getElementQualities(all_tags.tolist(), "minSJ"))
 

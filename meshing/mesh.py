@@ -82,13 +82,13 @@ class SolidMesh:
             bodies = tuple(sorted((k for k, (g, d) in groups.items() if d == 3),
                                   key=lambda k: groups[k][0]))
             by_id = {g: k for k, (g, d) in groups.items() if d == 2}
-            tets, tet_body, faces = [], [], {}
+            tet_blocks, body_blocks, faces = [], [], {}
             for block, gdata in zip(m.cells, m.cell_data["group"]):
                 data = np.asarray(block.data, np.int64)
                 gdata = np.asarray(gdata, np.int64).ravel()
                 if block.type == "tetra10":
-                    tets.append(data)
-                    tet_body.append((gdata - 1).astype(np.int32))
+                    tet_blocks.append(data)
+                    body_blocks.append((gdata - 1).astype(np.int32))
                 elif block.type == "triangle6":
                     for gid in np.unique(gdata):
                         if int(gid) not in by_id:
@@ -96,9 +96,9 @@ class SolidMesh:
                         faces[by_id[int(gid)]] = data[gdata == gid]
                 else:
                     raise MeshFormatError(f"unexpected cell type {block.type!r}")
-            if not tets:
+            if not tet_blocks:
                 raise MeshFormatError("no tetra10 cells")
-            tets, tet_body = np.concatenate(tets), np.concatenate(tet_body)
+            tets, tet_body = np.concatenate(tet_blocks), np.concatenate(body_blocks)
             if tets.ndim != 2 or tets.shape[1] != 10 or len(tets) == 0:
                 raise MeshFormatError("no tetra10 cells")
             if tets.min() < 0 or tets.max() >= len(points):

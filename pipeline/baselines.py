@@ -20,6 +20,9 @@ import sys
 import tempfile
 from dataclasses import replace
 from pathlib import Path
+from typing import Any, Literal, Mapping
+
+from typing_extensions import TypedDict
 
 from analytical.kinematics import pose_geometry
 from common.atomic import write_json_atomic
@@ -27,6 +30,30 @@ from common.errors import InputError
 from runtime.cache import ResultCache
 from scene import load_scene
 from solvers.compare import analytical_case, error_table, fem_case, with_cache_dir
+
+
+class TableRow(TypedDict):
+    """One row of a case's error table, as the baseline keeps it."""
+    fem_mode: int
+    analytical_mode: int
+    f_fem_hz: float
+    f_analytical_hz: float
+    error_percent: float
+    mac: float
+
+
+Tables = dict[str, list[TableRow]]  # case name -> its rows
+Compared = Literal["error_percent", "mac", "f_fem_hz", "f_analytical_hz"]
+
+
+class Baseline(TypedDict):
+    """tests/baselines/error_tables.json."""
+    scene: str
+    mesh_size_m: float
+    analytical: dict[str, object]  # the settings the tables were computed with
+    tolerances: dict[str, float]
+    cases: Tables
+
 
 ROOT = Path(__file__).resolve().parents[1]
 BASELINE = ROOT / "tests" / "baselines" / "error_tables.json"
@@ -36,7 +63,7 @@ FREQUENCY_TOLERANCE = 2e-4  # relative, on each model's own frequencies
 
 
 def compute_tables(scene_path: str | Path, mesh_size: float, cache_dir: Path | None = None,
-                   **analytical_overrides) -> dict:
+                   **analytical_overrides) -> Tables:
     """Both cases' tables; with no `cache_dir`, computed afresh in a temporary one.
 
     `analytical_overrides` (elements, beam, ...) replace the scene's analytical settings.
@@ -48,26 +75,32 @@ def compute_tables(scene_path: str | Path, mesh_size: float, cache_dir: Path | N
     scene = replace(scene, analytical=replace(scene.analytical, **analytical_overrides))
     scene = with_cache_dir(scene, cache_dir)
     cache = ResultCache(cache_dir)
-    out = {}
+    out: Tables = {}
     for name in scene.ci_cases:
         case = scene.case(name)
         geometry = pose_geometry(scene.manipulator, case.pose)
         fem = fem_case(scene, geometry, cache, mesh_size)
         analytical = analytical_case(scene, case, scene.analytical)
-        out[name] = [{k: row[k] for k in ("fem_mode", "analytical_mode", "f_fem_hz",
-                                          "f_analytical_hz", "error_percent", "mac")}
-                     for row in error_table(analytical, fem, scene.analytical.modes)]
+        out[name] = [table_row(row) for row in error_table(analytical, fem,
+                                                           scene.analytical.modes)]
     return out
 
 
-def load_baseline(path: Path = BASELINE) -> dict:
+def table_row(pair: Mapping[str, Any]) -> TableRow:
+    """The baseline's row of a results.Pair."""
+    return TableRow(fem_mode=pair["fem_mode"], analytical_mode=pair["analytical_mode"],
+                    f_fem_hz=pair["f_fem_hz"], f_analytical_hz=pair["f_analytical_hz"],
+                    error_percent=pair["error_percent"], mac=pair["mac"])
+
+
+def load_baseline(path: Path = BASELINE) -> Baseline:
     try:
         return json.loads(path.read_text())
     except FileNotFoundError:
         raise InputError(f"no baseline at {path}: run `make update-baselines`") from None
 
 
-def compare(baseline: dict, current: dict) -> list[str]:
+def compare(baseline: Baseline, current: Tables) -> list[str]:
     """Readable lines for every value that moved beyond its tolerance (empty: all fine)."""
     problems = []
     header = f"{'case':6} {'mode':>4} {'quantity':>16} {'baseline':>10} {'now':>10} {'tol':>8}"
@@ -78,7 +111,7 @@ def compare(baseline: dict, current: dict) -> list[str]:
                             f"rows, baseline {len(rows)}")
             continue
         for old, new in zip(rows, now_rows):
-            checks = [
+            checks: list[tuple[Compared, float, float]] = [
                 ("error_percent", abs(new["error_percent"] - old["error_percent"]),
                  ERROR_TOLERANCE_PP),
                 ("mac", abs(new["mac"] - old["mac"]), MAC_TOLERANCE),
@@ -102,15 +135,13 @@ def update_command(scene_path: str) -> int:
     scene = load_scene(scene_path)
     size = scene.fem_study.ci_mesh_size
     tables = compute_tables(scene_path, size)
-    write_json_atomic(BASELINE, {
-        "scene": str(scene_path),
-        "mesh_size_m": size,
-        "analytical": {"elements": scene.analytical.elements, "beam": scene.analytical.beam,
-                       "platform_inertia": scene.analytical.platform_inertia},
-        "tolerances": {"error_percent_pp": ERROR_TOLERANCE_PP, "mac": MAC_TOLERANCE,
-                       "frequency_relative": FREQUENCY_TOLERANCE},
-        "cases": tables,
-    })
+    write_json_atomic(BASELINE, Baseline(
+        scene=str(scene_path), mesh_size_m=size,
+        analytical={"elements": scene.analytical.elements, "beam": scene.analytical.beam,
+                    "platform_inertia": scene.analytical.platform_inertia},
+        tolerances={"error_percent_pp": ERROR_TOLERANCE_PP, "mac": MAC_TOLERANCE,
+                    "frequency_relative": FREQUENCY_TOLERANCE},
+        cases=tables))
     print(f"wrote {BASELINE.relative_to(ROOT)}")
     for path in sorted((ROOT / "scenes").glob("*.toml")):
         print(f"wrote {write_results_golden(path).relative_to(ROOT)}")
@@ -134,14 +165,15 @@ def write_results_golden(scene_path: Path) -> Path:
     return target
 
 
-def results_tables(path: str | Path, baseline: dict) -> dict:
+def results_tables(path: str | Path, baseline: Baseline) -> Tables:
     """The error tables of the baseline's cases as a results file holds them (`validate`'s
     results.json); ValueError naming the file when it is unreadable, lacks a case, or was
     computed at another FEM mesh size or with other analytical settings than the baseline."""
     from results import read as load_results
+    from studies import RECORDS
 
-    results = load_results(path)
-    tables = {}
+    results = load_results(path, RECORDS)
+    tables: Tables = {}
     for name in baseline["cases"]:
         case = next((c for c in results["cases"] if c.get("name") == name), None)
         if case is None:
@@ -157,9 +189,7 @@ def results_tables(path: str | Path, baseline: dict) -> dict:
                 raise InputError(f"{path}: analytical {key} = {analytical.get(key)!r}, the "
                                  f"baselines' {value!r}: not comparable")
         try:
-            tables[name] = [{k: row[k] for k in ("fem_mode", "analytical_mode", "f_fem_hz",
-                                                 "f_analytical_hz", "error_percent", "mac")}
-                            for row in case["pairs"]]
+            tables[name] = [table_row(row) for row in case["pairs"]]
         except (KeyError, TypeError) as exc:
             raise InputError(f"{path}: case {name!r} pairs lack {exc}") from None
     return tables

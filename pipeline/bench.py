@@ -43,6 +43,18 @@ from scene import load_scene
 from solvers.compare import fem_options, fem_runtime
 from studies.workspace_map import workspace_heights
 
+from .bench_records import (
+    BestModel,
+    EstimatedErrors,
+    FemTiming,
+    FemTimings,
+    Grid,
+    MapBench,
+    SweepBench,
+    Timing,
+    Timings,
+)
+
 MAP_GRID = (20, 10, 50)  # heights x rings x azimuths: the 10,000-pose map of issue 12
 
 
@@ -57,19 +69,19 @@ def _median_seconds(fn, runs: int, warmup: int = 3) -> tuple[float, list[float]]
     return statistics.median(samples), samples
 
 
-def bench_analytical(scene, case_name: str, runs: int) -> dict:
+def bench_analytical(scene, case_name: str, runs: int) -> Timings:
     case = scene.case(case_name)
-    out = {}
+    out: Timings = {}
     for s in (1, 3, 6, 10):
         opts = replace(scene.analytical, elements=s)
         median, samples = _median_seconds(lambda: analyse(scene.manipulator, case.pose, opts), runs)
-        out[f"s={s}"] = {"median_seconds": median, "min_seconds": min(samples), "runs": runs}
+        out[f"s={s}"] = Timing(median_seconds=median, min_seconds=min(samples), runs=runs)
     for s in (3, 5):  # Timoshenko middles between solid end zones (analytical.end_zones)
         opts = replace(scene.analytical, elements=s, beam="timoshenko", shear="hutchinson",
                        joint_ends="solid")
         median, samples = _median_seconds(lambda: analyse(scene.manipulator, case.pose, opts), runs)
-        out[f"s={s}, solid ends"] = {"median_seconds": median, "min_seconds": min(samples),
-                                     "runs": runs}
+        out[f"s={s}, solid ends"] = Timing(median_seconds=median, min_seconds=min(samples),
+                                           runs=runs)
     return out
 
 
@@ -89,7 +101,7 @@ def map_poses(scene):
     return poses.take(np.flatnonzero(poses.feasible))
 
 
-def bench_best_model(scene, runs: int) -> dict:
+def bench_best_model(scene, runs: int) -> BestModel:
     """Seconds a pose of the most accurate analytical setting, batched over the map's poses on
     one core (frequencies only, the scene's modes): medians of `runs`."""
     from analytical.batch_model import (
@@ -117,12 +129,13 @@ def bench_best_model(scene, runs: int) -> dict:
 
     total, _ = _median_seconds(lambda: solve("solve"), runs, warmup=1)
     assembly, _ = _median_seconds(lambda: solve("assemble"), runs, warmup=1)
-    return {"setting": label, "poses": len(poses), "matrix_size": model_coordinates(
-        scene.manipulator, options), "modes": options.modes, "runs": runs,
-        "pose_seconds": total / len(poses), "assembly_pose_seconds": assembly / len(poses)}
+    return BestModel(setting=label, poses=len(poses),
+                     matrix_size=model_coordinates(scene.manipulator, options),
+                     modes=options.modes, runs=runs, pose_seconds=total / len(poses),
+                     assembly_pose_seconds=assembly / len(poses))
 
 
-def bench_map(scene, runs: int, modes: int, workers: int | None = None) -> dict:
+def bench_map(scene, runs: int, modes: int, workers: int | None = None) -> MapBench:
     """The 10,000-pose analytical map (frequencies and modes followed by shape, on every core)
     against 10,000 plain scipy.linalg.eigh(K, M) calls on the map's own 18 s x 18 s matrices in
     one process (one core: OPENBLAS_NUM_THREADS=1 under make), timed alternately; medians.
@@ -154,35 +167,36 @@ def bench_map(scene, runs: int, modes: int, workers: int | None = None) -> dict:
         plain()
         plain_s.append(time.perf_counter() - start)
     tracking = fmap.tracking
-    return {
-        "grid": {"heights": layers, "rings": rings, "azimuths": azimuths, "poses": calls,
-                 "distinct_poses": layers * (1 + (rings - 1) * azimuths)},
-        "modes": modes,
-        "matrix_size": 18 * options.elements,
-        "workers": default_workers() if workers is None else workers,
-        "openblas_num_threads": os.environ.get("OPENBLAS_NUM_THREADS"),
-        "map_median_seconds": statistics.median(map_s),
-        "map_seconds": map_s,
-        "plain_eigh_calls": calls,
-        "plain_eigh_median_seconds": statistics.median(plain_s),
-        "plain_eigh_seconds": plain_s,
-        "ratio": statistics.median(map_s) / statistics.median(plain_s),
-        "poses_with_shapes": tracking.poses_with_shapes,
-        "steps_matched_by_shape": tracking.steps_with_shapes,
-        "steps": tracking.steps,
-        "crossings": len(fmap.crossings),
-        "runs": runs,
-    }
+    if tracking is None:  # frequency_map always follows the families
+        raise RuntimeError("the map was drawn without following its families")
+    return MapBench(
+        grid=Grid(heights=layers, rings=rings, azimuths=azimuths, poses=calls,
+                  distinct_poses=layers * (1 + (rings - 1) * azimuths)),
+        modes=modes,
+        matrix_size=18 * options.elements,
+        workers=default_workers() if workers is None else workers,
+        openblas_num_threads=os.environ.get("OPENBLAS_NUM_THREADS"),
+        map_median_seconds=statistics.median(map_s),
+        map_seconds=map_s,
+        plain_eigh_calls=calls,
+        plain_eigh_median_seconds=statistics.median(plain_s),
+        plain_eigh_seconds=plain_s,
+        ratio=statistics.median(map_s) / statistics.median(plain_s),
+        poses_with_shapes=tracking.poses_with_shapes,
+        steps_matched_by_shape=tracking.steps_with_shapes,
+        steps=tracking.steps,
+        crossings=len(fmap.crossings),
+        runs=runs)
 
 
 def bench_fem(scene, case_name: str, runs: int, sizes: list[float],
-              legs: str | None = None) -> dict:
+              legs: str | None = None) -> FemTimings:
     from fem_reference import solve_pose
     from fem_reference.harmonic import clear_caches
 
     case = scene.case(case_name)
     geometry = pose_geometry(scene.manipulator, case.pose)
-    out = {}
+    out: FemTimings = {}
     for size in sizes:
         # no mesh cache (nor the harmonic legs' per-process memo), so that meshing is timed
         # too; as many modes as the pipeline asks
@@ -198,18 +212,15 @@ def bench_fem(scene, case_name: str, runs: int, sizes: list[float],
             samples.append(time.perf_counter() - start)
             timings.append(result.timings)
             dofs = result.dofs
-        out[f"{size * 1e3:g}mm"] = {
-            "mesh_size_m": size,
-            "dofs": int(dofs),
-            "median_seconds": statistics.median(samples),
-            "min_seconds": min(samples),
-            "median_timings": {k: statistics.median(t[k] for t in timings) for k in timings[0]},
-            "runs": runs,
-        }
+        out[f"{size * 1e3:g}mm"] = FemTiming(
+            mesh_size_mm=size * 1e3, dofs=int(dofs), median_seconds=statistics.median(samples),
+            min_seconds=min(samples),
+            median_timings={k: statistics.median(t[k] for t in timings) for k in timings[0]},
+            runs=runs)
     return out
 
 
-def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> dict:
+def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> SweepBench:
     """Wall time of the CI-size workspace-validation sweep with each worker count, every run
     from an empty cache (meshes included), alternating the worker counts run by run."""
     import tempfile
@@ -231,13 +242,10 @@ def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> dict:
                                   workers=w)
                 samples[w].append(time.perf_counter() - start)
             poses = len(study["poses"])
-    out = {"poses": poses, "runs": runs, "models": len(models)}
-    for w in workers:
-        out[f"workers_{w}_median_seconds"] = statistics.median(samples[w])
-        out[f"workers_{w}_seconds"] = samples[w]
-    out["speedup"] = out[f"workers_{workers[0]}_median_seconds"] / out[
-        f"workers_{workers[-1]}_median_seconds"]
-    return out
+    medians = {str(w): statistics.median(samples[w]) for w in workers}
+    return SweepBench(poses=poses, runs=runs, models=len(models), median_seconds=medians,
+                      seconds={str(w): samples[w] for w in workers},
+                      speedup=medians[str(workers[0])] / medians[str(workers[-1])])
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -310,12 +318,13 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-def _estimated_errors(results_path: Path, case_name: str) -> dict | None:
+def _estimated_errors(results_path: Path, case_name: str) -> EstimatedErrors | None:
     """The refinement study's estimated error per size, if a validation run left one."""
     from results import read
+    from studies import RECORDS
 
     try:
-        results = read(results_path)
+        results = read(results_path, RECORDS)
     except ValueError:  # none, or of another schema
         return None
     case = next((c for c in results["cases"] if c["name"] == case_name), None)

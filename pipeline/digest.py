@@ -10,6 +10,10 @@ rewrites them, with the error tables, on purpose only).
 """
 from __future__ import annotations
 
+from typing_extensions import TypedDict
+
+import results
+
 RELATIVE = 1e-6  # round-off of dense and sparse eigen solves on the same meshes: ~1e-9
 # ... and an absolute floor for numbers near zero: most of the digest's numbers are errors in
 # percent, some a few thousandths of a percent, and their round-off is relative to the
@@ -22,22 +26,46 @@ RELATIVE = 1e-6  # round-off of dense and sparse eigen solves on the same meshes
 ABSOLUTE = 100 * RELATIVE  # in the number's own unit: percentage points (Hz, mm, degrees)
 
 
-def digest(results: dict) -> dict:
-    studies = results["studies"]
-    validation = studies["workspace_validation"] or {"poses": []}
-    return {
-        "profile": results["profile"],
-        "cases": [{"name": c["name"], "pose": c["pose"],
-                   "fem_hz": c["fem"]["frequencies_hz"], "fem_dofs": c["fem"]["dofs"]}
-                  for c in results["cases"]],
-        "candidates": {c["setting"]: c["worst_error_percent"]
-                       for c in results["fidelity"]["candidates"]},
-        "fem_mesh_size_mm": results["fidelity"]["fem"]["mesh_size_mm"],
-        "validation_poses": [{k: p.get(k) for k in ("height_mm", "azimuth_deg", "tilt_deg",
-                                                     "fem_hz", "models")}
-                             for p in validation["poses"]],
-        "reachable_workspace": studies["reachable_workspace"],
-    }
+class CaseDigest(TypedDict):
+    name: str
+    pose: results.Pose
+    fem_hz: list[float]
+    fem_dofs: int
+
+
+class PoseDigest(TypedDict):
+    height_mm: float
+    azimuth_deg: float
+    tilt_deg: float
+    fem_hz: list[float] | None
+    models: dict[str, list[float | None]] | None
+
+
+class Digest(TypedDict):
+    """tests/baselines/results/<scene>.json."""
+    profile: str
+    cases: list[CaseDigest]
+    candidates: dict[str, float]  # setting -> its worst error over the cases and study poses, %
+    fem_mesh_size_mm: float
+    validation_poses: list[PoseDigest]
+    reachable_workspace: results.ReachableWorkspace
+
+
+def digest(run: results.Results) -> Digest:
+    studies = run["studies"]
+    validation = studies["workspace_validation"]
+    return Digest(
+        profile=run["profile"],
+        cases=[CaseDigest(name=c["name"], pose=c["pose"], fem_hz=c["fem"]["frequencies_hz"],
+                          fem_dofs=c["fem"]["dofs"]) for c in run["cases"]],
+        candidates={c["setting"]: c["worst_error_percent"]
+                    for c in run["fidelity"]["candidates"]},
+        fem_mesh_size_mm=run["fidelity"]["fem"]["mesh_size_mm"],
+        validation_poses=[PoseDigest(height_mm=p["height_mm"], azimuth_deg=p["azimuth_deg"],
+                                     tilt_deg=p["tilt_deg"], fem_hz=p["fem_hz"],
+                                     models=p["models"])
+                          for p in (validation["poses"] if validation else [])],
+        reachable_workspace=studies["reachable_workspace"])
 
 
 def differences(golden, current, where: str = "", relative: float = RELATIVE,

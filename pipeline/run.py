@@ -18,7 +18,7 @@ import subprocess
 import sys
 from importlib import metadata
 from pathlib import Path
-from typing import Callable
+from typing import Any, Callable, cast
 
 import numpy as np
 from rich.console import Console
@@ -29,7 +29,7 @@ import studies
 from analytical.architecture import actuation, is_prs, leg_length_range
 from analytical.kinematics import pose_geometry
 from common.paths import distinct_stems, inside
-from common.settings import declared
+from common.settings import edge_values, spec_of
 from fem_reference.export import write_mode_collection
 from results.tables import write_tables
 from runtime.cache import ROOT, ResultCache
@@ -46,8 +46,8 @@ from .preflight import check_sizes
 PROJECT = "rps-elastodynamics"
 
 
-def environment() -> dict:
-    versions = {}
+def environment() -> schema.Environment:
+    versions: dict[str, str | None] = {}
     for dist in ("numpy", "scipy", "gmsh", "scikit-fem", "meshio", "pyvista", "matplotlib",
                  "jinja2", "weasyprint"):
         try:
@@ -84,40 +84,27 @@ def git_commit() -> str | None:
     return commit + (" + local changes" if changed else "")
 
 
-def scene_summary(scene: Scene, path: str) -> dict:
+def scene_summary(scene: Scene, path: str) -> schema.SceneSummary:
     m = scene.manipulator
     act = actuation(m)
     return schema.SceneSummary(
         name=scene.name,
         path=path,
         sha256=hashlib.sha256(Path(path).read_bytes()).hexdigest(),
-        manipulator=schema.Manipulator(
-            base_radius_mm=m.base_radius * 1e3,
-            platform_radius_mm=m.platform_radius * 1e3,
-            leg_diameter_mm=m.leg_diameter * 1e3,
-            platform_thickness_mm=m.platform_thickness * 1e3,
-            platform_shape=m.platform_shape,
-            leg_angles_deg=[math.degrees(a) for a in m.leg_angles],
-            architecture=m.architecture,
-            actuator=act.quantity,
-            actuator_range_mm=[act.low * 1e3, act.high * 1e3],
-            leg_length_range_mm=[x * 1e3 for x in leg_length_range(m)],
-            rail_angle_deg=math.degrees(m.rail_angle) if is_prs(m) else None,
-            s_joint_max_deg=math.degrees(m.s_joint_max),
-            r_joint_max_deg=math.degrees(m.r_joint_max),
-            base_joint=m.base_joint,
-            platform_joint=m.platform_joint,
-            youngs_modulus_gpa=m.material.youngs_modulus / 1e9,
-            shear_modulus_gpa=m.material.shear_modulus / 1e9,
-            poisson_ratio=m.material.poisson_ratio,
-            density_kg_m3=m.material.density,
-            payload=schema.Payload(mass_kg=m.payload.mass,
-                                   centre_mm=[1e3 * x for x in m.payload.centre],
-                                   inertia_kg_m2=list(m.payload.inertia)),
-            leg=schema.LegProfile(**{spec.scene_key(n): spec.edge(getattr(m.leg, n))
-                                     for n, spec, _ in declared(m.leg)}),
-            stiffness=schema.Stiffness(**{spec.scene_key(n): spec.edge(getattr(m.stiffness, n))
-                                          for n, spec, _ in declared(m.stiffness)})),
+        # every declared value in its edge unit, converted by its own declaration (the record's
+        # keys are the scene's: checked against the schema when written)
+        manipulator=cast(schema.Manipulator, {
+            **edge_values(m, ("base_radius", "platform_radius", "leg_diameter",
+                              "platform_thickness", "platform_shape", "leg_angles",
+                              "architecture", "s_joint_max", "r_joint_max", "base_joint",
+                              "platform_joint")),
+            "actuator": act.quantity,
+            "actuator_range_mm": [edge(m, "actuator_min", x) for x in (act.low, act.high)],
+            "leg_length_range_mm": [edge(m, "actuator_min", x) for x in leg_length_range(m)],
+            "rail_angle_deg": edge(m, "rail_angle", m.rail_angle) if is_prs(m) else None,
+            **edge_values(m.material), "poisson_ratio": m.material.poisson_ratio,
+            "payload": edge_values(m.payload), "leg": edge_values(m.leg),
+            "stiffness": edge_values(m.stiffness)}),
         analytical=schema.AnalyticalSettings(
             elements=scene.analytical.elements, beam=scene.analytical.beam,
             platform_inertia=scene.analytical.platform_inertia, modes=scene.analytical.modes),
@@ -136,7 +123,12 @@ def scene_summary(scene: Scene, path: str) -> dict:
     )
 
 
-def pose_summary(scene: Scene, case: Case) -> dict:
+def edge(obj, name: str, value: float) -> float:
+    """`value` (SI) in the edge unit of `obj`'s declared setting `name`."""
+    return spec_of(obj, name).edge(value)
+
+
+def pose_summary(scene: Scene, case: Case) -> schema.Pose:
     g = pose_geometry(scene.manipulator, case.pose)
     return schema.Pose(
         height_mm=case.pose.height * 1e3,
@@ -153,7 +145,7 @@ def pose_summary(scene: Scene, case: Case) -> dict:
     )
 
 
-def paper_rows(case: Case) -> dict | None:
+def paper_rows(case: Case) -> schema.Paper | None:
     if case.paper_theory_hz is None and case.paper_fea_hz is None:
         return None
     recomputed = None
@@ -166,16 +158,17 @@ def paper_rows(case: Case) -> dict | None:
             notes.append(f"f{k + 1}: printed {printed:.2f} %, (theory/FEA - 1) gives "
                          f"{ours:.2f} %")
     return schema.Paper(
-        fea_hz=case.paper_fea_hz and list(case.paper_fea_hz),
-        theory_hz=case.paper_theory_hz and list(case.paper_theory_hz),
+        fea_hz=None if case.paper_fea_hz is None else list(case.paper_fea_hz),
+        theory_hz=None if case.paper_theory_hz is None else list(case.paper_theory_hz),
         error_percent=recomputed,
-        printed_error_percent=case.paper_error_percent and list(case.paper_error_percent),
+        printed_error_percent=(None if case.paper_error_percent is None
+                               else list(case.paper_error_percent)),
         printed_error_note=("The paper's printed errors do not all follow from its own "
                             "frequencies: " + "; ".join(notes) + ".") if notes else None)
 
 
 def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | None,
-             profile: str, progress=None) -> tuple[dict, Path | None]:
+             profile: schema.Profile, progress=None) -> tuple[schema.Case, Path | None]:
     """Everything the report needs about one case (a results.Case), and the FEM's mode file:
     both models at the case's pose, the FEM's refinement study (when `refinement` sizes are
     given), and the registered case studies of `profile`."""
@@ -207,7 +200,7 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
 
     step("analytical models")
     analytical = analytical_case(scene, case, scene.analytical)
-    entry = schema.Case(
+    core = schema.CaseCore(
         name=case.name,
         description=case.description,
         pose=pose_summary(scene, case),
@@ -223,21 +216,21 @@ def run_case(ctx: studies.Context, case: Case, refinement: tuple[float, ...] | N
         fem_gci_percent=fem_gci,
         fem_reference_hz=None if reference is None else reference.tolist(),
         fem_refinement=refinement_study,
-        models=None, element_convergence=None, fem_variants=None, fem_variant_errors=None,
-        speed_vs_error=None,
     )
+    held = schema.stub(studies.RECORDS, "case")  # every case study's record, empty until run
     given = studies.CaseContext(case, geometry, fem, fem_error, reference, refinement_study, step)
     for study in studies.at("case", profile):
-        entry.update(study.run(ctx, given))
-    return entry, fem.vtu
+        held[study.key] = study.compute(ctx, given)
+    # the registry's keys beside the core: checked against the schema when written
+    return cast(schema.Case, {**core, **held}), fem.vtu
 
 
 Report = Callable[[Path, Path, Path, int], object]  # (results.json, folder, cache dir, workers)
 
 
-def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
+def validate(scene_path: str, out: Path, cache_dir: Path, profile: schema.Profile = "full",
              report: Report | None = None, workers: int | None = None,
-             scheduler: str | None = None) -> dict:
+             scheduler: str | None = None) -> schema.Results:
     """Validate a scene into `out` (swapped in whole). `report`, when given, renders the report
     into the staging folder before the swap (the command line passes
     `reports.build.render_report`: the run itself never imports the report)."""
@@ -250,19 +243,13 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
     scene = with_cache_dir(scene, cache.directory)  # solid end zones beside the other entries
     workers = workers or min(os.cpu_count() or 1, 8)
     console = Console(stderr=True)
+    summary = scene_summary(scene, scene_path)
+    # every registered scene study's record, empty until it runs (the registry's stub)
+    held: dict[str, Any] = {**schema.stub(studies.RECORDS, "scene"),
+                            "reachable_workspace": reachable_workspace}
+    cases: list[schema.Case] = []
     with staged_output(out) as stage:  # locked for the run; swapped in whole at the end
-        results = schema.Results(
-            schema=schema.SCHEMA_VERSION, profile=profile,
-            scene=scene_summary(scene, scene_path), environment=environment(), cases=[],
-            studies=schema.Studies(reachable_workspace=reachable_workspace,
-                                   height_calibration=None, angle_conventions=[],
-                                   workspace=None, joint_orders=[],
-                                   joint_couplings=[], workspace_validation=None,
-                                   hard_cases=[], lowest_modes=[],
-                                   fem_verification=None),
-            fidelity=None,
-            fixture_note=None)
-        mode_files = {}
+        mode_files: dict[str, Path | None] = {}
         # on a terminal only, and transient: a failure is one line on stderr, nothing before
         with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(),
                       console=console, transient=True, disable=not console.is_terminal) as bar:
@@ -272,11 +259,9 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
                 scheduler=scheduler, console=console,
                 step=lambda text: bar.update(task, description=f"fidelity: {text}"))
             scene = fidelity.scene
-            results["fidelity"] = fidelity.summary()
-            results["studies"]["workspace_validation"] = workspace
+            held["workspace_validation"] = workspace
             bar.advance(task)
-            ctx = studies.Context(scene, cache, workers, scheduler,
-                                  results["fidelity"]["analytical"]["setting"])
+            ctx = studies.Context(scene, cache, workers, scheduler, fidelity.analytical.setting)
             geometries = [pose_geometry(scene.manipulator, scene.case(n).pose)
                           for n in case_names]
             for study in studies.at("case", profile):  # every case's solves on the workers
@@ -287,11 +272,15 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
                     ctx, scene.case(name),
                     scene.fem_study.refinement if profile == "full" else None, profile,
                     progress=lambda text: bar.update(task, description=text))
-                results["cases"].append(entry)
+                cases.append(entry)
                 bar.advance(task)
         for study in studies.at("scene", profile):
-            results["studies"][study.key] = study.run(ctx)
-        results = _write_outputs(results, mode_files, stage)
+            held[study.key] = study.compute(ctx)
+        results = _write_outputs(schema.Results(
+            schema=schema.SCHEMA_VERSION, profile=profile, scene=summary,
+            environment=environment(), fidelity=fidelity.summary(), cases=cases,
+            studies=cast(schema.Studies, held),  # the registry's keys: checked when written
+            fixture_note=None), mode_files, stage)
         if report is not None:
             from common.worker import stoppable
             stoppable(report, stage / "results.json", stage,  # stops at once on a signal
@@ -302,7 +291,8 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: str = "full",
     return results
 
 
-def _write_outputs(results: dict, mode_files: dict, stage: Path) -> dict:
+def _write_outputs(results: schema.Results, mode_files: dict[str, Path | None],
+                   stage: Path) -> schema.Results:
     """Copy the FEM mode files in, check the results against the schema and write them with
     their tables; the checked results are returned. Case names become file names only through
     `common.paths` (their stems, and every path checked to stay inside the staging folder)."""
@@ -320,7 +310,7 @@ def _write_outputs(results: dict, mode_files: dict, stage: Path) -> dict:
             shutil.copyfile(source, target)
             case["fem"]["vtu"] = target.relative_to(stage).as_posix()
             case["fem"]["pvd"] = write_mode_collection(target).relative_to(stage).as_posix()
-    results = schema.validated(results)
+    results = schema.validated(results, studies.RECORDS)
     inside(stage, "results.json").write_text(schema.dumps(results))
-    write_tables(results, stage)
+    write_tables(results, stage, studies.RECORDS)
     return results

@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Sequence
 
 from common.paths import inside
 from common.worker import stoppable
+from results import Record
 from runtime.outdir import staged_output
 
 from .document import context, render_html, render_pdf
@@ -27,7 +29,8 @@ LEGACY_TEMPORARIES = (".report-", ".figures-old-")  # left inside out/ by earlie
 
 
 def build_report(results_json_path, out_dir, cache_dir: Path | None = None,
-                 workers: int | None = None) -> tuple[Path, Path]:
+                 workers: int | None = None, *,
+                 records: Sequence[Record]) -> tuple[Path, Path]:
     """Write out_dir/report.html, out_dir/report.pdf and out_dir/figures/ from a results file.
 
     The new out_dir is built whole beside it (its other files copied, then the report
@@ -36,18 +39,19 @@ def build_report(results_json_path, out_dir, cache_dir: Path | None = None,
     path) for a missing, malformed or outdated results file, ReportError when a picture or the
     PDF cannot be rendered; either way out_dir is left as it was. Figures are drawn on
     `workers` processes (default: the cores) and reused from `cache_dir` when given.
+    `records`: the registry of study records (`studies.RECORDS`), handed in by the caller.
     """
     out = Path(out_dir)
-    load_results(results_json_path)  # a bad results file is refused before out_dir is locked
+    load_results(results_json_path, records)  # refused before out_dir is locked
     with staged_output(out, keep=lambda name: name not in REPORT_ENTRIES
                        and not name.startswith(LEGACY_TEMPORARIES)) as stage:
         stoppable(render_report, results_json_path, stage, cache_dir,  # Ctrl-C / SIGTERM
-                  workers or os.cpu_count() or 1)                   # stop it at once
+                  workers or os.cpu_count() or 1, records=records)  # stop it at once
     return out / "report.html", out / "report.pdf"
 
 
 def render_report(results_json_path, directory, cache_dir: Path | None = None,
-                  workers: int = 1) -> tuple[Path, Path]:
+                  workers: int = 1, *, records: Sequence[Record]) -> tuple[Path, Path]:
     """Render report.html, report.pdf and figures/ into `directory`, a staging directory that
     the caller swaps in whole (nothing here is visible until then); the figures on `workers`
     processes, reused from the figure cache under `cache_dir` (`figure_jobs`).
@@ -56,12 +60,12 @@ def render_report(results_json_path, directory, cache_dir: Path | None = None,
     with the interactive charts (reports.interactive), self-contained."""
     results_path = Path(results_json_path)
     target = Path(directory)
-    results = load_results(results_path)
+    results = load_results(results_path, records)
     fig_dir = inside(target, "figures")
     fig_dir.mkdir()
     try:
         ctx = context(results, results_path,
-                      make_figures(results, results_path, fig_dir, cache_dir, workers))
+                      make_figures(results, results_path, fig_dir, cache_dir, workers), records)
         html = render_html(ctx)  # static: the PDF's source
         notes: list[str] = []
         charts = build_charts(results, results_path, notes)

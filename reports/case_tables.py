@@ -3,15 +3,17 @@ has them), the analytical model variants, the FEM idealisations and the FEM's me
 sequence."""
 from __future__ import annotations
 
+from results import Case, Pair, Results
+
 from .cells import Cells, cell, head, missing
 from .results import escape
 
 
-def _by_mode(pairs: list[dict]) -> list[int]:
+def _by_mode(pairs: list[Pair]) -> list[int]:
     return sorted(range(len(pairs)), key=lambda j: pairs[j]["fem_mode"])
 
 
-def comparison_table(results: dict, i: int, c: Cells) -> dict:
+def comparison_table(results: Results, i: int, c: Cells) -> dict:
     """Mode by mode: the paper's rows (where the case has them), our FEM with its estimated
     error, our analytical model, the errors and the MAC."""
     case = results["cases"][i]
@@ -47,7 +49,7 @@ def comparison_table(results: dict, i: int, c: Cells) -> dict:
             "repeated": any(p["repeated"] for p in case["pairs"])}
 
 
-def variants_table(results: dict, i: int, c: Cells) -> dict | None:
+def variants_table(results: Results, i: int, c: Cells) -> dict | None:
     """Every analytical model variant's frequency and error, FEM mode by FEM mode."""
     case = results["cases"][i]
     models = case["models"]
@@ -71,16 +73,17 @@ def variants_table(results: dict, i: int, c: Cells) -> dict | None:
             "rows": rows, "cls": "variants"}
 
 
-def fem_variants_table(results: dict, i: int, c: Cells) -> dict | None:
+def fem_variants_table(results: Results, i: int, c: Cells) -> dict | None:
     """The FEM with other joint and platform idealisations: frequencies and shifts."""
     case = results["cases"][i]
-    variants, errors = case["fem_variants"] or {}, case["fem_variant_errors"] or {}
+    study = case["fem_variants"] or {"variants": {}, "unsolved": {}}
+    variants, errors = study["variants"], study["unsolved"]
     if not variants and not errors:
         return None
     n = len(case["fem"]["frequencies_hz"])
-    rows = []
+    rows: list[dict[str, object]] = []
     for label in variants:
-        q = f"/cases/{i}/fem_variants/{escape(label)}"
+        q = f"/cases/{i}/fem_variants/variants/{escape(label)}"
         rows.append({"label": label, "error": None, "cells": [
             c.text(literal=f"{label}: f (Hz)")] + [c.num(f"{q}/frequencies_hz/{k}", 2)
                                                    for k in range(n)]})
@@ -95,12 +98,12 @@ def fem_variants_table(results: dict, i: int, c: Cells) -> dict | None:
             + [c.num(f"{q}/shift_percent/{k}", 2, signed=True) for k in range(n)]})
     for label in errors:
         rows.append({"label": label, "cells": None,
-                     "error": c.text(f"/cases/{i}/fem_variant_errors/{escape(label)}")})
+                     "error": c.text(f"/cases/{i}/fem_variants/unsolved/{escape(label)}")})
     return {"head": [head("FEM idealisation", *[f"f{k + 1}" for k in range(n)])],
             "rows": rows, "cls": "femvariants", "width": n + 1}
 
 
-def refinement_table(results: dict, i: int, c: Cells) -> dict | None:
+def refinement_table(results: Results, i: int, c: Cells) -> dict | None:
     """The FEM at every mesh size, the h -> 0 limit, the observed orders and any status."""
     ref = results["cases"][i]["fem_refinement"]
     if not ref:
@@ -136,7 +139,7 @@ def refinement_table(results: dict, i: int, c: Cells) -> dict | None:
     return {"head": [head(*labels)], "rows": rows, "cls": "refinement"}
 
 
-def repeated_limit_notes(case: dict) -> list[tuple[str, bool]]:
+def repeated_limit_notes(case: Case) -> list[tuple[str, bool]]:
     """(sentence, beyond the estimate) for every repeated FEM pair whose members extrapolate to
     different limits: equal modes have one limit, so the spread is part of the FEM's error."""
     ref = case["fem_refinement"]
@@ -153,7 +156,10 @@ def repeated_limit_notes(case: dict) -> list[tuple[str, bool]]:
         if len({f"{f:.3f}" for f in limits}) == 1:  # one limit, as far as printed
             continue
         spread = 100 * (max(limits) / min(limits) - 1)
-        estimate = min(case["fem_estimated_error_percent"][k - 1] for k in modes)
+        estimated = case["fem_estimated_error_percent"]
+        if estimated is None:  # indexing None would raise the same
+            raise TypeError("a refined case without its FEM's estimated error")
+        estimate = min(estimated[k - 1] for k in modes)
         beyond = spread > estimate
         verdict = (f"more than their estimated error ({estimate:.3f} %), so that estimate is "
                    f"too small for this pair" if beyond else

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+from results import Results
+
 from .results import resolve
 
 MINUS = "\u2212"
@@ -44,7 +46,7 @@ def missing() -> dict:
 class Cells:
     """Table cells whose values come from the results document by JSON pointer."""
 
-    def __init__(self, results: dict):
+    def __init__(self, results: Results):
         self.results = results
 
     def _value(self, pointer: str):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any, Mapping
 
 import numpy as np
 from jinja2 import Environment, FileSystemLoader, select_autoescape
@@ -14,7 +15,7 @@ from .figures import WIDTH, plt, save
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 
-def front_figure(result: dict, path: Path) -> None:
+def front_figure(result: Mapping[str, Any], path: Path) -> None:
     """Moving mass against the least f_k of every design solved: refused ones left out, those
     failing a constraint hollow, the front joined, the optimum ringed, the target dashed."""
     mode = result["constraints"]["mode"]
@@ -45,7 +46,7 @@ def front_figure(result: dict, path: Path) -> None:
     save(fig, path)
 
 
-def map_figure(result: dict, path: Path) -> None:
+def map_figure(result: Mapping[str, Any], path: Path) -> None:
     """The optimum's f_k over its workspace's boundary (height x azimuth, at the largest
     reachable tilt), its worst pose marked."""
     grid = result["optimum_map"]
@@ -64,7 +65,7 @@ def map_figure(result: dict, path: Path) -> None:
     save(fig, path)
 
 
-def render_design_report(result: dict, directory: Path) -> list[Path]:
+def render_design_report(result: Mapping[str, Any], directory: Path) -> list[Path]:
     """design.json, front.png, map.png, design.html and design.pdf into `directory`."""
     from weasyprint import HTML
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from typing import Sequence
 
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
-from results import verdict
-from results.sections import section_titles
+from results import Record, Results, Section, table_rows, verdict
 
 from . import interactive, validation
 from .case_tables import (
@@ -18,7 +18,7 @@ from .case_tables import (
     repeated_limit_notes,
     variants_table,
 )
-from .cells import Cells, align, tables_in
+from .cells import Cells, align, head, tables_in
 from .figure_set import has_paper, main_cases
 from .figures import PAPER_SECONDS
 from .real_machine import shares_table, sweep_table
@@ -40,7 +40,7 @@ def _figure(path) -> str | None:
     return None if path is None else f"figures/{Path(path).name}"
 
 
-def case_context(results: dict, i: int, figs: dict, c: Cells) -> dict:
+def case_context(results: Results, i: int, figs: dict, c: Cells) -> dict:
     case = results["cases"][i]
     studied = {s["case"] for s in results["studies"]["angle_conventions"]}
     f = figs["cases"][case["name"]]
@@ -63,32 +63,71 @@ def case_context(results: dict, i: int, figs: dict, c: Cells) -> dict:
     }
 
 
-SECTION_ORDER = ("summary", "fidelity", "scene", "comparison", "convergence", "modes", "speed",
-                 "workspace", "validation", "lowest-modes", "joint-orders", "joint-couplings",
-                 "hard-cases", "verification", "studies", "other")
 
 
-def sections(paper: bool, present: dict[str, bool]) -> dict[str, str]:
+def section_order(records: Sequence[Record]) -> list[tuple[str, Section | None]]:
+    """Every section the report may show, in order: the report's own (summary, fidelity,
+    the comparison after the scene, the mode shapes after the convergence, the other cases
+    last) and the studies' in registration order; the sections drawn as their tables (no
+    template of their own) after every templated one."""
+    declared: dict[str, Section] = {}
+    for r in records:
+        if r.section is not None:
+            declared.setdefault(r.section.anchor, r.section)
+    own = [a for a, s in declared.items() if s.template is not None]
+    order: list[tuple[str, Section | None]] = [("summary", None), ("fidelity", None)]
+    for anchor in own:
+        order.append((anchor, declared[anchor]))
+        order += [(k, None) for k in {"scene": ("comparison",), "convergence": ("modes",)}
+                  .get(anchor, ())]
+    for k, after in (("comparison", "fidelity"), ("modes", "comparison")):
+        if all(a != k for a, _ in order):
+            at = next(i for i, (a, _) in enumerate(order) if a == after)
+            order.insert(at + 1, (k, None))
+    order += [(a, s) for a, s in declared.items() if s.template is None]
+    return order + [("other", None)]
+
+
+def sections(paper: bool, present: dict[str, bool],
+             records: Sequence[Record]) -> dict[str, str]:
     """The numbered titles of the sections the results call for, by anchor: a section whose
     key `present` marks False has no data in these results and is left out."""
     own = {"summary": "Summary", "fidelity": "Fidelity: what the scene asked, what was chosen",
            "comparison": "Table I reproduction" if paper else "Analytical vs FEM",
            "modes": "Mode shapes", "other": "Other cases"}
-    studies = section_titles()  # the studies' sections, declared once (results.sections)
-    titles = {key: own[key] if key in own else studies[key] for key in SECTION_ORDER}
-    kept = [(key, title) for key, title in titles.items() if present.get(key, True)]
+    titles = [(a, own[a] if s is None else s.title) for a, s in section_order(records)]
+    kept = [(key, title) for key, title in titles if present.get(key, True)]
     return {key: f"{n} {title}" for n, (key, title) in enumerate(kept, start=1)}
 
 
-STUDY_SECTIONS = {"convergence": "convergence studies", "speed": "speed vs error",
-                  "workspace": "workspace maps", "validation": "workspace validation",
-                  "joint-orders": "both joint orders",
-                  "joint-couplings": "both joint-face couplings", "hard-cases": "hard cases",
-                  "lowest-modes": "what sets the lowest modes",
-                  "verification": "verification of the FEM against published benchmarks"}
+def generic_sections(results: Results, records: Sequence[Record], c: Cells) -> dict[str, list]:
+    """The tables of every study drawn without a template of its own, by section anchor: one
+    table per declared `Table`, every cell naming its source by pointer (empty: no rows)."""
+    out: dict[str, list] = {}
+    for r in records:
+        if r.section is None or r.section.template is not None:
+            continue
+        tables = out.setdefault(r.section.anchor, [])
+        for table in r.tables:
+            rows = table_rows(r, table, results)
+            if not rows:
+                continue
+            columns = [k for k in rows[0] if k]
+            tables.append({"name": table.name, "head": [head(*columns)], "rows": [
+                [_generic_cell(c, row[""], k, row[k]) for k in columns] for row in rows]})
+    return out
 
 
-def context(results: dict, results_path: Path, figs: dict) -> dict:
+def _generic_cell(c: Cells, at: str, column: str, value) -> dict:
+    if column == "case":
+        return c.text(literal=str(value))
+    pointer = f"{at}/{column}"
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return c.num(pointer, digits=None)
+    return c.text(pointer)
+
+
+def context(results: Results, results_path: Path, figs: dict, records: Sequence[Record]) -> dict:
     c = Cells(results)
     cases = [case_context(results, i, figs, c) for i in range(len(results["cases"]))]
     main_names = {m["name"] for m in main_cases(results)}
@@ -110,6 +149,7 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
                "fig": _figure(figs.get("sweeps", {}).get(study["case"]))}
               for ci, study in enumerate(studies["lowest_modes"])]
     env = results["environment"]
+    generic = generic_sections(results, records, c)
     ctx = {
         "results": results, "scene": results["scene"], "env": env,
         "profile": results["profile"], "fixture_note": results["fixture_note"],
@@ -122,14 +162,15 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
         "worst_pose_table": validation.worst_pose_table(results, c),
         "validation": results["studies"]["workspace_validation"],
         "fig_validation": _figure(figs.get("validation_map")),
-        "section": sections(has_paper(results), {
+        "section": sections(has_paper(results), {**{a: bool(g) for a, g in generic.items()},
             "convergence": any(x["fig_element"] or x["refinement"] for x in main),
             "speed": bool(figs.get("speed")), "workspace": bool(figs.get("workspace_polar")),
             "validation": bool(results["studies"]["workspace_validation"]),
             "joint-orders": bool(joint_orders), "joint-couplings": bool(couplings),
             "hard-cases": bool(hard), "studies": bool(conventions or calibration),
             "lowest-modes": bool(lowest), "verification": bool(verification),
-            "other": bool(other)}),
+            "other": bool(other)}, records),
+        "generic_sections": generic,
         "cases": cases, "main_cases": main, "other_cases": other,
         "tables": setup_tables(results, c),
         "speed_table": speed_table(results, c),
@@ -160,8 +201,9 @@ def context(results: dict, results_path: Path, figs: dict) -> dict:
     # the studies these results do not hold, named once under the contents
     springs = results["scene"]["manipulator"]["stiffness"]
     needless = set() if any(springs.values()) else {"lowest-modes"}  # a scene without springs
-    ctx["omitted"] = [label for key, label in STUDY_SECTIONS.items()
-                      if key not in ctx["section"] and key not in needless]
+    ctx["omitted"] = [s.absent for key, s in section_order(records)
+                      if s is not None and s.absent is not None and key not in ctx["section"]
+                      and key not in needless]
     return ctx
 
 
@@ -174,7 +216,7 @@ def render_html(ctx: dict, charts: dict | None = None, directory: Path | None = 
     env = Environment(loader=FileSystemLoader(TEMPLATES), autoescape=True,
                       undefined=StrictUndefined, trim_blocks=True, lstrip_blocks=True)
     env.globals["css"] = (TEMPLATES / "report.css").read_text(encoding="utf-8")
-    page = {"charts": {}}
+    page: dict[str, object] = {"charts": {}}
     if charts is None:
         env.filters["embed"] = lambda src: src
     else:

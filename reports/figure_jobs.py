@@ -111,9 +111,10 @@ def _run(job: Job) -> Outcome:
     import os
 
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    expected: tuple[type[BaseException], ...] = (ValueError, *job.errors)
     try:
         return Outcome(job.draw(*job.args, **job.kwargs))
-    except (ValueError, *job.errors) as exc:
+    except expected as exc:
         return Outcome(error=exc)
 
 
@@ -127,7 +128,7 @@ def draw(jobs: list[Job], cache_dir: Path | None = None, workers: int = 1) -> li
     outcomes: list[Outcome | None] = [None] * len(jobs)
     for i, (job, key) in enumerate(zip(jobs, keys)):
         hit = cache.get(KIND, key, required=("value",)) if cache is not None else None
-        if hit is None:
+        if hit is None or cache is None:  # a hit: a cache
             continue
         for k, target in enumerate(job.outputs):
             shutil.copyfile(cache.side_file(KIND, key, f".{k}{target.suffix}"), target)

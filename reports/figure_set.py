@@ -3,13 +3,15 @@ every case and study, and what the template needs to show them."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Callable, TypedDict
 
 from common.errors import ComputeError
 from common.paths import distinct_stems, file_stem, inside
+from results import Case, Results
 
 from . import figures, real_machine, validation, workspace_figures
 from .beam_figure import beam_mode
-from .figure_jobs import Job, draw
+from .figure_jobs import Job, Outcome, draw
 from .results import (
     base_circle_points,
     joint_points,
@@ -23,24 +25,40 @@ class ReportError(ComputeError):
     """The report could not be rendered (one-line message)."""
 
 
-def has_paper(results: dict) -> bool:
+class ModePicture(TypedDict):
+    """One pair of modes as the template shows it (a picture None: not drawn)."""
+    fem_mode: int
+    analytical_mode: int
+    f_fem: float
+    f_an: float
+    mac: float
+    fem_png: Path | None
+    beam_png: Path | None
+
+
+class ModeFigures(TypedDict):
+    pairs: list[ModePicture]
+    fem_note: str | None  # why no FEM picture is drawn
+
+
+def has_paper(results: Results) -> bool:
     """Do the results carry the paper's data (any case with its rows)?"""
     return any(c["paper"] for c in results["cases"])
 
 
-def main_cases(results: dict) -> list[dict]:
+def main_cases(results: Results) -> list[Case]:
     """The cases with paper rows (all cases if none has them): the report's main subject."""
     return [c for c in results["cases"] if c["paper"]] or results["cases"]
 
 
-def run_settings(results: dict) -> tuple[str, str]:
+def run_settings(results: Results) -> tuple[str, str]:
     """The speed-against-error labels of the settings the run used: its analytical model and
     its FEM mesh (ringed in both speed figures)."""
     fidelity = results["fidelity"]
     return fidelity["analytical"]["setting"], f"h = {fidelity['fem']['mesh_size_mm']:g} mm"
 
 
-def reference(case: dict) -> tuple[list[float], str]:
+def reference(case: Case) -> tuple[list[float], str]:
     """The best FEM frequencies of a case and their name."""
     if case["fem_reference_hz"]:
         return case["fem_reference_hz"], "FEM limit h → 0"
@@ -51,9 +69,9 @@ class _Plan:
     """The figures to draw, each with what to do with its outcome (default: a failure fails
     the report)."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.jobs: list[Job] = []
-        self.then: list = []
+        self.then: list[Callable[[Outcome], None] | None] = []
 
     def add(self, draw_fn, outputs, *args, then=None, errors=(), **kwargs) -> None:
         outputs = tuple(outputs) if isinstance(outputs, (list, tuple)) else (outputs,)
@@ -68,7 +86,7 @@ class _Plan:
                 raise outcome.error
 
 
-def make_figures(results: dict, results_path: Path, fig_dir: Path,
+def make_figures(results: Results, results_path: Path, fig_dir: Path,
                  cache_dir: Path | None = None, workers: int = 1) -> dict:
     """Draw every figure into fig_dir (on `workers` processes, reusing the pictures of
     `cache_dir`: `figure_jobs`); return what the template needs to show them."""
@@ -146,8 +164,8 @@ def make_figures(results: dict, results_path: Path, fig_dir: Path,
     return figs
 
 
-def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
-                 notes: list[str], plan: _Plan) -> dict:
+def mode_figures(results: Results, results_path: Path, i: int, fig_dir: Path,
+                 notes: list[str], plan: _Plan) -> ModeFigures:
     """FEM solid (pyvista) and beam model (matplotlib) pictures of the paired modes."""
     from . import render3d
 
@@ -155,14 +173,14 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
     name, fem = case["name"], case["fem"]
     stem = file_stem(name, "case name")
     pairs = sorted(case["pairs"], key=lambda p: p["fem_mode"])
-    out = {"pairs": [], "fem_note": None}
+    out = ModeFigures(pairs=[], fem_note=None)
     base, platform = joint_points(case)
     centre = platform_centre(case)
     size = max(float(max(base.max(0) - base.min(0))), float(platform[:, 2].max()))
     m = results["scene"]["manipulator"]
     radius = m["platform_radius_mm"] * 1e-3
     feet = base_circle_points(m)  # a 3-PRS's rails start there
-    fem_paths = {}
+    fem_paths: dict[int, Path] = {}
     if fem["vtu"]:
         modes = [p["fem_mode"] for p in pairs]
         fem_paths = {k: inside(fig_dir, f"mode_{stem}_fem_{k}.png") for k in modes}
@@ -186,9 +204,9 @@ def mode_figures(results: dict, results_path: Path, i: int, fig_dir: Path,
     stations, shapes = leg_axis_shapes(case)
     for p in pairs:
         k, j = p["fem_mode"], p["analytical_mode"]
-        item = {"fem_mode": k, "analytical_mode": j, "f_fem": p["f_fem_hz"],
-                "f_an": p["f_analytical_hz"], "mac": p["mac"], "fem_png": fem_paths.get(k),
-                "beam_png": None}
+        item = ModePicture(fem_mode=k, analytical_mode=j, f_fem=p["f_fem_hz"],
+                           f_an=p["f_analytical_hz"], mac=p["mac"], fem_png=fem_paths.get(k),
+                           beam_png=None)
         if j <= shapes.shape[-1]:
             item["beam_png"] = inside(fig_dir, f"mode_{stem}_beam_{j}.png")
             plan.add(beam_mode, item["beam_png"], base, platform, centre, stations,

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Sequence, cast
 
 import matplotlib
 
@@ -15,10 +16,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.colors import ListedColormap  # noqa: E402
+
+from results import ElementConvergences, Pair, Refinement, SpeedPoint  # noqa: E402
 
 DPI = 150
 WIDTH = 6.7  # inches: the A4 text column
-MODE_COLOURS = plt.get_cmap("tab10").colors
+# tab10 is a ListedColormap, its colours a tuple of RGB triples
+MODE_COLOURS = cast("tuple[tuple[float, float, float], ...]",
+                    cast(ListedColormap, plt.get_cmap("tab10")).colors)
 SETTING_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2",
                    "#7f7f7f")  # the speed figures' settings (tab10 without its red)
 FEM_COLOUR = "#d62728"  # the FEM's, in the speed figures and boxes of the MAC
@@ -37,7 +43,8 @@ def save(fig, path: Path) -> None:
     plt.close(fig)
 
 
-def element_convergence(conv: dict, reference_hz, reference_label: str, path: Path,
+def element_convergence(conv: ElementConvergences, reference_hz: Sequence[float],
+                        reference_label: str, path: Path,
                         paper_elements: int = 3) -> None:
     """Error of f1..f6 vs elements per leg s, one panel per beam theory (the paper's Fig. 3)."""
     beams = [b for b in ("euler-bernoulli", "timoshenko") if b in conv]
@@ -64,7 +71,7 @@ def element_convergence(conv: dict, reference_hz, reference_label: str, path: Pa
     save(fig, path)
 
 
-def fem_refinement(ref: dict, path: Path, scene_size_m: float | None = None) -> None:
+def fem_refinement(ref: Refinement, path: Path, scene_size_m: float | None = None) -> None:
     """FEM frequencies vs mesh size h, one panel per mode, with the extrapolated h -> 0 limit."""
     h = np.asarray(ref["sizes_m"], float) * 1e3
     f = np.asarray(ref["frequencies_hz"], float)
@@ -99,7 +106,7 @@ def fem_refinement(ref: dict, path: Path, scene_size_m: float | None = None) -> 
     save(fig, path)
 
 
-def limit_note(ref: dict, k: int) -> str:
+def limit_note(ref: Refinement, k: int) -> str:
     """What the star of mode k is when the extrapolation did not run as usual: the finest
     mesh's value, or an extrapolation at the order theory bounds it to."""
     status, order = ref["status"][k], ref["observed_order"][k]
@@ -112,7 +119,8 @@ def limit_note(ref: dict, k: int) -> str:
     return status
 
 
-def mac_matrix(mac, pairs, path: Path, title: str = "") -> None:
+def mac_matrix(mac: list[list[float]], pairs: list[Pair], path: Path, title: str = ""
+               ) -> None:
     """Heat map of MAC(analytical mode i, FEM mode j), the chosen pairs outlined."""
     m = np.asarray(mac, float)
     fig, ax = plt.subplots(figsize=(3.1, 2.7))
@@ -138,10 +146,10 @@ def mac_matrix(mac, pairs, path: Path, title: str = "") -> None:
     save(fig, path)
 
 
-def speed_curves(entries: list[dict]) -> list[tuple[str, list[dict], str]]:
+def speed_curves(entries: list[SpeedPoint]) -> list[tuple[str, list[SpeedPoint], str]]:
     """One case's speed-against-error entries as curves: (setting without its refinement, or
     "fem"; its entries in order; their legend label with the refinements listed)."""
-    groups: dict[str, list[dict]] = {}
+    groups: dict[str, list[SpeedPoint]] = {}
     for e in entries:
         key = "fem" if e["model"] == "fem" else e["setting"].rsplit(",", 1)[0].strip()
         groups.setdefault(key, []).append(e)
@@ -155,12 +163,12 @@ def speed_curves(entries: list[dict]) -> list[tuple[str, list[dict], str]]:
     return curves
 
 
-def speed_point(e: dict) -> tuple[float, float]:
+def speed_point(e: SpeedPoint) -> tuple[float, float]:
     """(time per pose, worst |error|) of an entry as the log axes draw it (floored)."""
     return max(e["seconds"], 1e-6), max(abs(e["worst_error_percent"]), 1e-3)
 
 
-def speed_vs_error(entries: dict[str, list[dict]], path: Path, paper: bool,
+def speed_vs_error(entries: dict[str, list[SpeedPoint]], path: Path, paper: bool,
                    chosen: tuple[str, ...] = ()) -> None:
     """Time per pose (log) against the worst |error| of f1..f6, one panel per case, the
     settings the run used (`chosen`) ringed; with the paper's times per pose when the results

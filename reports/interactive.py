@@ -13,6 +13,8 @@ from pathlib import Path
 
 import plotly.io
 
+from results import Results
+
 from . import interactive_charts as charts
 from . import interactive_maps as maps
 from .figure_set import has_paper, main_cases, reference, run_settings
@@ -31,7 +33,7 @@ def _figure_json(fig) -> dict:
     return json.loads(plotly.io.to_json(fig, validate=False))
 
 
-def build_charts(results: dict, results_path: Path, notes: list[str]) -> dict:
+def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict:
     """{key: {"figure": plotly JSON, ...}} of every interactive figure these results hold.
 
     A chart that cannot be drawn is left out (its static picture stays in the page) and said

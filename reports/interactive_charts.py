@@ -14,6 +14,8 @@ import plotly.graph_objects as go
 from matplotlib.colors import to_hex
 from plotly.subplots import make_subplots
 
+from results import Refinement, SpeedPoint
+
 from .figures import (
     FEM_COLOUR,
     MODE_COLOURS,
@@ -51,7 +53,7 @@ def hline(n: int, y: float, span: tuple[float, float] | None = None, **style) ->
                 x1=span[1], y0=y, y1=y, line=dict(width=1, **style))
 
 
-def speed_vs_error(entries: dict[str, list[dict]], chosen: tuple[str, ...],
+def speed_vs_error(entries: dict[str, list[SpeedPoint]], chosen: tuple[str, ...],
                    paper_seconds: dict | None) -> go.Figure:
     """Time per pose against the worst |error| of f1-f6, per case: each setting a curve
     through its refinements; the chosen settings ringed; the paper's times as lines."""
@@ -133,7 +135,7 @@ def element_convergence(conv: dict, reference_hz, reference_label: str,
     return fig
 
 
-def fem_refinement(ref: dict, scene_size_m: float | None) -> go.Figure:
+def fem_refinement(ref: Refinement, scene_size_m: float | None) -> go.Figure:
     """FEM frequencies against mesh size h per mode, with the extrapolated h -> 0 limit."""
     h = np.asarray(ref["sizes_m"], float) * 1e3
     f = np.asarray(ref["frequencies_hz"], float)

@@ -3,31 +3,45 @@ frequency map of every layer, frequency against height, and the model against th
 validated poses; the twins of `workspace_figures` and `validation.error_maps`."""
 from __future__ import annotations
 
+from typing import TypeVar
+
 import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
+from results import Workspace
+
 from .interactive_charts import COLOURS, LAYOUT
+
+T = TypeVar("T")
 
 
 def _finite(values) -> np.ndarray:
     return np.array([np.nan if v is None else v for v in values], float)
 
 
-def valid_layers(ws: dict) -> list[int]:
+def _reached(values: list[T] | None) -> list[T]:
+    """A map pose's values, None only where the pose is unreachable (TypeError there, as
+    reading None would raise)."""
+    if values is None:
+        raise TypeError("a map pose's values are None: the pose is unreachable")
+    return values
+
+
+def valid_layers(ws: Workspace) -> list[int]:
     """The map's layers with at least one reachable pose."""
     return [i for i, layer in enumerate(ws["frequencies_hz"])
             if any(az is not None and az[0] is not None for ring in layer for az in ring)]
 
 
-def map_points(ws: dict, iz: int) -> list[tuple[int, int]]:
+def map_points(ws: Workspace, iz: int) -> list[tuple[int, int]]:
     """(ring, azimuth) of every reachable pose of layer iz, the level pose (ring 0) once."""
     layer = ws["frequencies_hz"][iz]
     return [(r, a) for r, ring in enumerate(layer) for a, az in enumerate(ring)
             if az is not None and az[0] is not None and (r > 0 or a == 0)]
 
 
-def workspace_map(ws: dict, model: str, actuator: str) -> go.Figure:
+def workspace_map(ws: Workspace, model: str, actuator: str) -> go.Figure:
     """f_k over every layer of the regular workspace: one polar panel per height (angle =
     azimuth, radius = tilt), a mode selector; hover: the pose, its actuators and joint
     angles, and every mode's frequency there."""
@@ -56,8 +70,10 @@ def workspace_map(ws: dict, model: str, actuator: str) -> go.Figure:
         for n, iz in enumerate(layers):
             points = map_points(ws, iz)
             data = [[ws["heights_mm"][iz], ws["tilts_deg"][iz][r], ws["azimuths_deg"][a],
-                     *ws["frequencies_hz"][iz][r][a], *ws["actuation_mm"][iz][r][a],
-                     *ws["s_joint_angles_deg"][iz][r][a], *ws["r_joint_angles_deg"][iz][r][a]]
+                     *_reached(ws["frequencies_hz"][iz][r][a]),
+                     *_reached(ws["actuation_mm"][iz][r][a]),
+                     *_reached(ws["s_joint_angles_deg"][iz][r][a]),
+                     *_reached(ws["r_joint_angles_deg"][iz][r][a])]
                     for r, a in points]
             values = _finite([d[3 + k] for d in data])
             lo, hi = float(np.nanmin(values)), float(np.nanmax(values))
@@ -86,16 +102,18 @@ def workspace_map(ws: dict, model: str, actuator: str) -> go.Figure:
     return fig
 
 
-def workspace_height(ws: dict) -> go.Figure:
+def workspace_height(ws: Workspace) -> go.Figure:
     """f_k of the level platform against height, and each layer's range (bands)."""
     layers = valid_layers(ws)
     z = [ws["heights_mm"][iz] for iz in layers]
     modes = len(next(az for ring in ws["frequencies_hz"][layers[0]] for az in ring if az))
     fig = go.Figure()
     for k in range(modes):
-        values = [_finite([ws["frequencies_hz"][iz][r][a][k] for r, a in map_points(ws, iz)])
+        values = [_finite([_reached(ws["frequencies_hz"][iz][r][a])[k]
+                           for r, a in map_points(ws, iz)])
                   for iz in layers]  # NaN: a family lost at a pose, as the PDF skips it
-        level = [float(_finite([ws["frequencies_hz"][iz][0][0][k]])[0]) for iz in layers]
+        level = [float(_finite([_reached(ws["frequencies_hz"][iz][0][0])[k]])[0])
+                 for iz in layers]
         lo, hi = [float(np.nanmin(v)) for v in values], [float(np.nanmax(v)) for v in values]
         colour = COLOURS[k % len(COLOURS)]
         fig.add_trace(go.Scatter(x=z, y=lo, mode="lines", line=dict(width=0, color=colour),

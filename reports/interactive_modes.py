@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
+
+from results import Case, Manipulator
 
 from .render3d import Platform, _covers_platform, _platform_disk, read_modes
 from .results import (
@@ -64,7 +65,7 @@ def _xyz(points: np.ndarray) -> dict:
             for i, c in enumerate("xyz")}
 
 
-def mode_viewer(case: Any, manipulator: dict, results_path: Path) -> dict | None:
+def mode_viewer(case: Case, manipulator: Manipulator, results_path: Path) -> dict | None:
     """The viewer of a results.json case record: {"figure": the plotly figure (mode 1 drawn
     at its largest excursion), "modes": per paired mode its label and per animated trace its
     displacement, "traces": which traces move, "base": their undeformed vertices}; None when

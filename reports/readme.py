@@ -24,7 +24,7 @@ def variants_markdown(results: Results) -> str:
             ranges = ranges or mode_ranges(model["pairs"])
             lines.append(f"| {case['name']} | {label} | {fmt(low, 2)} | {fmt(high, 2)} | "
                          f"{model['median_seconds'] * 1e3:.2f} |")
-    if not lines:
+    if not lines or ranges is None:  # lines: ranges too
         return ""
     return ("**Every analytical model against the FEM limit h → 0** (worst |error|, %; wall "
             "time of one pose, ms, median of 30 runs; `make bench` for more)\n\n"
@@ -42,7 +42,7 @@ def workspace_markdown(results: Results) -> str:
     default = wv["default_model"]
     paper = [label for label, options in wv["models"].items()  # the paper's Eq. (8) inertia
              if label != default and options.get("platform_inertia") == "paper-eq8"]
-    best = min(wv["per_mode"], key=lambda label: max(wv["per_mode"][label]["p95"]))
+    best = min(wv["per_mode"], key=lambda label: _largest(wv["per_mode"][label]["p95"]))
     labels = [default] + [label for label in [best, *paper]
                           if label in wv["per_mode"] and label != default]
     n = max(len(s["p95"]) for s in wv["per_mode"].values())
@@ -67,19 +67,31 @@ def workspace_markdown(results: Results) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _largest(values: list[float | None]) -> float:
+    """max of the values, none of them None (TypeError then, as max would raise)."""
+    present = [v for v in values if v is not None]
+    if len(present) < len(values):
+        raise TypeError("'>' not supported between a percentile and None")
+    return max(present)
+
+
 def couplings_markdown(results: Results) -> str:
     """Worst |error vs the FEM limit| over f1..fn of every model of the joint-coupling study,
     per case and joint-face coupling."""
     study = results["studies"]["joint_couplings"]
-    lines, labels = [], []
+    lines: list[str] = []
+    labels: list[str] = []
     for case in study:
         for reading in case["readings"]:
             if not reading["models"]:
                 continue
             labels = labels or list(reading["models"])
             worst = [max(abs(e) for e in reading["models"][m]["error_percent"]) for m in labels]
+            finest = reading["fem_finest_error_percent"]
+            if finest is None:  # max(None) would raise the same
+                raise TypeError("a solved coupling without its finest FEM's error")
             lines.append(f"| {case['case']} | {reading['coupling']} | "
-                         f"{fmt(max(reading['fem_finest_error_percent']), 3)} | "
+                         f"{fmt(max(finest), 3)} | "
                          + " | ".join(fmt(w, 3) for w in worst) + " |")
     if not lines:
         return ""

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from results import Results
+
 from .cells import Cells, cell, head
 from .figures import MODE_COLOURS, WIDTH, plt, save
 
@@ -73,7 +75,7 @@ def stiffness_sweep(study: dict, path: Path) -> None:
     save(fig, path)
 
 
-def sweep_table(results: dict, c: Cells, ci: int) -> dict:
+def sweep_table(results: Results, c: Cells, ci: int) -> dict:
     """The sweep of one case: per stiffness, both models' f1.. and the largest |error|."""
     study = results["studies"]["lowest_modes"][ci]
     q = f"/studies/lowest_modes/{ci}"
@@ -93,7 +95,7 @@ def sweep_table(results: dict, c: Cells, ci: int) -> dict:
              *[f"error f{k + 1} (%)" for k in range(n)])]}
 
 
-def shares_table(results: dict, c: Cells, ci: int) -> dict:
+def shares_table(results: Results, c: Cells, ci: int) -> dict:
     """Where each mode's strain energy lies, at the scene's stiffness."""
     study = results["studies"]["lowest_modes"][ci]
     q = f"/studies/lowest_modes/{ci}/shares"

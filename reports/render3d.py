@@ -35,7 +35,8 @@ class Platform(NamedTuple):
     centre: np.ndarray  # (3,) o, m
     radius: float
     thickness: float
-    motion: dict  # mode (1-based) -> (translation of o (3,), rotation (3,))
+    # mode (1-based) -> (translation of o (3,), rotation (3,))
+    motion: dict[int, tuple[np.ndarray, np.ndarray]]
 
 
 def _quiet_vtk():
@@ -112,7 +113,8 @@ def render_modes(path: Path, modes: list[int], labels: dict[int, str], out: dict
         disk = None
         if platform is not None and not _covers_platform(surface, platform):
             disk = _platform_disk(platform)
-        plotter = pv.Plotter(off_screen=True, window_size=WINDOW)
+        # pyvista annotates window_size as list[int]; it takes any pair
+        plotter = pv.Plotter(off_screen=True, window_size=WINDOW)  # type: ignore[arg-type]
         try:
             for k in modes:
                 u = np.asarray(surface.point_data[arrays[k]], float)
@@ -122,12 +124,13 @@ def render_modes(path: Path, modes: list[int], labels: dict[int, str], out: dict
                 deformed.points = surface.points + scale * u
                 deformed.point_data["|u|"] = np.linalg.norm(u, axis=1) / max(amp, 1e-300)
                 plotter.clear_actors()
-                plotter.set_background("white")
+                # pyvista types this method by functools.wraps of an unbound one
+                plotter.set_background("white")  # type: ignore[arg-type]
                 plotter.add_mesh(surface, color="#bbbbbb", opacity=0.18, lighting=False)
                 plotter.add_mesh(outline, color="#888888", line_width=1)
                 plotter.add_mesh(deformed, scalars="|u|", cmap="viridis", clim=(0, 1),
                                  show_scalar_bar=False, smooth_shading=True)
-                if disk is not None:
+                if disk is not None and platform is not None:  # a disk: a platform drawn
                     moved = disk.copy()
                     t, w = platform.motion[k]
                     moved.points = disk.points + scale * (
@@ -136,6 +139,8 @@ def render_modes(path: Path, modes: list[int], labels: dict[int, str], out: dict
                     plotter.add_mesh(moved, color="#8a8fa0", smooth_shading=True)
                 _camera(plotter, surface)
                 image = plotter.screenshot(return_img=True)
+                if image is None:  # cropping None would raise the same (a RenderError below)
+                    raise TypeError("the off-screen plotter returned no picture")
                 _save_labelled(image, labels.get(k, f"mode {k}"), out[k])
         finally:
             plotter.close()

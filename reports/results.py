@@ -6,14 +6,17 @@ the pipeline wrote them.
 """
 from __future__ import annotations
 
+from typing import Sequence
+
 import numpy as np
 
-from results import Case, Results, read
+from results import AnalyticalRecord, Case, FemRecord, Manipulator, Record, Results, read
 
 
-def load_results(path) -> Results:
-    """The checked results file; ValueError (one line, naming the path) otherwise."""
-    return read(path)
+def load_results(path, records: Sequence[Record]) -> Results:
+    """The checked results file (`records`: the registry of study records); InputError (one
+    line, naming the path) otherwise."""
+    return read(path, records)
 
 
 def resolve(doc, pointer: str):
@@ -36,7 +39,7 @@ def joint_points(case: Case) -> tuple[np.ndarray, np.ndarray]:
             np.asarray(pose["platform_points_mm"], float) * 1e-3)
 
 
-def base_circle_points(manipulator: dict) -> np.ndarray:
+def base_circle_points(manipulator: Manipulator) -> np.ndarray:
     """The base circle's points B_i of a results' manipulator record (a 3-PRS's rail feet),
     (legs, 3) in m."""
     angles = np.radians(manipulator["leg_angles_deg"])
@@ -55,7 +58,8 @@ def leg_axis_shapes(case: Case) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(a["leg_axis_stations"], float), np.asarray(a["leg_axis_shapes"], float)
 
 
-def platform_motion(record: dict, mode: int) -> tuple[np.ndarray, np.ndarray]:
+def platform_motion(record: FemRecord | AnalyticalRecord, mode: int
+                    ) -> tuple[np.ndarray, np.ndarray]:
     """(translation of o, rotation) of one mode (1-based) of a model record, m and rad."""
     motion = np.asarray(record["platform_motion"], float)[:, mode - 1]
     return motion[:3], motion[3:]

@@ -2,6 +2,10 @@
 poses and the environment of the run (what was computed, with what, where)."""
 from __future__ import annotations
 
+from typing import Literal
+
+from results import Results
+
 from .cells import Cells, head
 from .results import escape
 
@@ -19,13 +23,13 @@ MANIPULATOR_ROWS = (  # key, label, unit, decimals
 )
 
 
-def setup_tables(results: dict, c: Cells) -> dict:
+def setup_tables(results: Results, c: Cells) -> dict:
     return {"manipulator": manipulator_table(results, c), "fidelity": fidelity_table(results, c),
             "calibrated": calibrated_table(results, c), **pose_tables(results, c),
             "environment": environment_tables(results, c)}
 
 
-def manipulator_table(results: dict, c: Cells) -> dict:
+def manipulator_table(results: Results, c: Cells) -> dict:
     m = results["scene"]["manipulator"]
     q = "/scene/manipulator"
     unit = lambda text: c.text(literal=text, cls="unit")  # noqa: E731
@@ -71,7 +75,11 @@ LEG_ROWS = (("housing_length_mm", "leg housing length, from the base joint"),
             ("housing_inner_diameter_mm", "housing bore (0: solid)"),
             ("rod_outer_diameter_mm", "rod outer diameter"),
             ("rod_inner_diameter_mm", "rod bore (0: solid)"))
-STIFFNESS_ROWS = (
+StiffnessKey = Literal["actuator_axial_n_per_um", "base_joint_translational_n_per_um",
+                       "base_joint_rotational_nm_per_urad",
+                       "platform_joint_translational_n_per_um",
+                       "platform_joint_rotational_nm_per_urad"]  # the keys of results.Stiffness
+STIFFNESS_ROWS: tuple[tuple[StiffnessKey, str, str], ...] = (
     ("actuator_axial_n_per_um", "drive axial stiffness (screw, nut, bearings)", "N/µm"),
     ("base_joint_translational_n_per_um", "base joint translational stiffness", "N/µm"),
     ("base_joint_rotational_nm_per_urad", "base joint rotational stiffness", "N m/µrad"),
@@ -80,7 +88,7 @@ STIFFNESS_ROWS = (
      "N m/µrad"))
 
 
-def fidelity_table(results: dict, c: Cells) -> dict:
+def fidelity_table(results: Results, c: Cells) -> dict:
     """The settings the run used: the analytical model and FEM size of results.json's
     `fidelity` block (chosen by the run, or the scene's own, checked), not the scene's
     defaults."""
@@ -109,7 +117,7 @@ def fidelity_table(results: dict, c: Cells) -> dict:
     return {"head": [head("setting", "value")], "rows": rows, "cls": "params"}
 
 
-def calibrated_table(results: dict, c: Cells) -> dict:
+def calibrated_table(results: Results, c: Cells) -> dict:
     q = "/scene/calibrated"
     return {"head": [head("parameter", "value", "why")], "cls": "calibrated",
             "rows": [[c.text(f"{q}/{i}/name"), c.text(f"{q}/{i}/value", cls="text nowrap"),
@@ -117,7 +125,7 @@ def calibrated_table(results: dict, c: Cells) -> dict:
                      for i, _ in enumerate(results["scene"]["calibrated"])]}
 
 
-def pose_tables(results: dict, c: Cells) -> dict:
+def pose_tables(results: Results, c: Cells) -> dict:
     poses_rows, joints_rows = [], []
     legs = range(len(results["cases"][0]["pose"]["leg_lengths_mm"]))
     for i, _ in enumerate(results["cases"]):
@@ -144,7 +152,7 @@ def pose_tables(results: dict, c: Cells) -> dict:
     return {"poses": poses, "joints": joints}
 
 
-def environment_tables(results: dict, c: Cells) -> dict:
+def environment_tables(results: Results, c: Cells) -> dict:
     """What ran and where (version, commit, scene hash, machine), and the library versions:
     two tables side by side."""
     env = results["environment"]

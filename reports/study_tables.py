@@ -2,25 +2,27 @@
 paper-reading studies (angle conventions, height calibration) where the results have them."""
 from __future__ import annotations
 
+from results import Results
+
 from .cells import Cells, cell, head, missing
 from .results import escape
 
 
-def speed_table(results: dict, c: Cells) -> dict | None:
+def speed_table(results: Results, c: Cells) -> dict | None:
     """Time per pose and worst error of every setting, one column pair per case."""
     with_data = [(i, case) for i, case in enumerate(results["cases"]) if case["speed_vs_error"]]
     if not with_data:
         return None
     settings: list[tuple[str, str]] = []
     for _, case in with_data:
-        for e in case["speed_vs_error"]:
+        for e in case["speed_vs_error"] or []:  # with_data: never None
             if (e["model"], e["setting"]) not in settings:
                 settings.append((e["model"], e["setting"]))
     rows = []
     for model, setting in settings:
         row = [c.text(literal=model), c.text(literal=setting)]
         for i, case in with_data:
-            j = next((n for n, e in enumerate(case["speed_vs_error"])
+            j = next((n for n, e in enumerate(case["speed_vs_error"] or [])
                       if (e["model"], e["setting"]) == (model, setting)), None)
             q = f"/cases/{i}/speed_vs_error/{j}"
             row += ([missing()] * 2 if j is None else
@@ -32,7 +34,7 @@ def speed_table(results: dict, c: Cells) -> dict | None:
             "rows": rows, "cls": "speed"}
 
 
-def joint_order_tables(results: dict, c: Cells) -> list[dict]:
+def joint_order_tables(results: Results, c: Cells) -> list[dict]:
     """Per case: both joint orders side by side, the FEM's frequencies and every beam model's
     error against the FEM of the same order."""
     tables = []
@@ -62,7 +64,7 @@ def joint_order_tables(results: dict, c: Cells) -> list[dict]:
     return tables
 
 
-def coupling_tables(results: dict, c: Cells) -> list[dict]:
+def coupling_tables(results: Results, c: Cells) -> list[dict]:
     """Per case: both joint-face couplings side by side, the FEM limit of each and every
     model's error against it (with and without the joint-end model)."""
     tables = []
@@ -94,7 +96,7 @@ def coupling_tables(results: dict, c: Cells) -> list[dict]:
     return tables
 
 
-def convention_tables(results: dict, c: Cells) -> list[dict]:
+def convention_tables(results: Results, c: Cells) -> list[dict]:
     """Per tilted case with paper rows: every reading of its printed angles and the deviation
     of our analytical frequencies from the paper's theoretical row."""
     tables = []
@@ -124,7 +126,7 @@ def convention_tables(results: dict, c: Cells) -> list[dict]:
     return tables
 
 
-def calibration_table(results: dict, c: Cells) -> dict | None:
+def calibration_table(results: Results, c: Cells) -> dict | None:
     cal = results["studies"]["height_calibration"]
     if not cal:
         return None
@@ -141,7 +143,7 @@ def calibration_table(results: dict, c: Cells) -> dict | None:
     return {"head": [head("", "value", "unit")], "rows": rows, "cls": "params"}
 
 
-def hard_cases_table(results: dict, c: Cells) -> dict | None:
+def hard_cases_table(results: Results, c: Cells) -> dict | None:
     """Every hard case of the run: what was claimed, its tolerance, what was measured."""
     rows = []
     for k, row in enumerate(results["studies"]["hard_cases"]):
@@ -155,7 +157,7 @@ def hard_cases_table(results: dict, c: Cells) -> dict | None:
             "rows": rows, "cls": "hardcases"}
 
 
-def verification_table(results: dict, c: Cells) -> dict | None:
+def verification_table(results: Results, c: Cells) -> dict | None:
     """Every reference mode of every published benchmark the FEM was run on: the reference,
     the finest mesh's answer, the deviation, the observed order, the stated error, the band."""
     record = results["studies"].get("fem_verification")

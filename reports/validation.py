@@ -5,15 +5,19 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import cast
 
 import numpy as np
+from matplotlib.projections.polar import PolarAxes
+
+from results import Results, ValidationPose, WorkspaceValidation
 
 from .cells import Cells, cell, head
 from .figures import WIDTH, plt, save
 from .results import escape
 
 
-def fidelity_table(results: dict, c: Cells) -> dict:
+def fidelity_table(results: Results, c: Cells) -> dict:
     f = "/fidelity"
     a, m = f"{f}/analytical", f"{f}/fem"
     fid = results["fidelity"]
@@ -39,7 +43,7 @@ def fidelity_table(results: dict, c: Cells) -> dict:
     return {"head": [head("", "value", "")], "rows": rows, "cls": "fidelity"}
 
 
-def candidates_table(results: dict, c: Cells) -> dict:
+def candidates_table(results: Results, c: Cells) -> dict:
     rows = []
     for k, cand in enumerate(results["fidelity"]["candidates"]):
         q = f"/fidelity/candidates/{k}"
@@ -49,7 +53,7 @@ def candidates_table(results: dict, c: Cells) -> dict:
             "rows": rows, "cls": "candidates"}
 
 
-def percentile_table(results: dict, c: Cells) -> dict | None:
+def percentile_table(results: Results, c: Cells) -> dict | None:
     wv = results["studies"]["workspace_validation"]
     if not wv or not wv["per_mode"]:
         return None
@@ -65,7 +69,7 @@ def percentile_table(results: dict, c: Cells) -> dict | None:
             "rows": rows, "cls": "percentiles"}
 
 
-def worst_pose_table(results: dict, c: Cells) -> dict | None:
+def worst_pose_table(results: Results, c: Cells) -> dict | None:
     wv = results["studies"]["workspace_validation"]
     if not wv or not wv["worst_pose"]:
         return None
@@ -79,7 +83,7 @@ def worst_pose_table(results: dict, c: Cells) -> dict | None:
             "cls": "worstpose"}
 
 
-def sentences(results: dict) -> list[str]:
+def sentences(results: Results) -> list[str]:
     """The summary's sentences on the fidelity and the workspace (numbers from the results)."""
     fid = results["fidelity"]
     out = [("The scene's tolerance is met: " if fid["met"] else
@@ -102,14 +106,14 @@ def sentences(results: dict) -> list[str]:
     return out
 
 
-def error_maps(wv: dict, path: Path) -> None:
+def error_maps(wv: WorkspaceValidation, path: Path) -> None:
     """|error| of the default model per mode over the workspace poses: polar maps (angle =
     azimuth, radius = tilt, every height), and the worst error against leg slenderness, from
     the workspace-validation study `wv` of results.json."""
     label = wv["default_model"]
     poses = [p for p in wv["poses"] if p["models"] and label in p["models"]]
-    errs = np.array([[np.nan if e is None else abs(e) for e in p["models"][label]]
-                     for p in poses], float)
+    errs = np.array([[np.nan if e is None else abs(e) for e in (p["models"] or {})[label]]
+                     for p in poses], float)  # poses: each with its models
     n = errs.shape[1]
     phi = np.radians([p["azimuth_deg"] for p in poses])
     tilt = np.array([p["tilt_deg"] for p in poses])
@@ -118,19 +122,28 @@ def error_maps(wv: dict, path: Path) -> None:
     rows_ = math.ceil(n / 3)
     fig = plt.figure(figsize=(WIDTH, 2.2 * rows_ + 0.3))
     for k in range(n):
-        ax = fig.add_subplot(rows_, cols, (k // 3) * cols + k % 3 + 1, projection="polar")
-        sc = ax.scatter(phi, tilt, c=errs[:, k], s=9, cmap="viridis", vmin=0, vmax=top)
-        ax.set_title(f"f{k + 1}", fontsize=8)
-        ax.tick_params(labelsize=5)
-        ax.set_rlabel_position(90)
-    cax = fig.add_axes([0.05, 0.03, 0.6, 0.02])
+        polar = cast(PolarAxes, fig.add_subplot(rows_, cols, (k // 3) * cols + k % 3 + 1,
+                                                projection="polar"))  # a polar projection's
+        sc = polar.scatter(phi, tilt, c=errs[:, k], s=9, cmap="viridis", vmin=0, vmax=top)
+        polar.set_title(f"f{k + 1}", fontsize=8)
+        polar.tick_params(labelsize=5)
+        polar.set_rlabel_position(90)
+    cax = fig.add_axes((0.05, 0.03, 0.6, 0.02))
     fig.colorbar(sc, cax=cax, orientation="horizontal").set_label("|error vs FEM limit| (%)",
                                                                  fontsize=7)
     ax = fig.add_subplot(1, cols, cols)
-    slender = np.array([p["slenderness"][0] for p in poses])
+    slender = np.array([shortest_leg(p) for p in poses])
     ax.scatter(slender, np.nanmax(errs, axis=1), s=8, color="0.2")
     ax.set_xlabel("shortest leg / diameter", fontsize=7)
     ax.set_ylabel("worst |error| (%)", fontsize=7)
     ax.tick_params(labelsize=6)
     fig.subplots_adjust(left=0.04, right=0.98, top=0.93, bottom=0.14, wspace=0.45)
     save(fig, path)
+
+
+def shortest_leg(pose: ValidationPose) -> float:
+    """The shortest leg of a solved validation pose, in leg diameters."""
+    slenderness = pose["slenderness"]
+    if slenderness is None:  # indexing None would raise the same
+        raise TypeError("a solved validation pose without its legs' slenderness")
+    return slenderness[0]

@@ -4,27 +4,31 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 from matplotlib.colors import Normalize
+from matplotlib.projections.polar import PolarAxes
+from matplotlib.ticker import ScalarFormatter
 
 from common.errors import InputError
+from results import Workspace
 
 from .figures import MODE_COLOURS, WIDTH, plt, save
 
 
-def _valid_layers(ws: dict) -> list[int]:
+def _valid_layers(ws: Workspace) -> list[int]:
     f = ws["frequencies_hz"]
     return [i for i in range(len(ws["heights_mm"]))
             if any(v is not None for ring in f[i] for az in ring for v in (az or []))]
 
 
-def _layer_array(ws: dict, iz: int, mode: int) -> np.ndarray:
+def _layer_array(ws: Workspace, iz: int, mode: int) -> np.ndarray:
     return np.array([[np.nan if (az is None or az[mode] is None) else az[mode]
                       for az in ring] for ring in ws["frequencies_hz"][iz]], float)
 
 
-def workspace_polar(ws: dict, path: Path, layers: int = 3, modes: int = 3) -> list[float]:
+def workspace_polar(ws: Workspace, path: Path, layers: int = 3, modes: int = 3) -> list[float]:
     """f1..f3 on polar maps (angle: azimuth phi, radius: tilt theta) at a few heights.
 
     Returns the heights (mm) drawn.
@@ -42,7 +46,8 @@ def workspace_polar(ws: dict, path: Path, layers: int = 3, modes: int = 3) -> li
     for k in range(modes):
         for c, iz in enumerate(pick):
             values = _layer_array(ws, iz, k)
-            ax = fig.add_subplot(modes, len(pick), k * len(pick) + c + 1, projection="polar")
+            ax = cast(PolarAxes, fig.add_subplot(modes, len(pick), k * len(pick) + c + 1,
+                                                 projection="polar"))  # a polar projection's
             tilts = np.asarray(ws["tilts_deg"][iz], float)
             dt = (tilts[1] - tilts[0]) if len(tilts) > 1 else 1.0
             t_edges = np.concatenate([[0.0], (tilts[:-1] + tilts[1:]) / 2,
@@ -66,7 +71,8 @@ def workspace_polar(ws: dict, path: Path, layers: int = 3, modes: int = 3) -> li
                         va="center")
             cb = fig.colorbar(mesh, ax=ax, fraction=0.05, pad=0.12, shrink=0.85)
             cb.ax.tick_params(labelsize=5.5)
-            cb.formatter.set_useOffset(False)
+            # a colorbar of a linear norm formats its ticks with a ScalarFormatter
+            cast(ScalarFormatter, cb.formatter).set_useOffset(False)
             cb.ax.set_title("Hz", fontsize=6, pad=2)
     fig.subplots_adjust(left=0.07, right=0.97, top=0.93, bottom=0.05, hspace=0.45,
                         wspace=0.45)
@@ -74,7 +80,7 @@ def workspace_polar(ws: dict, path: Path, layers: int = 3, modes: int = 3) -> li
     return [ws["heights_mm"][iz] for iz in pick]
 
 
-def workspace_height(ws: dict, path: Path, modes: int = 3) -> None:
+def workspace_height(ws: Workspace, path: Path, modes: int = 3) -> None:
     """f1..f3 vs platform height: level platform (theta = 0) and the range over each layer."""
     valid = _valid_layers(ws)
     z = np.asarray(ws["heights_mm"], float)[valid]

@@ -251,8 +251,20 @@ class SpeedPoint(TypedDict):
     mesh_from_cache: bool | None
 
 
+ModelVariants = dict[str, ModelVariant]  # setting label -> the model against the case's FEM
+ElementConvergences = dict[str, ElementConvergence]  # beam theory -> its convergence in s
+
+
 @with_config(STRICT)
-class Case(TypedDict):
+class FemIdealisations(TypedDict):
+    """The FEM's own idealisations against its default (studies.fem_idealisations)."""
+    variants: dict[str, FemVariant]  # the solved ones, by label
+    unsolved: dict[str, str]  # the ones that could not be solved, and why
+
+
+@with_config(STRICT)
+class CaseCore(TypedDict):
+    """What every case holds, whatever studies ran."""
     name: CaseName
     description: str
     pose: Pose
@@ -265,8 +277,14 @@ class Case(TypedDict):
     fem_gci_percent: list[FiniteFloat] | None  # grid convergence index of its size, per mode
     fem_reference_hz: Frequencies | None
     fem_refinement: Refinement | None
-    models: dict[str, ModelVariant] | None
-    element_convergence: dict[str, ElementConvergence] | None
-    fem_variants: dict[str, FemVariant] | None
-    fem_variant_errors: dict[str, str] | None  # variants that could not be solved, and why
+
+
+@with_config(STRICT)
+class Case(CaseCore, total=False):
+    """A case: its core and the records of the case studies, each declared by its study
+    (`results.declare.Record`, registry `studies.RECORDS`); the records of the project's own
+    case studies typed here, None where a study did not run."""
+    models: ModelVariants | None
+    element_convergence: ElementConvergences | None
+    fem_variants: FemIdealisations | None
     speed_vs_error: list[SpeedPoint] | None

@@ -2,6 +2,8 @@
 judged by, and the paper's two mode ranges."""
 from __future__ import annotations
 
+from typing import Callable, Iterable
+
 from .case_records import Pair
 from .types import LOW_MODES
 
@@ -13,16 +15,18 @@ def best_error(pair: Pair) -> float:
     return pair["error_percent"] if vs_limit is None else vs_limit
 
 
-def worst_in_mode_ranges(errors) -> tuple[float | None, float | None]:
+def worst_in_mode_ranges(errors: Iterable[tuple[int, float]]
+                         ) -> tuple[float | None, float | None]:
     """Worst |error| of modes 1..LOW_MODES and of the modes above, from (1-based mode, error)
     items (None where a range has none): the paper's way of reading its errors."""
-    low, high = [], []
+    low: list[float] = []
+    high: list[float] = []
     for mode, value in errors:
         (low if mode <= LOW_MODES else high).append(abs(value))
     return (max(low) if low else None), (max(high) if high else None)
 
 
-def worst_by_mode_range(pairs: list[Pair], error=best_error
+def worst_by_mode_range(pairs: list[Pair], error: Callable[[Pair], float] = best_error
                         ) -> tuple[float | None, float | None]:
     """worst_in_mode_ranges of the pairs, by FEM mode."""
     return worst_in_mode_ranges((p["fem_mode"], error(p)) for p in pairs)

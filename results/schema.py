@@ -20,7 +20,7 @@ import json
 import re
 import stat
 from pathlib import Path
-from typing import Literal
+from typing import Any, Mapping, Sequence, cast, get_type_hints
 
 import numpy as np
 from pydantic import TypeAdapter, ValidationError, with_config
@@ -29,15 +29,16 @@ from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 from common.errors import InputError
 from common.paths import UnsafeName, distinct_stems
 
-from .case_records import Case, Environment, SceneSummary
+from .case_records import Case, CaseCore, Environment, SceneSummary
+from .declare import Record, Scope, check, in_scope, location, refusal
 from .study_records import Fidelity, Studies
-from .types import MAX_BYTES, MAX_DEPTH, MAX_TEXT, SCHEMA_VERSION, STRICT
+from .types import MAX_BYTES, MAX_DEPTH, MAX_TEXT, SCHEMA_VERSION, STRICT, Profile
 
 
 @with_config(STRICT)
 class Results(TypedDict):
     schema: int
-    profile: Literal["full", "ci"]
+    profile: Profile
     scene: SceneSummary
     environment: Environment
     fidelity: Fidelity
@@ -47,11 +48,21 @@ class Results(TypedDict):
 
 
 _RESULTS = TypeAdapter(Results)
+_CORE = {"studies": frozenset(), "cases": CaseCore.__required_keys__}
 
 
-def validated(results: dict, where: str = "results") -> Results:
-    """The results checked against the schema; ValueError with one line naming the first
-    offending field (and its value)."""
+def study_type(scope: Scope, key: str) -> Any:
+    """The type of one of the project's own study records (`Studies`, `Case`), as its
+    `Record` declares it."""
+    return get_type_hints(Studies if scope == "scene" else Case, include_extras=True)[key]
+
+
+def validated(results: Mapping[str, object], records: Sequence[Record],
+              where: str = "results") -> Results:
+    """The results checked against the schema and every study record against its declared
+    type (`records`: the registry, `studies.RECORDS`); InputError with one line naming the
+    first offending field (and its value). A study key the registry does not declare, or a
+    declared one missing, is refused like any other field."""
     version = results.get("schema") if isinstance(results, dict) else None
     if version != SCHEMA_VERSION:
         raise InputError(f"{where}: results schema {version!r}, this version reads schema "
@@ -59,29 +70,59 @@ def validated(results: dict, where: str = "results") -> Results:
     long = _long_text(results)
     if long is not None:
         loc, size = long
-        raise InputError(f"{where}: {_location(loc)}: a text of {size:,} characters, more than "
+        raise InputError(f"{where}: {location(loc)}: a text of {size:,} characters, more than "
                          f"the {MAX_TEXT:,} a results file holds in one field")
+    scene, case = in_scope(records, "scene"), in_scope(records, "case")
+    core, held = _split(results, {r.key for r in scene}, {r.key for r in case}, where)
     try:
-        out = _RESULTS.validate_python(results)
+        out = _RESULTS.validate_python(core)
     except ValidationError as exc:
-        errors = exc.errors(include_url=False)
-        first = errors[0]
-        more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
-        value = "" if first["type"] == "missing" else f", got {_short(first.get('input'))}"
-        message = first["msg"].removeprefix("Value error, ")
-        raise InputError(f"{where}: {_location(first['loc'])}: {message[:1].lower()}"
-                         f"{message[1:]}{value}{more}") from None
+        raise refusal(exc, where) from None
     if not out["cases"]:
         raise InputError(f"{where}: cases: the results hold no case")
     try:
-        distinct_stems((case["name"] for case in out["cases"]), "case name")
+        distinct_stems((c["name"] for c in out["cases"]), "case name")
     except UnsafeName as exc:
         raise InputError(f"{where}: cases: {exc}") from None
+    out["studies"] = cast(Studies, {  # every key a declared record's, each checked
+        r.key: check(r, held[("studies", r.key)], where, ("studies", r.key)) for r in scene})
+    for i, entry in enumerate(out["cases"]):
+        for r in case:
+            entry[r.key] = check(r, held[("cases", i, r.key)], where,  # type: ignore[literal-required]
+                                 ("cases", i, r.key))
     return out
 
 
-def read(path) -> Results:
-    """Load and check a results file; ValueError (one line, naming the path) otherwise."""
+def _split(results: Mapping[str, object], scene_keys: set[str], case_keys: set[str], where: str):
+    """The results without their study records (checked by the schema's core) and the records
+    by place; a study key missing or not declared is refused in one line."""
+    held: dict[tuple, object] = {}
+
+    def take(record: object, keys: set[str], at: tuple) -> object:
+        if not isinstance(record, dict):
+            return record  # the core's check names it
+        extra = sorted(set(record) - keys - set(_CORE[at[0]]))
+        missing = sorted(keys - set(record))
+        if extra:
+            raise InputError(f"{where}: {location(at + (extra[0],))}: not a field of the results, "
+                             "nor a study this version declares")
+        if missing:
+            raise InputError(f"{where}: {location(at + (missing[0],))}: field required (the "
+                             "record of a declared study)")
+        held.update({at + (k,): record[k] for k in keys})
+        return {k: v for k, v in record.items() if k not in keys}
+
+    core = dict(results)
+    core["studies"] = take(results.get("studies"), scene_keys, ("studies",))
+    cases = results.get("cases")
+    if isinstance(cases, list):
+        core["cases"] = [take(c, case_keys, ("cases", i)) for i, c in enumerate(cases)]
+    return core, held
+
+
+def read(path, records: Sequence[Record]) -> Results:
+    """Load and check a results file (`records`: the registry of study records); InputError
+    (one line, naming the path) otherwise."""
     path = Path(path)
     try:
         info = path.stat()
@@ -119,7 +160,7 @@ def read(path) -> Results:
                          f"{exc.msg})") from None
     if not isinstance(raw, dict):
         raise InputError(f"{path}: expected a JSON object at the top level")
-    return validated(raw, str(path))
+    return validated(raw, records, str(path))
 
 
 def nesting_depth(text: str) -> int:
@@ -155,15 +196,3 @@ def _long_text(value, loc=()) -> tuple[tuple, int] | None:
             stack.extend((v, at + (i,)) for i, v in enumerate(item) if isinstance(v, (str, dict,
                                                                                         list)))
     return None
-
-
-def _location(loc) -> str:
-    text = ""
-    for token in loc:
-        text += f"[{token}]" if isinstance(token, int) else (f".{token}" if text else token)
-    return text
-
-
-def _short(value, limit: int = 60) -> str:
-    text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."

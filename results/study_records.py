@@ -39,6 +39,31 @@ class AngleConventions(TypedDict):
 
 
 @with_config(STRICT)
+class Crossing(TypedDict):
+    """Where two mode families of the workspace map cross (their frequencies swap order)."""
+    families: list[int]  # 1-based
+    height_mm: FiniteFloat
+    tilt_deg: FiniteFloat
+    azimuth_deg: FiniteFloat
+    frequency_hz: Frequency
+    along: Literal["azimuth", "tilt", "height"]  # the direction of the map's step
+
+
+@with_config(STRICT)
+class Tracking(TypedDict):
+    """How the workspace map's families were followed from pose to pose (MAC)."""
+    families: str  # what a family is, in words
+    root_height_mm: FiniteFloat  # the layer whose level pose numbers the families
+    modes_followed: int
+    steps: int
+    steps_matched_by_shape: int
+    poses_with_shapes: int
+    min_mac: FiniteFloat | None  # None: no step needed the shapes
+    open_rings: int
+    lost_families: list[int]  # 1-based
+
+
+@with_config(STRICT)
 class Workspace(TypedDict):
     heights_mm: list[FiniteFloat]
     regular_tilt_deg: list[FiniteFloat]
@@ -52,15 +77,17 @@ class Workspace(TypedDict):
     actuation_mm: list[list[list[list[FiniteFloat] | None]]]
     s_joint_angles_deg: list[list[list[list[FiniteFloat] | None]]]
     r_joint_angles_deg: list[list[list[list[FiniteFloat] | None]]]
-    crossings: list[dict[str, Any]]  # families, height_mm, tilt_deg, azimuth_deg, frequency_hz
-    tracking: dict[str, Any]  # how the families were followed (steps, lowest MAC, ...)
+    crossings: list[Crossing]
+    tracking: Tracking
     settings: str
 
 
 @with_config(STRICT)
-class JointOrderModel(TypedDict):
+class ModelReading(TypedDict):
+    """A model's modes against the FEM of the same variant (joint order, coupling), per FEM
+    mode, paired by shape."""
     frequencies_hz: Hz
-    error_percent: list[FiniteFloat]  # vs the FEM of the same joint order
+    error_percent: list[FiniteFloat]  # vs that FEM (joint orders) or its limit (couplings)
     mac: list[FiniteFloat]
 
 
@@ -73,20 +100,13 @@ class JointOrderReading(TypedDict):
     fem_hz: Hz | None
     fem_estimated_error_percent: list[FiniteFloat] | None  # two-mesh: max(Richardson, GCI)
     fem_gci_percent: list[FiniteFloat] | None  # two-mesh GCI (factor 3), per mode
-    models: dict[str, JointOrderModel] | None
+    models: dict[str, ModelReading] | None
 
 
 @with_config(STRICT)
 class JointOrderCase(TypedDict):
     case: str
     readings: list[JointOrderReading]
-
-
-@with_config(STRICT)
-class CouplingModel(TypedDict):
-    frequencies_hz: Hz
-    error_percent: list[FiniteFloat]  # vs the FEM limit of the same coupling, per FEM mode
-    mac: list[FiniteFloat]
 
 
 @with_config(STRICT)
@@ -98,7 +118,7 @@ class CouplingReading(TypedDict):
     fem_limit_hz: Frequencies | None  # Richardson limit h -> 0
     fem_finest_error_percent: list[FiniteFloat] | None  # stated error of the finest mesh
     fem_finest_gci_percent: list[FiniteFloat] | None  # its grid convergence index
-    models: dict[str, CouplingModel] | None
+    models: dict[str, ModelReading] | None
 
 
 @with_config(STRICT)
@@ -144,15 +164,24 @@ class WorstPose(TypedDict):
     worst_error_percent: FiniteFloat
 
 
+PerMode = dict[str, ModeStatistics]  # model label -> statistics
+
+
 @with_config(STRICT)
-class WorkspaceValidation(TypedDict):
+class ValidationSweep(TypedDict):
+    """The workspace validation's poses as the sweep computed them (studies.workspace_validation
+    `run_study`), before the run's model is chosen."""
     poses: list[ValidationPose]
-    per_mode: dict[str, ModeStatistics]  # model label -> statistics
+    per_mode: PerMode
     models: dict[str, dict[str, Any]]  # model label -> its analytical options
-    default_model: str  # the run's chosen analytical model
     fem_mesh_size_mm: FiniteFloat
     fem_coarse_size_mm: FiniteFloat
     failed: int
+
+
+@with_config(STRICT)
+class WorkspaceValidation(ValidationSweep):
+    default_model: str  # the run's chosen analytical model
     worst_pose: WorstPose | None
 
 
@@ -276,7 +305,9 @@ class LowestModes(TypedDict):
 
 
 @with_config(STRICT)
-class Studies(TypedDict):
+class Studies(TypedDict, total=False):
+    """The scene studies' records, each declared by its study (`results.declare.Record`,
+    registry `studies.RECORDS`); the project's own typed here."""
     reachable_workspace: ReachableWorkspace
     height_calibration: HeightCalibration | None
     angle_conventions: list[AngleConventions]

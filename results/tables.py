@@ -9,10 +9,14 @@ from __future__ import annotations
 import csv
 import io
 from pathlib import Path
+from typing import Literal, Sequence
 
 from common.atomic import write_text_atomic
 from common.paths import distinct_stems, inside
-from results import Case, Results
+
+from .case_records import Case
+from .declare import Record, csv_text, table_rows
+from .schema import Results
 
 PAPER_COLUMNS = ("paper_fea_hz", "paper_theory_hz", "paper_error_percent")
 COLUMNS = ("mode",) + PAPER_COLUMNS + ("fem_hz", "fem_estimated_error_percent",
@@ -30,14 +34,15 @@ def columns(case: Case) -> tuple[str, ...]:
     return COLUMNS if case["paper"] else tuple(c for c in COLUMNS if c not in PAPER_COLUMNS)
 
 
-def case_rows(case: Case) -> list[dict]:
-    paper = case["paper"] or {}
+def case_rows(case: Case) -> list[dict[str, float | None]]:
+    paper = case["paper"]
 
-    def paper_value(key: str, k: int):
-        row = paper.get(key) or []
+    def paper_value(key: Literal["fea_hz", "theory_hz", "error_percent"], k: int
+                    ) -> float | None:
+        row = (paper[key] if paper else None) or []
         return row[k] if k < len(row) else None  # the paper may list fewer modes than we do
 
-    rows = []
+    rows: list[dict[str, float | None]] = []
     for pair in sorted(case["pairs"], key=lambda p: p["fem_mode"]):
         k = pair["fem_mode"] - 1
         row = {"mode": pair["fem_mode"],
@@ -53,7 +58,7 @@ def case_rows(case: Case) -> list[dict]:
     return rows
 
 
-def fmt(value, digits: int) -> str:
+def fmt(value: float | None, digits: int) -> str:
     return "–" if value is None else f"{value:.{digits}f}"
 
 
@@ -81,10 +86,19 @@ def case_markdown(case: Case) -> str:
     return head + "\n".join(lines) + "\n"
 
 
-def write_tables(results: Results, out: Path) -> None:
-    """tables/<case>.csv and .md of every case under `out` (file names by `common.paths`)."""
+def write_tables(results: Results, out: Path, records: Sequence[Record]) -> None:
+    """Under `out`: tables/<case>.csv and .md of every case (file names by `common.paths`),
+    and tables/studies/<key>-<name>.csv of every table a study declares (`records`: the
+    registry), where these results hold rows for it."""
     stems = distinct_stems((case["name"] for case in results["cases"]), "case name")
     for case in results["cases"]:
         stem = stems[case["name"]]
         write_text_atomic(inside(out, "tables", f"{stem}.csv"), case_csv(case))
         write_text_atomic(inside(out, "tables", f"{stem}.md"), case_markdown(case))
+    for record in records:
+        for table in record.tables:
+            rows = table_rows(record, table, results)
+            if rows:
+                path = inside(out, "tables", "studies", f"{record.key}-{table.name}.csv")
+                path.parent.mkdir(parents=True, exist_ok=True)
+                write_text_atomic(path, csv_text(rows))

@@ -8,13 +8,14 @@ named by a relative path inside the results' folder.
 from __future__ import annotations
 
 from pathlib import PurePosixPath
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import AfterValidator, ConfigDict, Field, FiniteFloat
 
 from common.paths import name_problem
 
-SCHEMA_VERSION = 13
+SCHEMA_VERSION = 14
+Profile = Literal["full", "ci"]  # a run's profile: every case and study, or the CI's
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
 # No structural mode of a machine the scene ranges admit comes near 1 GHz; a larger value in
 # a results file is a doctored or corrupted one (1e308 Hz), never a result.

@@ -1,12 +1,14 @@
 """A short plain-language verdict per case, written from the numbers in results.json only."""
 from __future__ import annotations
 
-from results import LOW_MODES, mode_ranges, worst_by_mode_range, worst_in_mode_ranges
+from typing import Iterable
+
+from results import LOW_MODES, Case, Results, mode_ranges, worst_by_mode_range, worst_in_mode_ranges
 
 
-def _worst(values) -> float | None:
-    values = [abs(v) for v in values if v is not None]
-    return max(values) if values else None
+def _worst(values: Iterable[float | None]) -> float | None:
+    present = [abs(v) for v in values if v is not None]
+    return max(present) if present else None
 
 
 def _pct(x: float) -> str:
@@ -27,7 +29,7 @@ def _bound(x: float) -> str:
     return f"within {_pct(x)}" if x <= 5.0 else f"differing by up to {_pct(x)}"
 
 
-def case_verdict(case: dict, conventions: bool = False) -> list[str]:
+def case_verdict(case: Case, conventions: bool = False) -> list[str]:
     """Sentences: agreement of the low and high modes, the FEM's own error, the shapes, the
     paper (`conventions`: the results hold an angle-convention study of this case)."""
     pairs = sorted(case["pairs"], key=lambda p: p["fem_mode"])
@@ -69,25 +71,29 @@ def case_verdict(case: dict, conventions: bool = False) -> list[str]:
         lo = min(macs)
         shape = ("the mode shapes match" if lo >= 0.9 else
                  "most mode shapes match" if lo >= 0.7 else "some mode shapes do not match")
-        reps = any(p["repeated"] for p in pairs)
+        any_repeated = any(p["repeated"] for p in pairs)
         out.append(f"Paired by shape, {shape} (lowest MAC {lo:.3f}"
-                   + (", a repeated pair's taken over its 2-D subspace" if reps else "") + ").")
+                   + (", a repeated pair's taken over its 2-D subspace" if any_repeated else "")
+                   + ").")
     reps = {p["group"] for p in pairs if p["repeated"]}
     if reps:
         out.append(f"{len(reps)} repeated pair{'s' if len(reps) > 1 else ''} "
                    f"compared as a 2-D subspace.")
 
-    paper = case["paper"] or {}
-    if paper.get("error_percent"):
-        pw = paper["error_percent"]
+    paper = case["paper"]
+    pw = paper["error_percent"] if paper else None
+    if pw:
         ranges = [f"{_pct(worst)} ({label})" for worst, label in
                   zip(worst_in_mode_ranges(enumerate(pw, start=1)), mode_ranges(pairs))
                   if worst is not None]
         out.append("For comparison, the paper's own theory-vs-ANSYS errors are within "
                    + " and ".join(ranges) + ".")
-    if paper.get("theory_hz"):
+    theory = paper["theory_hz"] if paper else None
+    if theory:
         dev = _worst(100 * (a_hz / t - 1) for a_hz, t in
-                     zip(case["analytical"]["frequencies_hz"], paper["theory_hz"]))
+                     zip(case["analytical"]["frequencies_hz"], theory))
+        if dev is None:  # no analytical frequency: `None <= 1.0` would raise the same
+            raise TypeError("no analytical frequency to compare with the paper's theory row")
         if dev <= 1.0:
             out.append(f"Our analytical frequencies reproduce the paper's theoretical row "
                        f"within {_pct(dev)}.")
@@ -99,17 +105,17 @@ def case_verdict(case: dict, conventions: bool = False) -> list[str]:
     best = best_model(case)
     if best:
         label, low_w, high_w = best
-        lo, hi = mode_ranges(pairs)
-        out.append(f"Best analytical model offered ({label}): {lo} within {_pct(low_w)}"
-                   + (f" and {hi} within {_pct(high_w)}" if high_w is not None else "")
+        low_range, high_range = mode_ranges(pairs)
+        out.append(f"Best analytical model offered ({label}): {low_range} within {_pct(low_w)}"
+                   + (f" and {high_range} within {_pct(high_w)}" if high_w is not None else "")
                    + " of the FEM.")
     return out
 
 
-def best_model(case: dict) -> tuple[str, float, float | None] | None:
+def best_model(case: Case) -> tuple[str, float, float | None] | None:
     """The model variant with the smallest worst |error| over all modes, if variants exist:
     (label, worst of the low modes, worst of the modes above)."""
-    best = None
+    best: tuple[str, float, float | None] | None = None
     for label, model in (case["models"] or {}).items():
         low, high = worst_by_mode_range(model["pairs"])
         if low is None:
@@ -119,7 +125,7 @@ def best_model(case: dict) -> tuple[str, float, float | None] | None:
     return best
 
 
-def headline(results: dict) -> str:
+def headline(results: Results) -> str:
     """One sentence over the cases that carry paper rows (or all cases)."""
     cases = [c for c in results["cases"] if c["paper"]] or results["cases"]
     pairs = [p for c in cases for p in c["pairs"]]

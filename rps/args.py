@@ -9,6 +9,7 @@ import re
 import sys
 from dataclasses import replace
 from pathlib import Path
+from typing import Any, Mapping
 
 from common.errors import InputError
 from common.locations import DISTRIBUTION, cache_root, checkout_root, default_scene
@@ -102,17 +103,18 @@ def named_first(exc: Exception, key: str, what: str) -> Exception:
     return exc
 
 
-def run_choice(args: argparse.Namespace, scene) -> dict | None:
+def run_choice(args: argparse.Namespace, scene) -> Mapping[str, Any] | None:
     """The fidelity block of --from-results, checked to be a run of this scene file."""
     if args.from_results is None:
         return None
     import hashlib
 
     from results import read
+    from studies import RECORDS
 
     where = f"--from-results {args.from_results}"
     try:
-        results = read(args.from_results)
+        results = read(args.from_results, RECORDS)
     except ValueError as exc:
         raise InputError(f"{where}: {exc}") from None
     digest = hashlib.sha256(Path(args.scene).read_bytes()).hexdigest()

@@ -9,6 +9,10 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # results (and pydantic, an extra) only when a run has results
+    from results import Case, Results
 
 LOW_MODES = 3  # the modes f1..f3 (leg bending, platform torsion) against the higher ones
 DASH = "–"
@@ -69,7 +73,7 @@ def _percent(x: float | None) -> str:
     return DASH if x is None else f"{significant(x, 3)} %"
 
 
-def case_summary(case: dict) -> dict:
+def case_summary(case: Case) -> dict:
     """The numbers of one summary row: worst |error| of the analytical model against the FEM
     per mode range, the FEM's own worst estimated error, the lowest MAC and a verdict."""
     from results.verdict import grade  # the report's own wording of agreement
@@ -92,7 +96,7 @@ def case_summary(case: dict) -> dict:
     }
 
 
-def summary(results: dict, out: Path, report: bool) -> str:
+def summary(results: Results, out: Path, report: bool) -> str:
     """The table printed at the end of a validation run, and where its outputs are."""
     rows = [case_summary(c) for c in results["cases"]]
     low = next((r["low_range"] for r in rows if r["low_range"]), "f1–f3")

@@ -67,14 +67,17 @@ class ResultCache:
         except FileNotFoundError:
             return None
         except (OSError, ValueError, UnicodeDecodeError) as exc:
-            return self._drop(kind, key, f"unreadable: {type(exc).__name__}")
+            self._drop(kind, key, f"unreadable: {type(exc).__name__}")
+            return None
         try:
             value = verify(stored, {s: self._path(kind, key, s) for s in side_files(stored)})
         except ChecksumError as exc:
-            return self._drop(kind, key, str(exc))
+            self._drop(kind, key, str(exc))
+            return None
         missing = [k for k in required if k not in value]
         if missing:
-            return self._drop(kind, key, f"lacks {missing[0]!r}")
+            self._drop(kind, key, f"lacks {missing[0]!r}")
+            return None
         return value
 
     def put(self, kind: str, key: str, value: dict, files: dict[str, Path] | None = None) -> None:

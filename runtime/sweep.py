@@ -15,13 +15,13 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 from common.errors import ComputeError
 
 from .cache import ResultCache, content_key
 
-TaskFn = Callable[[Any], dict]
+TaskFn = Callable[[Any], Mapping[str, Any]]  # a task's answer: a JSON object
 
 
 @dataclass(frozen=True)
@@ -32,7 +32,7 @@ class SweepPlan:
     estimated_seconds: float | None
 
 
-def _safe(fn: TaskFn, task) -> dict:
+def _safe(fn: TaskFn, task) -> Mapping[str, Any]:
     """fn(task), or {"error": one line} for an expected failure of this task."""
     try:
         return fn(task)
@@ -44,7 +44,7 @@ def run_sweep(fn: TaskFn, tasks: list, payloads: list, cache: ResultCache, kind:
               workers: int = 2, scheduler: str | None = None,
               announce: Callable[[SweepPlan], None] | None = None,
               seconds_per_task: float | None = None, progress=None,
-              code: tuple[str, ...] = ()) -> list[dict]:
+              code: tuple[str, ...] = ()) -> list[Mapping[str, Any]]:
     """Results of fn(task) for every task, in task order.
 
     `payloads[i]` is what determines task i's result (its cache key), with the source of
@@ -76,7 +76,7 @@ def run_sweep(fn: TaskFn, tasks: list, payloads: list, cache: ResultCache, kind:
 
 
 def map_tasks(fn: TaskFn, tasks: list, workers: int = 2,
-              scheduler: str | None = None) -> list[dict]:
+              scheduler: str | None = None) -> list[Mapping[str, Any]]:
     """fn(task) for every task on the sweep's workers, in task order, with no result cache of
     its own (for tasks that cache what they compute, such as FEM solves): a failed task gives
     its {"error": one line}."""
@@ -124,7 +124,7 @@ def _run_local(fn: TaskFn, tasks: list, todo: list[int], workers: int, store) ->
             store(i, value)
 
 
-def _indexed(fn: TaskFn, i: int, task) -> tuple[int, dict]:
+def _indexed(fn: TaskFn, i: int, task) -> tuple[int, Mapping[str, Any]]:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     return i, _safe(fn, task)
 

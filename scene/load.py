@@ -11,7 +11,7 @@ import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from analytical import plausibility
 from analytical.architecture import ARCHITECTURE_KEYS, ARCHITECTURE_REQUIRED
@@ -109,7 +109,7 @@ class Case:
     name: str
     description: str
     pose: Pose
-    height_origin: str  # "calibrated" or "scene"
+    height_origin: Literal["calibrated", "scene"]
     paper_fea_hz: tuple[float, ...] | None = None
     paper_theory_hz: tuple[float, ...] | None = None
     paper_error_percent: tuple[float, ...] | None = None  # as printed in the paper
@@ -149,7 +149,8 @@ class _Table:
     def __init__(self, data: Any, where: str):
         if not isinstance(data, dict):
             raise SceneError(f"{where} = {_short(data)}: expected a table")
-        self.data, self.where, self.used = data, where, set()
+        self.data, self.where = data, where
+        self.used: set[str] = set()
 
     def _get(self, key: str, default: Any) -> Any:
         self.used.add(key)
@@ -200,6 +201,7 @@ class _Table:
             raw = tuple(raw)
         if spec.kind is float and isinstance(raw, int) and not isinstance(raw, bool):
             raw = float(raw)
+        si: Any
         if spec.kind is tuple and all(isinstance(v, (int, float)) and not isinstance(v, bool)
                                       for v in raw):
             si = tuple(float(v) * spec.scale for v in raw)
@@ -388,7 +390,7 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
                                  "scene has no [calibration.height]")
             c.used.add("height_mm")
             spec = c.settings(CaseSettings, height=calibrated)
-            origin = "calibrated"
+            origin: Literal["calibrated", "scene"] = "calibrated"
         else:
             spec = c.settings(CaseSettings)
             origin = "scene"

@@ -4,8 +4,10 @@ from __future__ import annotations
 import math
 import os
 import time
+from copy import copy
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Any, Generic, Literal, Mapping, Protocol, TypeVar
 
 import numpy as np
 
@@ -13,12 +15,12 @@ import results
 from analytical.kinematics import PoseGeometry
 from analytical.modal import leg_axis_displacements, leg_axis_twists, platform_motion
 from analytical.model import analyse
-from analytical.params import ModelOptions
+from analytical.params import ModelOptions, Pose
 from analytical.substructure import model_coordinates
 from common.settings import as_dict
 from fem_reference.model import legs_for
 from runtime.cache import ResultCache
-from scene import Case, Scene
+from scene import Scene
 from solvers.pairing import pair_modes
 
 # Shared points for MAC: eleven stations along every leg axis, joint centres included.
@@ -36,21 +38,25 @@ def station_vector(translations: np.ndarray, twists: np.ndarray, radius: float) 
     return both.reshape(-1, both.shape[-1])
 
 
+R = TypeVar("R", results.AnalyticalRecord, results.FemRecord)
+
+
 @dataclass(frozen=True)
-class Solve:
+class Solve(Generic[R]):
     """One model's modes at one pose: its results record (every computed mode) and its shapes
     sampled at the STATIONS of every leg axis, (legs * stations * 4, modes), for the pairing
     (`station_vector`)."""
 
-    record: dict  # results.AnalyticalRecord or results.FemRecord
+    record: R  # results.AnalyticalRecord or results.FemRecord
     station_shapes: np.ndarray
     vtu: Path | None = None  # the FEM's mode file in the cache
 
-    def reported(self, count: int) -> dict:
+    def reported(self, count: int) -> R:
         """The record cut to the first `count` modes."""
-        return self.record | {
-            "frequencies_hz": self.record["frequencies_hz"][:count],
-            "platform_motion": [row[:count] for row in self.record["platform_motion"]]}
+        cut = copy(self.record)
+        cut["frequencies_hz"] = self.record["frequencies_hz"][:count]
+        cut["platform_motion"] = [row[:count] for row in self.record["platform_motion"]]
+        return cut
 
     def leg_axis_shapes(self, count: int) -> list:
         """[leg][station][xyz][mode] of the first `count` modes."""
@@ -65,7 +71,15 @@ def scene_coordinates(scene: Scene, options: ModelOptions) -> int:
     return model_coordinates(scene.manipulator, options)
 
 
-def analytical_case(scene: Scene, case: Case, options: ModelOptions) -> Solve:
+class Posed(Protocol):
+    """What `analytical_case` reads of a case: its pose (a scene case, or a study's pose)."""
+
+    @property
+    def pose(self) -> Pose: ...
+
+
+def analytical_case(scene: Scene, case: Posed,
+                    options: ModelOptions) -> Solve[results.AnalyticalRecord]:
     """Frequencies, platform motion, sampled shapes and wall time of the substructure model."""
     opts = replace(options,
                    modes=min(options.modes + EXTRA_MODES, scene_coordinates(scene, options)))
@@ -93,8 +107,8 @@ def fem_options(scene: Scene, mesh_size: float | None = None, platform: str | No
     platform/coupling/legs/mode-count overrides; EXTRA_MODES are added for the pairing."""
     options = scene.fem if mesh_size is None else scene.fem.with_size(mesh_size)
     legs = legs_for(platform, legs)
-    changes = {k: v for k, v in {"platform": platform, "coupling": coupling,
-                                 "legs": legs}.items() if v is not None}
+    changes: dict[str, Any] = {k: v for k, v in {"platform": platform, "coupling": coupling,
+                                                 "legs": legs}.items() if v is not None}
     changes["modes"] = (modes if modes is not None else scene.analytical.modes) + EXTRA_MODES
     return replace(options, **changes)
 
@@ -122,7 +136,8 @@ def fem_runtime(scene: Scene, cache: ResultCache | None = None, use_cache: bool 
 
 def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size: float,
              platform: str | None = None, coupling: str | None = None,
-             legs: str | None = None, max_dofs: int | None = None) -> Solve:
+             legs: str | None = None,
+             max_dofs: int | None = None) -> Solve[results.FemRecord]:
     """The FEM reference of one pose at one mesh size, through the result cache.
 
     The cache key is every input that changes the answer, taken whole: the manipulator, the
@@ -167,8 +182,12 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
     finally:
         for leftover in (cache.directory / "tmp").glob(f"mode-{os.getpid()}-*.vtu"):
             leftover.unlink(missing_ok=True)
-    record = results.FemRecord(**{k: value[k] for k in FEM_CACHED if k != "station_shapes"},
-                               cache_hit=hit)
+    record = results.FemRecord(
+        frequencies_hz=value["frequencies_hz"], dofs=value["dofs"], raw_dofs=value["raw_dofs"],
+        mesh_size_m=value["mesh_size_m"], platform=value["platform"],
+        coupling=value["coupling"], timings=value["timings"],
+        mesh_cache_hit=value["mesh_cache_hit"], platform_motion=value["platform_motion"],
+        min_scaled_jacobian=value["min_scaled_jacobian"], cache_hit=hit)
     return Solve(record, np.asarray(value["station_shapes"]),
                  cache.side_file("fem", key, ".vtu"))
 
@@ -179,7 +198,7 @@ FEM_CACHED = ("frequencies_hz", "dofs", "raw_dofs", "mesh_size_m", "platform", "
               "min_scaled_jacobian")
 
 
-def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
+def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> Mapping[str, object]:
     """Everything that determines a FEM result, whole (see `fem_case`): the options object
     entire, so a new option is in the key without a line here (tests/test_common.py). The rim
     grading (`rim_*`) shapes only tetrahedral meshes; changing it with harmonic legs costs a
@@ -189,15 +208,29 @@ def fem_cache_payload(manipulator, geometry: PoseGeometry, options) -> dict:
             "station_components": list(STATION_COMPONENTS)}
 
 
-def model_reading(rows: list[dict], error: str = "error_percent") -> dict:
+def reference_error(row: results.Pair) -> float:
+    """A row's error against the FEM limit, % (the table was made with `reference_hz`)."""
+    error = row["error_vs_reference_percent"]
+    if error is None:
+        raise ValueError("error_table: this row was made without the FEM limit")
+    return error
+
+
+def model_reading(rows: list[results.Pair],
+                  error: Literal["error_percent", "error_vs_reference_percent"] = "error_percent"
+                  ) -> results.ModelReading:
     """A model's frequencies, errors (the `error` column of `error_table`) and MACs, in the
-    order of `rows`: the fields of results.JointOrderModel and results.CouplingModel."""
-    return {"frequencies_hz": [r["f_analytical_hz"] for r in rows],
-            "error_percent": [r[error] for r in rows], "mac": [r["mac"] for r in rows]}
+    order of `rows`."""
+    errors = [r[error] for r in rows]
+    if any(e is None for e in errors):
+        raise ValueError(f"model_reading: the rows have no {error} (no reference given)")
+    return results.ModelReading(frequencies_hz=[r["f_analytical_hz"] for r in rows],
+                                error_percent=[float(e) for e in errors if e is not None],
+                                mac=[r["mac"] for r in rows])
 
 
 def error_table(analytical: Solve, fem: Solve, count: int, fem_error_percent=None,
-                reference_hz=None) -> list[dict]:
+                reference_hz=None) -> list[results.Pair]:
     """Rows of the comparison (results.Pair): FEM mode k paired with the analytical mode of the
     same shape; against the FEM's h -> 0 limit too when `reference_hz` is given."""
     a_hz = np.asarray(analytical.record["frequencies_hz"])

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any, Mapping
 
 import numpy as np
+from typing_extensions import TypedDict
 
 import results as schema
 from runtime.cache import ResultCache
@@ -47,7 +49,7 @@ class TwoMesh:
     order, the first `count`): Roache's two-mesh GCI (factor 3 at the rims' order 1.42), the
     stated error (the larger of it and Richardson's step, %) and the two-mesh limit (Hz)."""
 
-    fine: Solve
+    fine: Solve[schema.FemRecord]
     gci_percent: list[float]
     estimated_error_percent: list[float]
     limit_hz: list[float]
@@ -69,11 +71,16 @@ def two_mesh(scene: Scene, geometry, cache: ResultCache, size: float, count: int
                    two_mesh_limit(*pair).tolist())
 
 
-def _solve_fem(task: dict) -> dict:
+class Solved(TypedDict):
+    """A sweep task's answer: None, or why it failed (`runtime.sweep`)."""
+    error: str | None
+
+
+def _solve_fem(task: Mapping[str, Any]) -> Solved:
     """One FEM solve into the result cache (a task of `prefetch_fem`)."""
     fem_case(task["scene"], task["geometry"], ResultCache(task["cache_dir"]), task["size"],
              max_dofs=task["max_dofs"])
-    return {"error": None}
+    return Solved(error=None)
 
 
 def prefetch_fem(scene: Scene, geometries: list, sizes, cache: ResultCache, workers: int,
@@ -94,7 +101,7 @@ def prefetch_fem(scene: Scene, geometries: list, sizes, cache: ResultCache, work
 
 
 def fem_refinement(scene: Scene, geometry, cache: ResultCache,
-                   sizes: tuple[float, ...]) -> dict:
+                   sizes: tuple[float, ...]) -> schema.Refinement:
     """Solve at every size (each through the cache) and extrapolate every frequency
     (Richardson with the observed order, and the grid convergence index, GCI:
     fem_reference.convergence): a results.Refinement. Its `estimated_error_percent`, the error

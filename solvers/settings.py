@@ -8,6 +8,8 @@ from dataclasses import replace
 from analytical.params import ModelOptions
 from scene import Scene
 
+Settings = dict[str, ModelOptions]  # label ("Timoshenko (Cowper), s=3") -> the options
+
 
 def _setting(base: ModelOptions, beam: str, elements: int, shear: str = "cowper",
              joint_ends: str = "beam", platform_inertia: str = "plate",
@@ -21,7 +23,7 @@ SOLID_LEG_ELEMENTS = 8  # stations per part of the solid-legs setting (joint_end
 SOLID_LEGS = f"Solid legs, s={SOLID_LEG_ELEMENTS}"
 
 
-def _solid_legs(scene: Scene) -> dict[str, ModelOptions]:
+def _solid_legs(scene: Scene) -> Settings:
     """The solid-legs setting where a scene needs it: legs of a housing and a rod, short thick
     tubes no beam represents to 0.1 % (docs/legs.md); a uniform solid leg's beam models are
     within 0.05 % already, and the solid legs would only cost time there."""
@@ -31,7 +33,7 @@ def _solid_legs(scene: Scene) -> dict[str, ModelOptions]:
                                  legs="solid")}
 
 
-def model_variants(scene: Scene) -> dict[str, ModelOptions]:
+def model_variants(scene: Scene) -> Settings:
     """The analytical settings compared throughout: the paper's and ours. Every Timoshenko
     label names its shear coefficient (analytical.beam: Cowper's or Hutchinson's); "solid
     ends" are the condensed solid end zones at the joints (analytical.end_zones); "solid
@@ -52,11 +54,11 @@ def model_variants(scene: Scene) -> dict[str, ModelOptions]:
 SOLID_END_ELEMENTS = (1, 2, 3, 4, 5)  # s of the beam middle between two solid end zones
 
 
-def speed_settings(scene: Scene) -> dict[str, ModelOptions]:
+def speed_settings(scene: Scene) -> Settings:
     """Every analytical setting whose time and error the speed-vs-error plot shows: beam
     theories (with their shear coefficient) at s = 1..10, Timoshenko (Hutchinson) middles
     between solid end zones, and on a housing and a rod the solid legs."""
-    base, out = scene.analytical, {}
+    base, out = scene.analytical, Settings()
     for beam, shear, tag in (("euler-bernoulli", "cowper", "EB"),
                              ("timoshenko", "cowper", "Timoshenko (Cowper)"),
                              ("timoshenko", "hutchinson", "Timoshenko (Hutchinson)")):

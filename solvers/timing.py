@@ -18,6 +18,7 @@ from dataclasses import replace
 from functools import lru_cache
 
 import numpy as np
+from typing_extensions import TypedDict
 
 from analytical.kinematics import pose_geometry
 from analytical.model import natural_frequencies
@@ -30,8 +31,16 @@ RUNS = 30  # repetitions per measurement (the median is kept)
 KIND = "model-timings"
 
 
+class Machine(TypedDict):
+    """What identifies the computer a time was measured on (part of a timing's cache key)."""
+    node: str
+    cpu: str
+    cores: int | None
+    python: str
+
+
 @lru_cache(maxsize=1)
-def machine() -> dict:
+def machine() -> Machine:
     """What identifies the computer a time was measured on."""
     cpu = platform.processor()
     try:
@@ -40,8 +49,8 @@ def machine() -> dict:
                         if line.startswith("model name")), cpu)
     except OSError:
         pass
-    return {"node": platform.node(), "cpu": cpu, "cores": os.cpu_count(),
-            "python": platform.python_version()}
+    return Machine(node=platform.node(), cpu=cpu, cores=os.cpu_count(),
+                   python=platform.python_version())
 
 
 def seconds_per_pose(scene: Scene, case: Case, options, cache: ResultCache | None) -> float:

@@ -1,14 +1,17 @@
 """The studies of a validation run, one module each, registered once (README.md).
 
-    from studies import STUDIES, Context
-    for study in STUDIES: ...            # key, title, anchor, stage, run, profiles
+    from studies import STUDIES, RECORDS, Context
+    for study in STUDIES: ...            # record (key, type, section, tables), stage, run
 
 A study is a function of a `Context` (and, for a case study, a `CaseContext`) returning its
-records in the results schema. The run calls the registered studies of its profile at their
-stage; the report titles its sections from the same list. Adding a study is one module with a
-`STUDY` declaration and one line below.
+record, of the type its `results.Record` declares. The run calls the registered studies of its
+profile at their stage; the results stub, the report's sections and the CSV tables come from
+the same list (`RECORDS`). Adding a study is one module with a `STUDY` declaration and one line
+below.
 """
 from __future__ import annotations
+
+from results import Record, unique
 
 from . import (
     calibration,
@@ -28,22 +31,24 @@ from . import (
 )
 from .registry import STAGES, CaseContext, Context, Study
 
+# registration order is the report's order of their sections (and the run's, within a stage)
 STUDIES: tuple[Study, ...] = (
     reachable.STUDY,
-    workspace_validation.STUDY,
     model_variants.STUDY,
     element_convergence.STUDY,
     fem_idealisations.STUDY,
     speed_vs_error.STUDY,
-    calibration.STUDY,
-    conventions.STUDY,
     workspace_map.STUDY,
+    workspace_validation.STUDY,
+    lowest_modes.STUDY,
     joint_orders.STUDY,
     couplings.STUDY,
     hard_cases.STUDY,
-    lowest_modes.STUDY,
     fem_verification.STUDY,
+    calibration.STUDY,
+    conventions.STUDY,
 )
+RECORDS: tuple[Record, ...] = unique(s.record for s in STUDIES)  # what a results file holds
 
 
 def at(stage: str, profile: str) -> tuple[Study, ...]:
@@ -51,4 +56,4 @@ def at(stage: str, profile: str) -> tuple[Study, ...]:
     return tuple(s for s in STUDIES if s.stage == stage and profile in s.profiles)
 
 
-__all__ = ["STAGES", "STUDIES", "CaseContext", "Context", "Study", "at"]
+__all__ = ["RECORDS", "STAGES", "STUDIES", "CaseContext", "Context", "Study", "at"]

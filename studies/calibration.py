@@ -8,7 +8,7 @@ import results
 from analytical.calibration import calibrate_height
 from scene import Case, Scene
 
-from .registry import Context, Study, floats
+from .registry import PAPER_READING, Context, Study, floats, own
 
 
 def calibration_case(scene: Scene) -> Case | None:
@@ -18,7 +18,7 @@ def calibration_case(scene: Scene) -> Case | None:
                  if c.height_origin == "calibrated" and c.paper_theory_hz), None)
 
 
-def height_calibration(scene: Scene, case: Case) -> dict:
+def height_calibration(scene: Scene, case: Case) -> results.HeightCalibration:
     """Recompute the height calibration on `case`'s theoretical row and say how the scene's
     value compares: a results.HeightCalibration."""
     opts = replace(scene.analytical, elements=3, beam="euler-bernoulli", platform_inertia="plate")
@@ -33,9 +33,10 @@ def height_calibration(scene: Scene, case: Case) -> dict:
         settings=f"Euler-Bernoulli, s = 3, {scene.manipulator.platform_shape} plate inertia")
 
 
-def run(ctx: Context):
+def run(ctx: Context) -> results.HeightCalibration | None:
     case = calibration_case(ctx.scene)
     return None if case is None else height_calibration(ctx.scene, case)
 
 
-STUDY = Study("height_calibration", "scene", run, profiles=("full", "ci"))
+STUDY = Study(own("height_calibration", "scene", section=PAPER_READING), "scene", run,
+              profiles=("full", "ci"))

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from typing_extensions import TypedDict
+
 from common.errors import InputError
 
 FEM_ERROR_SHARE = 0.2  # the reference may use a fifth of the tolerance
@@ -59,8 +61,22 @@ def choose_fem_size(sizes, errors_by_case, tolerance_percent: float) -> FemChoic
                      f"({budget:.3g} %): refine the sequence or raise the tolerance")
 
 
-def choose_analytical(candidates: dict[str, list[dict]], tolerance_percent: float
-                      ) -> AnalyticalChoice:
+class Where(TypedDict):
+    """A candidate's largest error over the compared modes at one case or study pose, %."""
+    case: str
+    worst_error_percent: float
+
+
+class Measured(Where):
+    """... with its time per pose there, s."""
+    seconds: float
+
+
+Rows = dict[str, list[Measured]]  # candidate label -> one row per case (and study pose)
+Places = dict[str, list[Where]]  # candidate label -> its errors at study poses
+
+
+def choose_analytical(candidates: Rows, tolerance_percent: float) -> AnalyticalChoice:
     """candidates[label] = one row per case: {"seconds", "worst_error_percent"}.
 
     The least measured time per pose (median over cases) among the candidates whose worst

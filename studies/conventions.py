@@ -13,7 +13,7 @@ from analytical.model import natural_frequencies
 from analytical.params import Pose
 from scene import Case, Scene
 
-from .registry import Context, Study, floats
+from .registry import PAPER_READING, Context, Study, floats, own
 
 
 def _tilt_azimuth(rotation: np.ndarray) -> tuple[float, float]:
@@ -30,7 +30,7 @@ def convention_cases(scene: Scene) -> list[Case]:
             if c.paper_theory_hz and (c.pose.tilt != 0.0 or c.pose.azimuth != 0.0)]
 
 
-def angle_conventions(scene: Scene, case: Case) -> dict:
+def angle_conventions(scene: Scene, case: Case) -> results.AngleConventions:
     """Plausible readings of the paper's printed (phi, theta) of a tilted case, each mapped to
     our Eq. (1) parameters (none fitted), against the paper's theoretical row: a
     results.AngleConventions."""
@@ -60,15 +60,17 @@ def angle_conventions(scene: Scene, case: Case) -> dict:
             entry["note"] = " ".join(str(exc).split())
         else:
             dev = 100 * (f / target - 1)
-            entry.update(frequencies_hz=floats(f), deviation_percent=floats(dev),
-                         worst_percent=float(np.abs(dev).max()))
+            entry["frequencies_hz"] = floats(f)
+            entry["deviation_percent"] = floats(dev)
+            entry["worst_percent"] = float(np.abs(dev).max())
         out.append(entry)
     return results.AngleConventions(case=case.name, azimuth_deg=math.degrees(phi),
                                     tilt_deg=math.degrees(theta), readings=out)
 
 
-def run(ctx: Context) -> list:
+def run(ctx: Context) -> list[results.AngleConventions]:
     return [angle_conventions(ctx.scene, c) for c in convention_cases(ctx.scene)]
 
 
-STUDY = Study("angle_conventions", "scene", run, profiles=("full", "ci"))
+STUDY = Study(own("angle_conventions", "scene", section=PAPER_READING), "scene", run,
+              profiles=("full", "ci"))

@@ -21,9 +21,9 @@ from common.joints import COUPLINGS
 from runtime.cache import ResultCache
 from scene import Scene
 from solvers.compare import analytical_case, error_table, fem_case, model_reading
-from solvers.settings import speed_settings
+from solvers.settings import Settings, speed_settings
 
-from .registry import Context, Study
+from .registry import OWN_TEMPLATE, Context, Section, Study, own
 
 MODELS = ("Timoshenko (Hutchinson), s=5", "Timoshenko (Hutchinson) + solid ends, s=5")
 
@@ -34,7 +34,7 @@ def coupled(scene: Scene, coupling: str) -> Scene:
                    analytical=replace(scene.analytical, joint_coupling=coupling))
 
 
-def models(scene: Scene, chosen_label: str | None) -> dict:
+def models(scene: Scene, chosen_label: str | None) -> Settings:
     settings = speed_settings(scene)
     labels = list(MODELS) + ([chosen_label] if chosen_label in settings
                              and chosen_label not in MODELS else [])
@@ -42,7 +42,8 @@ def models(scene: Scene, chosen_label: str | None) -> dict:
 
 
 def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: str | None,
-                   workers: int = 1, scheduler: str | None = None) -> list[dict]:
+                   workers: int = 1,
+                   scheduler: str | None = None) -> list[results.CouplingCase]:
     """Per case and coupling: the FEM limit and each model's error against it."""
     from solvers.refinement import fem_refinement, prefetch_fem
 
@@ -74,21 +75,23 @@ def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: s
             entry["fem_finest_error_percent"] = refinement["estimated_error_percent"][-1]
             entry["fem_finest_gci_percent"] = refinement["gci_percent"][-1]
             finest = fem_case(variant, geometry, cache, sizes[-1])
-            entry["models"] = {}
+            readings_of: dict[str, results.ModelReading] = {}
             for label, options in models(variant, chosen_label).items():
                 a = analytical_case(variant, case, replace(options, joint_coupling=coupling))
                 rows = sorted(error_table(a, finest, count, reference_hz=limit),
                               key=lambda r: r["fem_mode"])
-                entry["models"][label] = results.CouplingModel(
-                    **model_reading(rows, "error_vs_reference_percent"))
+                readings_of[label] = model_reading(rows, "error_vs_reference_percent")
+            entry["models"] = readings_of
             readings.append(entry)
         out.append(results.CouplingCase(case=name, readings=readings))
     return out
 
 
-def run(ctx: Context) -> list:
+def run(ctx: Context) -> list[results.CouplingCase]:
     return coupling_study(ctx.scene, ctx.scene.ci_cases, ctx.cache, ctx.chosen_setting,
                           ctx.workers, ctx.scheduler)
 
 
-STUDY = Study("joint_couplings", "scene", run)
+STUDY = Study(own("joint_couplings", "scene", section=Section(
+    "joint-couplings", "Joint faces: rigid and distributing couplings",
+    "both joint-face couplings", OWN_TEMPLATE)), "scene", run)

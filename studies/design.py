@@ -23,10 +23,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 from scipy.optimize import differential_evolution, minimize
+from typing_extensions import NotRequired, TypedDict
 
 from analytical.architecture import leg_length_range
 from analytical.kinematics import pose_geometry
@@ -42,6 +43,64 @@ from scene.design_file import DesignSpec, design_scene
 from solvers.compare import analytical_case, error_table
 from solvers.refinement import two_mesh
 
+
+class PoseAt(TypedDict):
+    height_mm: float
+    azimuth_deg: float
+    tilt_deg: float
+
+
+class DesignPoint(TypedDict):
+    """One design: its variables' values and, unless refused, what it achieves."""
+    values: list[float]
+    refused: str | None  # why it is not a machine or has no workspace
+    moving_mass_kg: NotRequired[float]
+    level_band_mm: NotRequired[float]
+    min_frequency_hz: NotRequired[float]  # least f_mode over the workspace
+    worst_pose: NotRequired[PoseAt]  # where
+    on_boundary: NotRequired[bool]
+
+
+class FemCheck(TypedDict):
+    """The FEM at the optimum's worst pose against the model, or why it could not be made."""
+    error: str | None
+    fem_hz: NotRequired[float]
+    model_hz: NotRequired[float]
+    error_percent: NotRequired[float]
+    mac: NotRequired[float]
+    paired_analytical_mode: NotRequired[int]
+    by_order_error_percent: NotRequired[float]
+    fem_estimated_error_percent: NotRequired[float]
+    mesh_size_mm: NotRequired[float]
+    tolerance_percent: NotRequired[float]
+    within_tolerance: NotRequired[bool]
+
+
+class BoundaryMap(TypedDict):
+    """f_mode over the workspace's boundary: [height][azimuth], None where unreachable."""
+    heights_mm: list[float]
+    azimuths_deg: list[float]
+    tilt_deg: list[list[float]]
+    frequencies_hz: list[list[float | None]]
+
+
+class DesignStudy(TypedDict):
+    """`rps design`'s result (design.json), the design report's only input."""
+    name: str
+    scene: str
+    variables: list[dict[str, Any]]  # name, low, high (the design file's units)
+    constraints: dict[str, Any]  # min_frequency_hz, mode, min_level_band_mm
+    objective: str
+    model: str
+    designs_solved: int
+    feasible: int
+    optimum: DesignPoint | None
+    front: list[DesignPoint]
+    designs: list[DesignPoint]
+    fem_check: FemCheck | None
+    optimum_map: BoundaryMap | None
+
+
 PENALTY = 1e9  # objective of an infeasible design: above every feasible one, by how far it fails
 POLISH_SHARE = 0.3  # of the budget, for the local search after the global one
 
@@ -54,11 +113,11 @@ def moving_mass(m: Manipulator) -> float:
     return 3 * legs + platform_mass(m) + m.payload.mass
 
 
-def evaluate(spec: DesignSpec, values, cache: ResultCache) -> dict:
+def evaluate(spec: DesignSpec, values, cache: ResultCache) -> DesignPoint:
     """One design, through the cache: its values, moving mass, level band, least f_mode and
     where, or the reason it is refused."""
     values = [float(v) for v in values]
-    record: dict = {"values": values, "refused": None}
+    record = DesignPoint(values=values, refused=None)
     try:
         scene = design_scene(spec, values)
     except RpsError as exc:
@@ -85,11 +144,11 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> dict:
     value, _, _ = cache.get_or_compute("design-point", payload, compute,
                                        required=("moving_mass_kg",),
                                        modules=("studies.design", "scene"))
-    record.update(value)
+    record.update(value)  # type: ignore[typeddict-item]  # the cached fields of a DesignPoint
     return record
 
 
-def meets(spec: DesignSpec, record: dict, frequency: bool = True) -> bool:
+def meets(spec: DesignSpec, record: DesignPoint, frequency: bool = True) -> bool:
     """The design meets the band constraint and (with `frequency`) the frequency target."""
     if record.get("refused"):
         return False
@@ -98,7 +157,7 @@ def meets(spec: DesignSpec, record: dict, frequency: bool = True) -> bool:
     return ok and (not frequency or record["min_frequency_hz"] >= c.min_frequency_hz)
 
 
-def objective(spec: DesignSpec, record: dict) -> float:
+def objective(spec: DesignSpec, record: DesignPoint) -> float:
     """The optimiser's value (lower is better): any feasible design's below PENALTY, then the
     designs failing a constraint by how far (relative shortfalls, capped), then the refused
     ones (not a machine, or no workspace) at 10 PENALTY."""
@@ -117,7 +176,7 @@ def objective(spec: DesignSpec, record: dict) -> float:
     return -record["min_frequency_hz"]
 
 
-def pareto_front(spec: DesignSpec, records: list[dict]) -> list[dict]:
+def pareto_front(spec: DesignSpec, records: list[DesignPoint]) -> list[DesignPoint]:
     """The designs (meeting the band constraint) no other one beats on both moving mass
     (lower) and least frequency (higher), by mass."""
     pool = sorted((r for r in records if meets(spec, r, frequency=False)),
@@ -130,7 +189,7 @@ def pareto_front(spec: DesignSpec, records: list[dict]) -> list[dict]:
     return front
 
 
-def fem_check(spec: DesignSpec, record: dict, cache: ResultCache) -> dict:
+def fem_check(spec: DesignSpec, record: DesignPoint, cache: ResultCache) -> FemCheck:
     """The FEM at the design's worst pose against the model: the fidelity rule's statement."""
     scene = design_scene(spec, record["values"])
     p = record["worst_pose"]
@@ -146,19 +205,19 @@ def fem_check(spec: DesignSpec, record: dict, cache: ResultCache) -> dict:
         raise InputError(f"FEM mode {count} found no analytical mode of its shape")
     tol = scene.fidelity.tolerance_percent
     fem_k = float(both.fine.record["frequencies_hz"][count - 1])
-    return {"fem_hz": row["f_fem_hz"], "model_hz": row["f_analytical_hz"],
-            "error_percent": row["error_percent"], "mac": row["mac"],
-            "paired_analytical_mode": row["analytical_mode"],
-            "by_order_error_percent": 100.0 * (record["min_frequency_hz"] / fem_k - 1.0),
-            "fem_estimated_error_percent": both.estimated_error_percent[count - 1],
-            "mesh_size_mm": scene.fem.mesh_size * 1e3, "tolerance_percent": tol,
-            "within_tolerance": abs(row["error_percent"]) <= tol, "error": None}
+    return FemCheck(fem_hz=row["f_fem_hz"], model_hz=row["f_analytical_hz"],
+                    error_percent=row["error_percent"], mac=row["mac"],
+                    paired_analytical_mode=row["analytical_mode"],
+                    by_order_error_percent=100.0 * (record["min_frequency_hz"] / fem_k - 1.0),
+                    fem_estimated_error_percent=both.estimated_error_percent[count - 1],
+                    mesh_size_mm=scene.fem.mesh_size * 1e3, tolerance_percent=tol,
+                    within_tolerance=abs(row["error_percent"]) <= tol, error=None)
 
 
 MAP_GRID = (24, 36)  # heights x azimuths of the optimum's map on the workspace's boundary
 
 
-def boundary_map(spec: DesignSpec, record: dict) -> dict:
+def boundary_map(spec: DesignSpec, record: DesignPoint) -> BoundaryMap:
     """f_mode of a design over its workspace's boundary (every height of the level band and
     azimuth, at the largest reachable tilt), where the least value usually lies: the optimum's
     frequency map."""
@@ -169,14 +228,14 @@ def boundary_map(spec: DesignSpec, record: dict) -> dict:
     top = max_tilts(m, heights, phis, 1e-9)
     z, p = np.meshgrid(heights, phis, indexing="ij")
     hz = grid_frequencies(m, replace(spec.model, modes=spec.constraints.mode), z, p, top)
-    return {"heights_mm": (heights * 1e3).tolist(), "azimuths_deg": np.degrees(phis).tolist(),
-            "tilt_deg": np.degrees(top).tolist(),
-            "frequencies_hz": [[float(f) if math.isfinite(f) else None for f in row]
-                               for row in hz[..., -1]]}
+    return BoundaryMap(heights_mm=(heights * 1e3).tolist(),
+                       azimuths_deg=np.degrees(phis).tolist(), tilt_deg=np.degrees(top).tolist(),
+                       frequencies_hz=[[float(f) if math.isfinite(f) else None for f in row]
+                                       for row in hz[..., -1]])
 
 
 def run_design(spec: DesignSpec, cache: ResultCache,
-               step: Callable[[int, int], None] = lambda done, total: None) -> dict:
+               step: Callable[[int, int], None] = lambda done, total: None) -> DesignStudy:
     """The study (the module doc); `step(done, budget)` after every design solved."""
     n = len(spec.variables)
     low = np.array([v.low for v in spec.variables])
@@ -186,8 +245,8 @@ def run_design(spec: DesignSpec, cache: ResultCache,
     population = min(max(5, global_budget // 4), 15 * n)  # scipy: popsize * n of them
     popsize = -(-population // n)
     generations = max(0, global_budget // (popsize * n) - 1)
-    records: list[dict] = []
-    seen: dict[tuple, dict] = {}
+    records: list[DesignPoint] = []
+    seen: dict[tuple, DesignPoint] = {}
 
     def solve(x) -> float:
         values = low + np.clip(x, 0.0, 1.0) * (high - low)
@@ -210,23 +269,20 @@ def run_design(spec: DesignSpec, cache: ResultCache,
                       "fatol": 1e-6 * max(abs(found.fun), 1e-12)})
     feasible = [r for r in records if meets(spec, r)]
     optimum = min(feasible, key=lambda r: objective(spec, r)) if feasible else None
-    out = {
-        "name": spec.name, "scene": spec.scene_path,
-        "variables": [{"name": v.name, "low": v.low, "high": v.high} for v in spec.variables],
-        "constraints": {"min_frequency_hz": spec.constraints.min_frequency_hz,
-                        "mode": spec.constraints.mode,
-                        "min_level_band_mm": spec.constraints.min_level_band * 1e3},
-        "objective": spec.objective.minimise,
-        "model": spec.model.describe(),
-        "designs_solved": len(records), "feasible": len(feasible),
-        "optimum": optimum, "front": pareto_front(spec, records), "designs": records,
-        "fem_check": None, "optimum_map": None,
-    }
+    out = DesignStudy(
+        name=spec.name, scene=spec.scene_path,
+        variables=[{"name": v.name, "low": v.low, "high": v.high} for v in spec.variables],
+        constraints={"min_frequency_hz": spec.constraints.min_frequency_hz,
+                     "mode": spec.constraints.mode,
+                     "min_level_band_mm": spec.constraints.min_level_band * 1e3},
+        objective=spec.objective.minimise, model=spec.model.describe(),
+        designs_solved=len(records), feasible=len(feasible), optimum=optimum,
+        front=pareto_front(spec, records), designs=records, fem_check=None, optimum_map=None)
     if optimum is None:
         return out
     out["optimum_map"] = boundary_map(spec, optimum)
     try:
         out["fem_check"] = fem_check(spec, optimum, cache)
     except RpsError as exc:  # the study stands; the check says why it could not be made
-        out["fem_check"] = {"error": f"the optimum's FEM check failed: {exc}"}
+        out["fem_check"] = FemCheck(error=f"the optimum's FEM check failed: {exc}")
     return out

@@ -8,12 +8,13 @@ import results
 from analytical.model import natural_frequencies
 from scene import Case, Scene
 
-from .registry import CaseContext, Context, Study, floats
+from .registry import OWN_TEMPLATE, CaseContext, Context, Section, Study, floats, own
 
 ELEMENT_RANGE = tuple(range(1, 11))
 
 
-def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli") -> dict:
+def element_convergence(scene: Scene, case: Case,
+                        beam: str = "euler-bernoulli") -> results.ElementConvergence:
     """Frequencies for s = 1..10 elements per leg, for one beam theory."""
     rows = []
     for s in ELEMENT_RANGE:
@@ -23,10 +24,11 @@ def element_convergence(scene: Scene, case: Case, beam: str = "euler-bernoulli")
                                       frequencies_hz=rows)
 
 
-def run(ctx: Context, cc: CaseContext) -> dict:
+def run(ctx: Context, cc: CaseContext) -> results.ElementConvergences:
     cc.step("element convergence")
-    return {"element_convergence": {beam: element_convergence(ctx.scene, cc.case, beam)
-                                    for beam in ("euler-bernoulli", "timoshenko")}}
+    return {beam: element_convergence(ctx.scene, cc.case, beam)
+            for beam in ("euler-bernoulli", "timoshenko")}
 
 
-STUDY = Study("element_convergence", "case", run)
+STUDY = Study(own("element_convergence", "case", section=Section(
+    "convergence", "Convergence", "convergence studies", OWN_TEMPLATE)), "case", run)

@@ -5,12 +5,13 @@ its reason)."""
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Any
 
 import results
 from solvers.compare import error_table
 from solvers.refinement import coarse_size, prefetch_fem, two_mesh
 
-from .registry import CaseContext, Context, Study
+from .registry import CaseContext, Context, Study, own
 
 # An idealisation is a side study: its solve gets a budget. Estimated raw dofs of the shipped
 # scenes' variants at their refinement sizes: tetrahedral legs 11-235k, the elastic plate
@@ -20,15 +21,17 @@ from .registry import CaseContext, Context, Study
 # ten minutes. Above the budget a variant is reported as not solved, with the estimate.
 MAX_DOFS = 200_000
 
-FEM_VARIANTS = {"elastic platform": {"platform": "elastic", "legs": "tetrahedra"},
-                "distributing coupling": {"coupling": "distributing"},
-                "tetrahedral legs": {"legs": "tetrahedra"}}
+FEM_VARIANTS: dict[str, dict[str, Any]] = {
+    "elastic platform": {"platform": "elastic", "legs": "tetrahedra"},
+    "distributing coupling": {"coupling": "distributing"},
+    "tetrahedral legs": {"legs": "tetrahedra"}}
 
 
-def run(ctx: Context, cc: CaseContext) -> dict:
+def run(ctx: Context, cc: CaseContext) -> results.FemIdealisations:
     scene, count = ctx.scene, ctx.scene.analytical.modes
     cc.step("FEM joint and platform idealisations")
-    variants, errors = {}, {}
+    variants: dict[str, results.FemVariant] = {}
+    errors: dict[str, str] = {}
     for label, kwargs in FEM_VARIANTS.items():
         try:
             both = two_mesh(scene, cc.geometry, ctx.cache, scene.fem.mesh_size, count,
@@ -45,7 +48,7 @@ def run(ctx: Context, cc: CaseContext) -> dict:
             shift_percent=[r["error_percent"] for r in shifted],
             estimated_error_percent=both.estimated_error_percent,
             gci_percent=both.gci_percent)
-    return {"fem_variants": variants, "fem_variant_errors": errors}
+    return results.FemIdealisations(variants=variants, unsolved=errors)
 
 
 def prefetch(ctx: Context, geometries: list) -> None:
@@ -57,4 +60,4 @@ def prefetch(ctx: Context, geometries: list) -> None:
                      ctx.workers, ctx.scheduler, max_dofs=MAX_DOFS)
 
 
-STUDY = Study("fem_variants", "case", run, prefetch=prefetch)
+STUDY = Study(own("fem_variants", "case"), "case", run, prefetch=prefetch)

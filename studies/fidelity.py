@@ -11,18 +11,23 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+import results
 from analytical.kinematics import pose_geometry
 from analytical.params import Pose
 from runtime.cache import ResultCache
 from scene import Scene
-from solvers.compare import analytical_case, error_table, fem_case
+from solvers.compare import analytical_case, error_table, fem_case, reference_error
 from solvers.refinement import coarse_size, prefetch_fem, size_index, study_sizes
-from solvers.settings import model_variants, speed_settings
+from solvers.settings import Settings, model_variants, speed_settings
 from solvers.timing import seconds_per_pose
 from studies.choice import (
     FEM_ERROR_SHARE,
     AnalyticalChoice,
     FemChoice,
+    Measured,
+    Places,
+    Rows,
+    Where,
     choose_analytical,
     choose_fem_size,
 )
@@ -37,44 +42,38 @@ class Fidelity:
     scene: Scene  # the scene with the chosen analytical options and FEM size
     fem: FemChoice
     analytical: AnalyticalChoice
-    candidates: dict  # label -> per case {"case", "seconds", "worst_error_percent"}
-    refinements: dict  # case name -> refinement study (dict), when refined
+    candidates: Rows  # label -> per case {"case", "seconds", "worst_error_percent"}
+    refinements: dict[str, results.Refinement]  # case name -> its study, when refined
 
     @property
     def met(self) -> bool:
         return self.fem.met and self.analytical.met
 
-    def summary(self) -> dict:
+    def summary(self) -> results.Fidelity:
         """results.json's top-level `fidelity` object."""
         opts = self.scene.analytical
         tol = self.scene.fidelity.tolerance_percent
         reason = f"{self.analytical.reason}; {self.fem.reason}."
         if not self.met:
             reason = ("The scene's tolerance is NOT met: " + reason)
-        return {
-            "modes": self.scene.fidelity.modes,
-            "tolerance_percent": tol,
-            "met": self.met,
-            "analytical": {"beam": opts.beam, "shear": opts.shear,
-                           "joint_ends": opts.joint_ends, "legs": opts.legs,
-                           "elements": opts.elements,
-                           "platform_inertia": opts.platform_inertia,
-                           "setting": self.analytical.setting,
-                           "chosen": not self.scene.analytical_given,
-                           "worst_error_percent": self.analytical.worst_error_percent,
-                           "seconds_per_pose": self.analytical.seconds_per_pose,
-                           "met": self.analytical.met},
-            "fem": {"mesh_size_mm": self.scene.fem.mesh_size * 1e3,
-                    "chosen": not self.scene.fem_size_given,
-                    "estimated_error_percent": self.fem.worst_error_percent,
-                    "seconds_per_pose": _fem_seconds(self),
-                    "met": self.fem.met},
-            "reason": reason,
-            "candidates": [{"setting": label, "worst_error_percent":
-                            max(r["worst_error_percent"] for r in rows),
-                            "seconds_per_pose": sorted(r["seconds"] for r in rows)[len(rows) // 2]}
-                           for label, rows in self.candidates.items()],
-        }
+        return results.Fidelity(
+            modes=self.scene.fidelity.modes, tolerance_percent=tol, met=self.met,
+            analytical=results.AnalyticalChoice(
+                beam=opts.beam, shear=opts.shear, joint_ends=opts.joint_ends, legs=opts.legs,
+                elements=opts.elements, platform_inertia=opts.platform_inertia,
+                setting=self.analytical.setting, chosen=not self.scene.analytical_given,
+                worst_error_percent=self.analytical.worst_error_percent,
+                seconds_per_pose=self.analytical.seconds_per_pose, met=self.analytical.met),
+            fem=results.FemChoice(
+                mesh_size_mm=self.scene.fem.mesh_size * 1e3,
+                chosen=not self.scene.fem_size_given,
+                estimated_error_percent=self.fem.worst_error_percent,
+                seconds_per_pose=_fem_seconds(self), met=self.fem.met),
+            reason=reason,
+            candidates=[results.Candidate(
+                setting=label, worst_error_percent=max(r["worst_error_percent"] for r in rows),
+                seconds_per_pose=sorted(r["seconds"] for r in rows)[len(rows) // 2])
+                for label, rows in self.candidates.items()])
 
 
 def _fem_seconds(fid: Fidelity) -> float | None:
@@ -86,13 +85,13 @@ def _fem_seconds(fid: Fidelity) -> float | None:
 
 def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
                step=lambda text: None, workers: int = 1, scheduler: str | None = None
-               ) -> tuple[Scene, FemChoice, dict]:
+               ) -> tuple[Scene, FemChoice, dict[str, results.Refinement]]:
     """The FEM size (chosen, or the scene's checked), the scene at that size, and every
     case's refinement study (when refined)."""
     from solvers.refinement import fem_refinement
 
     tol = scene.fidelity.tolerance_percent
-    refinements = {}
+    refinements: dict[str, results.Refinement] = {}
     if refine:
         sizes = study_sizes(scene.fem_study.refinement,
                             scene.fem.mesh_size if scene.fem_size_given else None)
@@ -123,7 +122,7 @@ def choose_fem(scene: Scene, case_names, cache: ResultCache, refine: bool,
     return replace(scene, fem=scene.fem.with_size(fem.size)), fem, refinements
 
 
-def candidate_settings(scene: Scene) -> dict:
+def candidate_settings(scene: Scene) -> Settings:
     """Every analytical setting the choice is made among (the scene's own first, if given)."""
     candidates = dict(speed_settings(scene))
     if scene.analytical_given:
@@ -132,14 +131,14 @@ def candidate_settings(scene: Scene) -> dict:
 
 
 def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: ResultCache,
-                 refinements: dict, step=lambda text: None,
-                 extra_rows: dict | None = None) -> Fidelity:
+                 refinements: dict[str, results.Refinement], step=lambda text: None,
+                 extra_rows: Places | None = None) -> Fidelity:
     """The analytical setting (chosen, or the scene's checked) over every case, plus
     `extra_rows` (label -> rows, e.g. the workspace study's worst pose)."""
     tol = scene.fidelity.tolerance_percent
     count = scene.fidelity.modes
     candidates = candidate_settings(scene)
-    rows: dict[str, list[dict]] = {label: [] for label in candidates}
+    rows: Rows = {label: [] for label in candidates}
     for name in case_names:
         step(f"{name}: analytical candidates")
         case = sized.case(name)
@@ -150,15 +149,13 @@ def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: 
         for label, opts in candidates.items():
             a = analytical_case(sized, case, opts)
             table = error_table(a, fem_result, count, None, reference)
-            rows[label].append({
-                "case": name,
-                "seconds": seconds_per_pose(sized, case, opts, cache),
-                "worst_error_percent": max(abs(r["error_vs_reference_percent"])
-                                           for r in table)})
+            rows[label].append(Measured(
+                case=name, seconds=seconds_per_pose(sized, case, opts, cache),
+                worst_error_percent=max(abs(reference_error(r)) for r in table)))
     for label, extra in (extra_rows or {}).items():
         if label in rows:
             seconds = sorted(r["seconds"] for r in rows[label])[len(rows[label]) // 2]
-            rows[label] += [dict(r, seconds=seconds) for r in extra]
+            rows[label] += [Measured(**r, seconds=seconds) for r in extra]
     if scene.analytical_given:
         mine = rows[SCENE_SETTING]
         worst = max(r["worst_error_percent"] for r in mine)
@@ -176,7 +173,8 @@ def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: 
 
 def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
                       workers: int = 2, scheduler: str | None = None, console=None,
-                      step=lambda text: None) -> tuple[Fidelity, dict]:
+                      step=lambda text: None
+                      ) -> tuple[Fidelity, results.WorkspaceValidation]:
     """The fidelity step of a run, with the workspace validation study in between: the FEM
     size from the cases' refinement studies; then the study over the workspace (every
     candidate at every pose); then the analytical setting over the cases AND each candidate's
@@ -206,7 +204,7 @@ def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,
     return fidelity, wv.summarise(study, fidelity.analytical.setting)
 
 
-def _fem_seconds_of(refinements: dict, *sizes) -> float | None:
+def _fem_seconds_of(refinements: dict[str, results.Refinement], *sizes) -> float | None:
     """The median over the cases of the seconds of the FEM solves at `sizes` together; None
     when a study lacks one of the sizes."""
     total = []
@@ -218,9 +216,9 @@ def _fem_seconds_of(refinements: dict, *sizes) -> float | None:
     return float(np.median(total)) if total else None
 
 
-def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache, full: bool,
-                    step=lambda text: None, workers: int = 1,
-                    scheduler: str | None = None) -> dict:
+def worst_pose_rows(scene: Scene, sized: Scene, study: results.ValidationSweep,
+                    cache: ResultCache, full: bool, step=lambda text: None, workers: int = 1,
+                    scheduler: str | None = None) -> Places:
     """Every candidate's error at the study's worst pose, against the FEM limit there.
 
     The worst pose is where the candidate that is best over the study (least largest error)
@@ -231,11 +229,11 @@ def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache,
     from solvers.refinement import fem_refinement
 
     labels = list(candidate_settings(scene))
-    ok = [p for p in study["poses"] if p.get("models")]
-    if not ok:
+    ok = [p for p in study["poses"] if p["models"]]
+    worst = None if not ok else wv.worst_pose(ok, min(labels, key=lambda lb: max(
+        wv.worst_error((p["models"] or {})[lb]) for p in ok)))
+    if worst is None:
         return {}
-    best = min(labels, key=lambda lb: max(wv.worst_error(p["models"][lb]) for p in ok))
-    worst = wv.worst_pose(ok, best)
     pose = Pose(worst["height_mm"] * 1e-3, math.radians(worst["azimuth_deg"]),
                 math.radians(worst["tilt_deg"]))
     case = wv._PoseCase(pose, "workspace worst pose")
@@ -251,13 +249,13 @@ def worst_pose_rows(scene: Scene, sized: Scene, study: dict, cache: ResultCache,
     where = (f"workspace worst pose (z = {worst['height_mm']:.0f} mm, tilt = "
              f"{worst['tilt_deg']:.1f} deg, {worst['kind']})")
     everywhere = f"workspace validation ({len(ok)} poses, each against its FEM limit)"
-    out = {}
+    out: Places = {}
     for label, opts in candidate_settings(scene).items():
         a = analytical_case(sized, case, opts)
         table = error_table(a, fem_result, count, None, reference)
-        out[label] = [{"case": where, "worst_error_percent":
-                       max(abs(r["error_vs_reference_percent"]) for r in table)},
+        out[label] = [Where(case=where, worst_error_percent=max(
+                          abs(reference_error(r)) for r in table)),
                       # and the candidate's own worst pose, which need not be the best's
-                      {"case": everywhere, "worst_error_percent":
-                       max(wv.worst_error(p["models"][label]) for p in ok)}]
+                      Where(case=everywhere, worst_error_percent=max(
+                          wv.worst_error((p["models"] or {})[label]) for p in ok))]
     return out

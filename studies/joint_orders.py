@@ -10,6 +10,7 @@ on the slider, `analytical.architecture.JOINT_ORDERS`): the study shows it alone
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Any
 
 import results
 from analytical.architecture import JOINT_ORDERS
@@ -19,9 +20,9 @@ from scene import Scene
 from solvers.compare import analytical_case, error_table, model_reading
 from solvers.refinement import two_mesh
 
-from .registry import Context, Study
+from .registry import OWN_TEMPLATE, Context, Section, Study, own
 
-MODELS = {"EB, s=3": dict(beam="euler-bernoulli", elements=3),
+MODELS: dict[str, dict[str, Any]] = {"EB, s=3": dict(beam="euler-bernoulli", elements=3),
           "Timoshenko, s=3": dict(beam="timoshenko", elements=3)}
 
 
@@ -35,7 +36,8 @@ def with_joints(m, base: str, top: str):
                    platform_joint_rotational=k.base_joint_rotational)
 
 
-def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict]:
+def joint_order_study(scene: Scene, case_names,
+                      cache: ResultCache) -> list[results.JointOrderCase]:
     """Per case and joint order: FEM frequencies and each beam model's error vs the FEM."""
     count = scene.analytical.modes
     out = []
@@ -63,18 +65,18 @@ def joint_order_study(scene: Scene, case_names, cache: ResultCache) -> list[dict
             entry["fem_hz"] = fem.record["frequencies_hz"][:count]
             entry["fem_estimated_error_percent"] = both.estimated_error_percent
             entry["fem_gci_percent"] = both.gci_percent
-            entry["models"] = {}
-            for label, settings in MODELS.items():
-                a = analytical_case(ordered, case, replace(scene.analytical, **settings))
-                rows = error_table(a, fem, count)
-                entry["models"][label] = results.JointOrderModel(**model_reading(rows))
+            entry["models"] = {
+                label: model_reading(error_table(analytical_case(
+                    ordered, case, replace(scene.analytical, **settings)), fem, count))
+                for label, settings in MODELS.items()}
             readings.append(entry)
         out.append(results.JointOrderCase(case=name, readings=readings))
     return out
 
 
-def run(ctx: Context) -> list:
+def run(ctx: Context) -> list[results.JointOrderCase]:
     return joint_order_study(ctx.scene, ctx.scene.ci_cases, ctx.cache)
 
 
-STUDY = Study("joint_orders", "scene", run)
+STUDY = Study(own("joint_orders", "scene", section=Section(
+    "joint-orders", "Joint orders", "both joint orders", OWN_TEMPLATE)), "scene", run)

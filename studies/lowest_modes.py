@@ -33,7 +33,7 @@ from scene import Scene
 from solvers.compare import analytical_case, error_table
 from solvers.refinement import two_mesh
 
-from .registry import Context, Study, floats
+from .registry import OWN_TEMPLATE, Context, Section, Study, floats, own
 
 FACTORS = (0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0)
 DRIVE = "actuator_axial"
@@ -132,4 +132,6 @@ def run(ctx: Context) -> list:
     return lowest_modes(ctx.scene, ctx.scene.ci_cases, ctx.cache)
 
 
-STUDY = Study("lowest_modes", "scene", run)
+STUDY = Study(own("lowest_modes", "scene", section=Section(
+    "lowest-modes", "What sets the lowest modes: drive, joints and legs",
+    "what sets the lowest modes", OWN_TEMPLATE)), "scene", run)

@@ -29,7 +29,7 @@ from scene import Scene
 from studies.workspace_map import MAP_LAYERS, workspace_heights
 from studies.workspace_validation import FULL, SMALL, design_with_dropped
 
-from .registry import Study
+from .registry import OWN_TEMPLATE, Section, Study, own
 
 MIN_BAND = 1e-3  # m: a level band narrower than this leaves the layered studies nothing to map
 FLAT_TILT = math.radians(0.01)  # a layer whose theta_r is below this cannot tilt every way
@@ -89,4 +89,6 @@ def check(scene: Scene, profile: str = "full") -> schema.ReachableWorkspace:
         adaptations=adaptations)
 
 
-STUDY = Study("reachable_workspace", "check", None, profiles=("full", "ci"))
+STUDY = Study(own("reachable_workspace", "scene", section=Section(
+    "scene", "Scene and set-up", "the scene", OWN_TEMPLATE)), "check", None,
+    profiles=("full", "ci"))

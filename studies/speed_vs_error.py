@@ -12,11 +12,11 @@ from solvers.compare import Solve, analytical_case, error_table
 from solvers.settings import speed_settings
 from solvers.timing import seconds_per_pose
 
-from .registry import CaseContext, Context, Study
+from .registry import OWN_TEMPLATE, CaseContext, Context, Section, Study, own
 
 
 def speed_vs_error(scene: Scene, case: Case, fem: Solve, reference, refinement,
-                   cache: ResultCache | None = None) -> list[dict]:
+                   cache: ResultCache | None = None) -> list[schema.SpeedPoint]:
     """Wall time per pose against the worst |error| of f1..f6, for every setting (times
     through the cache: `timing.seconds_per_pose`)."""
     count = scene.analytical.modes
@@ -39,10 +39,10 @@ def speed_vs_error(scene: Scene, case: Case, fem: Solve, reference, refinement,
     return out
 
 
-def run(ctx: Context, cc: CaseContext) -> dict:
+def run(ctx: Context, cc: CaseContext) -> list[schema.SpeedPoint]:
     cc.step("speed vs error")
-    return {"speed_vs_error": speed_vs_error(ctx.scene, cc.case, cc.fem, cc.reference,
-                                             cc.refinement, ctx.cache)}
+    return speed_vs_error(ctx.scene, cc.case, cc.fem, cc.reference, cc.refinement, ctx.cache)
 
 
-STUDY = Study("speed_vs_error", "case", run)
+STUDY = Study(own("speed_vs_error", "case", section=Section(
+    "speed", "Speed vs error", "speed vs error", OWN_TEMPLATE)), "case", run)

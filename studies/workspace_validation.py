@@ -22,10 +22,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any, Mapping, cast
 
 import numpy as np
 from scipy.stats import qmc
+from typing_extensions import TypedDict
 
+import results
 from analytical.architecture import actuation
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
@@ -35,7 +38,7 @@ from runtime.cache import ResultCache
 from solvers.compare import analytical_case, error_table, in_parallel
 from solvers.refinement import two_mesh
 
-from .registry import Study
+from .registry import OWN_TEMPLATE, Section, Study, own
 
 PAPER_MODEL = "paper (EB, s=3, Eq. 8 inertia)"  # a label of solvers.settings.model_variants
 SOBOL_SEED = 20231
@@ -131,7 +134,19 @@ TASK_CODE = ("studies.workspace_validation", "solvers.compare", "solvers.pairing
              "results", "scene")
 
 
-def validate_pose(task: dict) -> dict:
+class PoseOutcome(TypedDict):
+    """A pose's result from the sweep: `results.ValidationPose` without the pose itself."""
+    error: str | None
+    fem_hz: list[float] | None
+    fem_limit_hz: list[float] | None
+    fem_estimated_error_percent: list[float] | None
+    fem_gci_percent: list[float] | None
+    fem_seconds: float | None
+    slenderness: list[float] | None
+    models: dict[str, list[float | None]] | None
+
+
+def validate_pose(task: Mapping[str, Any]) -> PoseOutcome:
     """One pose: FEM at two sizes, every analytical model paired by shape (a sweep task)."""
     scene, pose = task["scene"], Pose(**task["pose"])
     cache = ResultCache(task["cache_dir"])
@@ -139,7 +154,7 @@ def validate_pose(task: dict) -> dict:
     geometry = pose_geometry(scene.manipulator, pose)
     both = two_mesh(scene, geometry, cache, task["size"], count, coarse=task["coarse_size"])
     fine, limit = both.fine, np.asarray(both.limit_hz)
-    models = {}
+    models: dict[str, list[float | None]] = {}
     case = _PoseCase(pose)
     for label, options in task["models"].items():
         a = analytical_case(scene, case, options)
@@ -148,19 +163,19 @@ def validate_pose(task: dict) -> dict:
         models[label] = [r["error_vs_reference_percent"] if r["mac"] >= MAC_MIN else None
                          for r in rows]
     leg = np.asarray(geometry.leg_lengths) / scene.manipulator.leg_diameter
-    return {"error": None, "fem_hz": fine.record["frequencies_hz"][:count],
-            "fem_limit_hz": limit.tolist(),
-            "fem_estimated_error_percent": both.estimated_error_percent,
-            "fem_gci_percent": both.gci_percent,
-            "fem_seconds": fine.record["timings"].get("total"),
-            "slenderness": [float(leg.min()), float(leg.max())],
-            "models": models}
+    return PoseOutcome(error=None, fem_hz=fine.record["frequencies_hz"][:count],
+                       fem_limit_hz=limit.tolist(),
+                       fem_estimated_error_percent=both.estimated_error_percent,
+                       fem_gci_percent=both.gci_percent,
+                       fem_seconds=fine.record["timings"].get("total"),
+                       slenderness=[float(leg.min()), float(leg.max())], models=models)
 
 
-FAILED_POSE = {"fem_hz": None, "fem_limit_hz": None, "fem_estimated_error_percent": None,
-               "fem_gci_percent": None,
-               "fem_seconds": None,
-               "slenderness": None, "models": None}  # beside its "error"
+def failed_pose(error: str) -> PoseOutcome:
+    """A pose the sweep could not solve: its reason, and nothing else."""
+    return PoseOutcome(error=error, fem_hz=None, fem_limit_hz=None,
+                       fem_estimated_error_percent=None, fem_gci_percent=None, fem_seconds=None,
+                       slenderness=None, models=None)
 
 
 @dataclass(frozen=True)
@@ -171,7 +186,7 @@ class _PoseCase:
     name: str = "pose"
 
 
-def task_payload(task: dict) -> dict:
+def task_payload(task: Mapping[str, Any]) -> Mapping[str, object]:
     """What determines a task's result, for its cache key."""
     s = task["scene"]
     return {"manipulator": as_dict(s.manipulator), "fem": as_dict(s.fem),
@@ -180,23 +195,22 @@ def task_payload(task: dict) -> dict:
             "models": {k: as_dict(v) for k, v in task["models"].items()}}
 
 
-def percentiles(poses: list[dict], labels) -> dict:
+def percentiles(poses: list[results.ValidationPose], labels) -> results.PerMode:
     """Per model and mode: median, p95 and max of |error vs FEM| (%) over the poses."""
-    out = {}
+    out: results.PerMode = {}
     ok = [p for p in poses if p.get("models")]
     for label in labels:
-        errs = np.abs(np.array([[np.nan if e is None else e for e in p["models"][label]]
+        errs = np.abs(np.array([[np.nan if e is None else e for e in (p["models"] or {})[label]]
                                 for p in ok], float))  # (n, modes), NaN: unpaired
         if errs.size == 0:
             continue
-        out[label] = {"median": _nan(np.nanmedian(errs, axis=0)),
-                      "p95": _nan(np.nanpercentile(errs, 95, axis=0)),
-                      "max": _nan(np.nanmax(errs, axis=0)),
-                      "unpaired": np.isnan(errs).sum(axis=0).tolist()}
+        out[label] = results.ModeStatistics(
+            median=_nan(np.nanmedian(errs, axis=0)), p95=_nan(np.nanpercentile(errs, 95, axis=0)),
+            max=_nan(np.nanmax(errs, axis=0)), unpaired=np.isnan(errs).sum(axis=0).tolist())
     return out
 
 
-def _nan(values) -> list:
+def _nan(values) -> list[float | None]:
     return [None if not np.isfinite(v) else float(v) for v in values]
 
 
@@ -205,16 +219,18 @@ def worst_error(errors) -> float:
     return max((abs(e) for e in errors if e is not None), default=0.0)
 
 
-def worst_pose(poses: list[dict], label: str) -> dict | None:
-    ok = [p for p in poses if p.get("models")]
+def worst_pose(poses: list[results.ValidationPose],
+               label: str) -> results.ValidationPose | None:
+    ok = [p for p in poses if p["models"]]
     if not ok:
         return None
-    return max(ok, key=lambda p: worst_error(p["models"][label]))
+    return max(ok, key=lambda p: worst_error((p["models"] or {})[label]))
 
 
 def run_study(scene, models: dict[str, ModelOptions], cache: ResultCache, coarse_size: float,
               size: DesignSize = FULL, workers: int = 2, scheduler: str | None = None,
-              announce=None, progress=None, seconds_per_pose: float | None = None) -> dict:
+              announce=None, progress=None,
+              seconds_per_pose: float | None = None) -> results.ValidationSweep:
     """studies.workspace_validation of results.json (see the module docstring)."""
     from runtime.sweep import run_sweep
 
@@ -224,30 +240,36 @@ def run_study(scene, models: dict[str, ModelOptions], cache: ResultCache, coarse
               "pose": {k: p[k] for k in ("height", "azimuth", "tilt")},
               "size": scene.fem.mesh_size, "coarse_size": coarse_size,
               "models": models} for p in poses]
-    results = run_sweep(validate_pose, tasks, [task_payload(t) for t in tasks], cache,
+    solved = run_sweep(validate_pose, tasks, [task_payload(t) for t in tasks], cache,
                         "workspace-pose", workers=workers, scheduler=scheduler,
                         announce=announce, seconds_per_task=seconds_per_pose,
                         progress=progress, code=TASK_CODE)
-    rows = []
-    for p, r in zip(poses, results):
-        rows.append({"height_mm": p["height"] * 1e3, "azimuth_deg": math.degrees(p["azimuth"]),
-                     "tilt_deg": math.degrees(p["tilt"]), "kind": p["kind"]}
-                    | (FAILED_POSE | r if r.get("error") else r))
-    return {"poses": rows, "per_mode": percentiles(rows, list(models)),
-            "models": {k: as_dict(v) for k, v in models.items()},
-            "fem_mesh_size_mm": scene.fem.mesh_size * 1e3,
-            "fem_coarse_size_mm": coarse_size * 1e3,
-            "failed": sum(1 for r in rows if r.get("error"))}
+    rows = [results.ValidationPose(
+        height_mm=p["height"] * 1e3, azimuth_deg=math.degrees(p["azimuth"]),
+        tilt_deg=math.degrees(p["tilt"]), kind=p["kind"],
+        # a solved pose's answer is validate_pose's (the sweep's cache keeps it as it was)
+        **(failed_pose(r["error"]) if r.get("error") else cast(PoseOutcome, r)))
+        for p, r in zip(poses, solved)]
+    return results.ValidationSweep(
+        poses=rows, per_mode=percentiles(rows, list(models)),
+        models={k: as_dict(v) for k, v in models.items()},
+        fem_mesh_size_mm=scene.fem.mesh_size * 1e3, fem_coarse_size_mm=coarse_size * 1e3,
+        failed=sum(1 for r in rows if r["error"]))
 
 
-def summarise(study: dict, default: str) -> dict:
+def summarise(study: results.ValidationSweep, default: str) -> results.WorkspaceValidation:
     """The study with its default model (the run's chosen one) and that model's worst pose."""
     worst = worst_pose(study["poses"], default)
-    return study | {"default_model": default, "worst_pose": None if worst is None else {
-        k: worst[k] for k in ("height_mm", "azimuth_deg", "tilt_deg", "kind", "slenderness",
-                              "fem_estimated_error_percent")} | {
-        "error_percent": worst["models"][default],
-        "worst_error_percent": worst_error(worst["models"][default])}}
+    errors = None if worst is None else (worst["models"] or {})[default]
+    return results.WorkspaceValidation(
+        **study, default_model=default, worst_pose=None if worst is None or errors is None
+        else results.WorstPose(
+            height_mm=worst["height_mm"], azimuth_deg=worst["azimuth_deg"],
+            tilt_deg=worst["tilt_deg"], kind=worst["kind"], slenderness=worst["slenderness"],
+            fem_estimated_error_percent=worst["fem_estimated_error_percent"],
+            error_percent=errors, worst_error_percent=worst_error(errors)))
 
 
-STUDY = Study("workspace_validation", "fidelity", None, profiles=("full", "ci"))
+STUDY = Study(own("workspace_validation", "scene", section=Section(
+    "validation", "The model against the FEM over the workspace", "workspace validation",
+    OWN_TEMPLATE)), "fidelity", None, profiles=("full", "ci"))

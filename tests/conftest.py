@@ -53,7 +53,8 @@ def fixture_report(tmp_path_factory):
     """The report of the fixture results (tests/fixtures/report_results.json), built once for
     the session (~15 s): (its folder, report.html, report.pdf). Tests only read it."""
     from reports.build import build_report
+    from studies import RECORDS
 
     out = tmp_path_factory.mktemp("fixture-report")
-    html, pdf = build_report(REPORT_FIXTURE, out)
+    html, pdf = build_report(REPORT_FIXTURE, out, records=RECORDS)
     return SimpleNamespace(out=out, html=html, pdf=pdf)

@@ -209,10 +209,16 @@ def test_every_room_says_what_it_holds_and_may_import():
             "import and the example to copy"
 
 
-def test_every_study_has_its_section_and_every_section_its_study():
-    """The registry (studies.STUDIES) and the report's sections (results.sections) name the
-    same studies: a study the report cannot place, or a section no study fills, is refused."""
-    from results.sections import SECTIONS
-    from studies import STUDIES
+def test_every_study_declares_its_record_once_and_the_registry_is_made_from_them():
+    """The registry's records are the studies' own (one per key, one title per anchor), every
+    record of the project's own studies is one the results schema types, and every section of
+    a study is one the report can place."""
+    from results import Case, Studies
+    from studies import RECORDS, STUDIES
 
-    assert sorted(s.key for s in STUDIES) == sorted(SECTIONS)
+    assert RECORDS == tuple(s.record for s in STUDIES)
+    assert len({r.key for r in RECORDS}) == len(RECORDS)
+    typed = set(Studies.__annotations__) | (set(Case.__annotations__)
+                                             - set(Case.__required_keys__))
+    assert {r.key for r in RECORDS} == typed
+    assert all(r.section is not None for r in RECORDS if r.scope == "scene")

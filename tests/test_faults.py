@@ -240,7 +240,7 @@ def test_a_full_disk_names_the_path_in_out(warm, tmp_path, monkeypatch, where):
         monkeypatch.setattr(run.shutil, "copyfile", copyfile)
         expected = f"cannot write {out}/modes/case1_fem.vtu: No space left on device"
     else:
-        def write_tables(results, folder):
+        def write_tables(results, folder, records):
             raise OSError(*full)
         monkeypatch.setattr(run, "write_tables", write_tables)
         expected = f"cannot write {out}: No space left on device"
@@ -330,7 +330,7 @@ def report_out(tmp_path):
 
 
 def _start_report_and_wait_for_staging(out: Path) -> subprocess.Popen:
-    proc = command("reports", "--results", out / "results.json", "--out", out,
+    proc = command("rps", "report", "--results", out / "results.json", "--out", out,
                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 120
     while not list(out.parent.glob(".out.staging-*/figures")):
@@ -367,8 +367,8 @@ def test_a_killed_report_leaves_out_as_it_was_and_nothing_behind(report_out, how
     ("rps", ["analytical", "--scene", "density_kg_m3 = 1e-300"],
      "density_kg_m3 = 1e-300: must be >= 500 and <= 25000 kg/m3"),
     ("rps", ["check-baselines", "--results", "truncated"], "not valid JSON"),
-    ("reports", ["--results", "{}", "--out", "out"], "schema None"),
-    ("reports", ["--results", "truncated", "--out", "out"], "not valid JSON"),
+    ("rps", ["report", "--results", "{}", "--out", "out"], "schema None"),
+    ("rps", ["report", "--results", "truncated", "--out", "out"], "not valid JSON"),
 ])
 def test_inputs_that_gave_tracebacks_give_one_line_and_exit_2(tmp_path, module, args, needle):
     files = {"{}": "{}",
@@ -474,9 +474,9 @@ def test_an_idealisation_above_its_budget_is_reported_not_solved(scene, tmp_path
     ctx = Context(scene, ResultCache(tmp_path))
     fem = fem_case(scene, geometry, ctx.cache, 0.04)
     out = ideal.run(ctx, CaseContext(case, geometry, fem, None, None, None))
-    assert set(out["fem_variant_errors"]) == {"elastic platform", "tetrahedral legs"}
-    assert all("above max_dofs = 14000" in why for why in out["fem_variant_errors"].values())
-    assert set(out["fem_variants"]) == {"distributing coupling"}
+    assert set(out["unsolved"]) == {"elastic platform", "tetrahedral legs"}
+    assert all("above max_dofs = 14000" in why for why in out["unsolved"].values())
+    assert set(out["variants"]) == {"distributing coupling"}
 
 
 def test_size_9_mm_is_refused_before_meshing_on_this_machine(manipulator, scene, monkeypatch):

@@ -250,9 +250,11 @@ def test_the_hard_cases_of_a_checked_machine_run(raw):
 @given(raw=machines())
 def test_a_checked_machine_validates(raw, tmp_path_factory):
     import tomllib  # noqa: F401 (the scene goes through a file, as a user's does)
+    from functools import partial
 
     from pipeline.run import validate
     from reports.build import render_report
+    from studies import RECORDS
 
     got = checked(raw)
     if got is None:
@@ -262,7 +264,7 @@ def test_a_checked_machine_validates(raw, tmp_path_factory):
     path.write_text(_toml(raw), encoding="utf-8")
     results = validate(str(path), tmp / "out", tmp / "cache",
                        profile="full" if SLOW else "ci",
-                       report=render_report if SLOW else None)
+                       report=partial(render_report, records=RECORDS) if SLOW else None)
     assert results["studies"]["workspace_validation"]["failed"] == 0
     assert results["studies"]["reachable_workspace"]["validation_poses"] >= 1
 

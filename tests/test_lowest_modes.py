@@ -19,6 +19,7 @@ import results
 import studies.lowest_modes as lowest_modes_module
 from runtime.cache import ResultCache
 from scene import load_scene
+from studies import RECORDS
 from studies.lowest_modes import FACTORS, knee, lowest_modes
 from tests.conftest import ROOT
 
@@ -107,10 +108,10 @@ def test_results_carry_the_study_and_the_report_shows_it(study, tmp_path):
         housing_length_mm=420.0, housing_outer_diameter_mm=110.0, housing_inner_diameter_mm=80.0,
         rod_outer_diameter_mm=60.0, rod_inner_diameter_mm=40.0)
     data["studies"]["lowest_modes"] = json.loads(json.dumps(study))
-    results.validated(data, "test")
+    results.validated(data, RECORDS, "test")
     (tmp_path / "results.json").write_text(json.dumps(data))
     shutil.copytree(FIXTURES / "modes", tmp_path / "modes")
-    html, _ = build_report(tmp_path / "results.json", tmp_path)
+    html, _ = build_report(tmp_path / "results.json", tmp_path, records=RECORDS)
     page = html.read_text(encoding="utf-8")
     assert "What sets the lowest modes" in page and 'data-chart="sweep:level"' in page
     assert "drive axial stiffness" in page and 'alt="leg profile"' in page

@@ -93,10 +93,11 @@ def test_the_run_s_chosen_model_is_one_option_away(capsys):
     """The report fixture is a run of scenes/paper.toml: its chosen model (Timoshenko with
     Hutchinson's coefficient) is what --from-results computes."""
     from results import read
+    from studies import RECORDS
     from tests.conftest import ROOT
 
     fixture = ROOT / "tests" / "fixtures" / "report_results.json"
-    chosen = read(fixture)["fidelity"]["analytical"]
+    chosen = read(fixture, RECORDS)["fidelity"]["analytical"]
     assert cli.main(["analytical", "--scene", str(PAPER_SCENE), "--case", "case1",
                      "--from-results", str(fixture), "--json"]) == 0
     import json

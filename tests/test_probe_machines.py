@@ -291,7 +291,10 @@ def test_an_output_folder_must_be_writable(capsys, tmp_path):
 # ---------------------------------------------------------------- results files
 def test_an_oversized_results_file_or_field_is_refused_at_once(capsys, tmp_path, monkeypatch):
     import results.schema
-    from reports.__main__ import main
+    from rps.app import main as rps_main
+
+    def main(argv):
+        return rps_main(["report", *argv])
 
     data = json.loads(REPORT_FIXTURE.read_text(encoding="utf-8"))
     data["scene"]["name"] = "x" * 5_000_000

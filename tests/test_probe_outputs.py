@@ -19,6 +19,7 @@ from common.paths import MAX_LENGTH, OutsideTree, UnsafeName, distinct_stems, fi
 from results import MAX_DEPTH, SCHEMA_VERSION
 from results.tables import write_tables
 from rps import app as cli
+from studies import RECORDS
 from tests.conftest import PAPER_SCENE, ROOT
 
 RESULTS = ROOT / "tests" / "fixtures" / "report_results.json"
@@ -80,7 +81,7 @@ def test_an_unsafe_case_name_is_refused_at_load_and_nothing_is_written(
 def test_harmless_characters_are_written_as_underscores(tmp_path):
     results = json.loads(RESULTS.read_text())
     results["cases"][0]["name"] = "niveau élevé: z 543"
-    write_tables(results, tmp_path)
+    write_tables(results, tmp_path, RECORDS)
     written = everything_under(tmp_path / "tables")
     assert {"niveau__lev___z_543.csv", "niveau__lev___z_543.md"} <= set(written)
     assert len(written) == 2 * len(results["cases"])
@@ -93,7 +94,7 @@ def test_a_writer_given_an_unsafe_name_refuses_it_before_writing(tmp_path):
     stage = tmp_path / "stage"
     stage.mkdir()
     with pytest.raises(UnsafeName, match="'../../escape' holds a path separator"):
-        write_tables(results, stage)
+        write_tables(results, stage, RECORDS)
     assert everything_under(tmp_path) == ["stage"]
     with pytest.raises(UnsafeName, match="'a b' and 'a_b'"):
         distinct_stems(["a b", "a_b"], "case name")
@@ -168,7 +169,10 @@ def results_file(tmp_path: Path, content) -> Path:
 
 @pytest.mark.parametrize("label", list(BAD_RESULTS))
 def test_python_m_reports_refuses_bad_results_in_one_line(tmp_path, capsys, label):
-    from reports.__main__ import main
+    from rps.app import main as rps_main
+
+    def main(argv):
+        return rps_main(["report", *argv])
 
     content, needle = BAD_RESULTS[label]
     path = results_file(tmp_path, content)

@@ -25,7 +25,8 @@ import pytest
 
 from reports.build import ReportError, build_report
 from reports.results import resolve
-from results import SCHEMA_VERSION
+from results import SCHEMA_VERSION, stub
+from studies import RECORDS
 
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 RESULTS = FIXTURES / "report_results.json"
@@ -201,15 +202,11 @@ def _ci_profile(results: dict) -> dict:
     case's FEM error and limit from two meshes: the fixture's numbers stand in for them)."""
     ci = copy.deepcopy(results)
     ci["profile"] = "ci"
-    ci["studies"] = {"reachable_workspace": results["studies"]["reachable_workspace"],
-                     "height_calibration": None, "angle_conventions": [], "workspace": None,
-                     "joint_orders": [], "joint_couplings": [], "workspace_validation": None,
-                     "hard_cases": [], "lowest_modes": [], "fem_verification": None}
+    ci["studies"] = {**stub(RECORDS, "scene"),
+                     "reachable_workspace": results["studies"]["reachable_workspace"]}
     ci["cases"] = [c for c in ci["cases"] if c["name"] in ("case1", "case2")]
     for case in ci["cases"]:
-        for key in ("fem_refinement", "models", "element_convergence", "fem_variants",
-                    "fem_variant_errors", "speed_vs_error"):
-            case[key] = None
+        case.update(stub(RECORDS, "case"), fem_refinement=None)
     ci["cases"][1]["fem"]["vtu"] = None  # and one case without its mode file
     return ci
 
@@ -218,7 +215,7 @@ def _build_variant(results: dict, folder: Path) -> tuple[Path, Path]:
     """The report of a changed copy of the fixture, built beside the fixture's mode files."""
     (folder / "results.json").write_text(json.dumps(results))
     shutil.copytree(FIXTURES / "modes", folder / "modes")
-    return build_report(folder / "results.json", folder)
+    return build_report(folder / "results.json", folder, records=RECORDS)
 
 
 def test_ci_profile_results_build(tmp_path):
@@ -270,7 +267,7 @@ def test_bad_results_file(tmp_path, content, message):
         path.write_text(content)
     out = tmp_path / "out"
     with pytest.raises(ValueError) as info:
-        build_report(path, out)
+        build_report(path, out, records=RECORDS)
     text = str(info.value)
     assert str(path) in text and message in text and "\n" not in text
     assert not out.exists(), "output directory created for a bad results file"
@@ -283,7 +280,7 @@ def test_bad_value_names_the_field(tmp_path):
     path.write_text(json.dumps(results))
     with pytest.raises(ValueError, match=r"cases\[0\]\.pairs\[2\]\.mac: input should be a "
                                          r"valid number, got 'high'"):
-        build_report(path, tmp_path / "out")
+        build_report(path, tmp_path / "out", records=RECORDS)
 
 
 def test_results_without_cases_or_with_an_unknown_field_are_refused(tmp_path):
@@ -298,7 +295,7 @@ def test_results_without_cases_or_with_an_unknown_field_are_refused(tmp_path):
         path = tmp_path / "results.json"
         path.write_text(json.dumps(broken))
         with pytest.raises(ValueError) as info:
-            build_report(path, tmp_path / "out")
+            build_report(path, tmp_path / "out", records=RECORDS)
         assert message in str(info.value) and "\n" not in str(info.value)
 
 
@@ -314,7 +311,7 @@ def test_failed_render_keeps_the_previous_report(tmp_path):
     (tmp_path / "modes" / "broken.vtu").write_text("<VTKFile> truncated")
     (tmp_path / "results.json").write_text(json.dumps(results))
     with pytest.raises(ReportError) as info:
-        build_report(tmp_path / "results.json", out)
+        build_report(tmp_path / "results.json", out, records=RECORDS)
     assert "broken.vtu" in str(info.value) and "\n" not in str(info.value)
     _assert_untouched(out, before)
 
@@ -322,7 +319,10 @@ def test_failed_render_keeps_the_previous_report(tmp_path):
 @pytest.mark.parametrize("content", [None, '{"schema": 1, "cases": []}'],
                          ids=["missing", "outdated"])
 def test_cli_bad_results_file_is_one_line_and_status_2(tmp_path, capsys, content):
-    from reports.__main__ import main
+    from rps.app import main as rps_main
+
+    def main(argv):
+        return rps_main(["report", *argv])
 
     path = tmp_path / "results.json"
     if content is not None:

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import results as schema
+from studies import RECORDS
 
 FIXTURE = Path(__file__).resolve().parent / "fixtures" / "report_results.json"
 
@@ -20,7 +21,7 @@ def written():
 
 
 def test_the_fixture_is_a_results_file_of_this_schema(written):
-    checked = schema.validated(written)
+    checked = schema.validated(written, RECORDS)
     assert checked["schema"] == schema.SCHEMA_VERSION
     assert json.loads(schema.dumps(checked)) == written  # nothing added, nothing lost
 
@@ -28,7 +29,7 @@ def test_the_fixture_is_a_results_file_of_this_schema(written):
 def test_an_older_results_file_names_its_version_and_the_remedy(written):
     old = dict(written, schema=1)
     with pytest.raises(ValueError) as info:
-        schema.validated(old, "out/results.json")
+        schema.validated(old, RECORDS, "out/results.json")
     text = str(info.value)
     assert text.startswith("out/results.json: results schema 1") and "rerun `make`" in text
     assert "\n" not in text
@@ -39,12 +40,12 @@ def test_a_value_the_writer_gets_wrong_is_caught_before_writing(written):
     bad["cases"][0]["fem"]["dofs"] = np.int64(5)  # not a JSON integer
     with pytest.raises(ValueError, match=r"cases\[0\]\.fem\.dofs: input should be a valid "
                                          r"integer"):
-        schema.validated(bad)
+        schema.validated(bad, RECORDS)
     bad = copy.deepcopy(written)
     bad["cases"][0]["pairs"][0]["mac"] = float("nan")
     with pytest.raises(ValueError, match=r"cases\[0\]\.pairs\[0\]\.mac: input should be a "
                                          r"finite number"):
-        schema.validated(bad)
+        schema.validated(bad, RECORDS)
 
 
 def test_platform_motion_of_both_models_is_six_rows_per_reported_mode(written):

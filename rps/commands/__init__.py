@@ -9,6 +9,7 @@ from . import (
                design,
                fem,
                readme,
+               report,
                scene_docs,
                update_baselines,
                validate,
@@ -27,6 +28,7 @@ COMMANDS: tuple[Command, ...] = (
     cache.COMMAND,
     check_baselines.COMMAND,
     readme.COMMAND,
+    report.COMMAND,
     scene_docs.COMMAND,
     update_baselines.COMMAND,
 )

@@ -6,11 +6,19 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from runtime.places import path_argument
 
 from ..args import cache_dir, cache_option, warn
 from .registry import Command
+
+if TYPE_CHECKING:  # the study's modules only when it runs
+    from studies.design import DesignStudy
+
+    class DesignOutput(DesignStudy):
+        """What `rps design` writes: the study and the plausibility warnings."""
+        warnings: list[str]
 
 
 def add_arguments(d: argparse.ArgumentParser) -> None:
@@ -27,7 +35,7 @@ def add_arguments(d: argparse.ArgumentParser) -> None:
     d.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 
 
-def _print(result: dict) -> None:
+def _print(result: DesignStudy) -> None:
     print(f"{result['name']}: {result['designs_solved']} designs solved, "
           f"{result['feasible']} meet every constraint ({result['model']})")
     best = result["optimum"]
@@ -93,24 +101,24 @@ def run(args: argparse.Namespace) -> int:
         task = progress.add_task("designs", total=spec.search.designs)
         result = run_design(spec, cache, lambda done, total: progress.update(task,
                                                                             completed=done))
-    result["warnings"] = design_warnings(spec, result)
+    output: DesignOutput = {**result, "warnings": design_warnings(spec, result)}
     if args.out is not None:
-        write_json_atomic(args.out, result)
+        write_json_atomic(args.out, output)
     if args.report is not None:
         from reports.design_report import render_design_report
         from runtime.outdir import staged_output
 
         with staged_output(args.report) as stage:
-            render_design_report(result, stage)
+            render_design_report(output, stage)
     if args.json:
-        print(json.dumps(result))
+        print(json.dumps(output))
     else:
-        _print(result)
-    warn(result["warnings"])
+        _print(output)
+    warn(output["warnings"])
     return 0
 
 
-def design_warnings(spec, result: dict) -> list[str]:
+def design_warnings(spec, result: DesignStudy) -> list[str]:
     """The plausibility warnings of the design file's scene and of the optimum's."""
     from scene import parse_scene
     from scene.design_file import design_scene

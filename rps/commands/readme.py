@@ -19,9 +19,10 @@ def add_arguments(r: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from reports.readme import update_readme
     from results import read
+    from studies import RECORDS
 
     readme = checkout(args.command) / "README.md"
-    results = read(args.results)
+    results = read(args.results, RECORDS)
     where = f"--results {args.results}"
     if results["profile"] != "full":
         raise InputError(f"{where}: a run of the {results['profile']} profile; the README's "

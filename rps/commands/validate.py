@@ -35,8 +35,11 @@ def run(args: argparse.Namespace) -> int:
 
     report: Report | None = None
     if not args.no_report:  # the [report] extra only when a report is asked for
+        from functools import partial
+
         from reports.build import render_report
-        report = render_report
+        from studies import RECORDS
+        report = partial(render_report, records=RECORDS)
     from runtime.outdir import check_output_dir
     from runtime.places import MIN_FREE_RUN, check_scheduler
 

@@ -6,11 +6,15 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from runtime.places import path_argument
 
 from ..args import cache_dir, cache_option
 from .registry import Command
+
+if TYPE_CHECKING:  # results (and pydantic, an extra) only when the benchmarks run
+    from results import FemVerification
 
 
 def add_arguments(v: argparse.ArgumentParser) -> None:
@@ -20,7 +24,7 @@ def add_arguments(v: argparse.ArgumentParser) -> None:
     v.add_argument("--json", action="store_true", help="print the record as one JSON object")
 
 
-def table_lines(record: dict) -> list[str]:
+def table_lines(record: FemVerification) -> list[str]:
     """One line per reference mode: reference, finest answer, deviation, order, stated error."""
     head = (f"{'benchmark':<14} {'mode':<34} {'ref (Hz)':>10} {'FEM (Hz)':>10} {'dev %':>8} "
             f"{'order':>6} {'stated %':>9} {'tol %':>6}  passes")

@@ -8,6 +8,7 @@ import json
 import math
 import time
 from dataclasses import replace
+from typing import TYPE_CHECKING, Iterable, TypedDict, cast
 
 from common.errors import InputError
 from scene import FidelitySettings
@@ -16,8 +17,40 @@ from ..args import cache_option, load, scene_option, warn, zone_cache
 from ..options import MAX_MAP_POSES, MapGrid, declared_option, typed
 from .registry import Command
 
+if TYPE_CHECKING:  # results (and pydantic, an extra) only where the map is drawn
+    from results import Workspace
 
-def cmd_workspace(args: argparse.Namespace) -> dict:
+    class WorkspaceOutput(Workspace):
+        """What `rps workspace` writes: the map, its time and the scene's warnings."""
+        seconds: float
+        warnings: list[str]
+
+
+class MinimumPose(TypedDict):
+    height_mm: float
+    azimuth_deg: float
+    tilt_deg: float
+
+
+class Minimum(TypedDict):
+    """The least f_K over the reachable workspace (`--minimum K`) and where it is."""
+    mode: int
+    frequency_hz: float
+    pose: MinimumPose
+    on_boundary: bool
+    at_band_end: bool
+    coarse_grid_hz: float
+    poses_solved: int
+    settings: str
+    seconds: float
+
+
+class MinimumOutput(Minimum):
+    """What `rps workspace --minimum K` writes: the minimum and the scene's warnings."""
+    warnings: list[str]
+
+
+def cmd_workspace(args: argparse.Namespace) -> WorkspaceOutput | MinimumOutput:
     """The frequency map; the grid and the mode count checked against what the model holds
     before any pose is solved."""
     from analytical.workspace import followed_modes
@@ -39,12 +72,11 @@ def cmd_workspace(args: argparse.Namespace) -> dict:
                          f"(s = {scene.analytical.elements} elements per leg)")
     start = time.perf_counter()
     fmap = workspace_map(scene, args.layers, args.rings, args.azimuths, args.modes)
-    fmap["seconds"] = time.perf_counter() - start
-    fmap["warnings"] = list(scene.warnings)
-    return fmap
+    seconds = time.perf_counter() - start
+    return {**fmap, "seconds": seconds, "warnings": list(scene.warnings)}
 
 
-def _minimum(scene, args: argparse.Namespace) -> dict:
+def _minimum(scene, args: argparse.Namespace) -> Minimum:
     """The least f_K over the reachable workspace, with the scene's analytical model."""
     from dataclasses import replace
 
@@ -68,7 +100,7 @@ def _minimum(scene, args: argparse.Namespace) -> dict:
             "seconds": time.perf_counter() - start}
 
 
-def _print_minimum(found: dict) -> None:
+def _print_minimum(found: MinimumOutput) -> None:
     p = found["pose"]
     where = ("on the workspace's boundary" if found["on_boundary"] else
              "at an end of the level band" if found["at_band_end"] else "inside the workspace")
@@ -78,13 +110,23 @@ def _print_minimum(found: dict) -> None:
           f"{found['poses_solved']} poses, {found['seconds']:.1f} s, {found['settings']}")
 
 
-def _print_workspace(fmap: dict) -> None:
+def _print_workspace(fmap: WorkspaceOutput) -> None:
     print(f"{'z (mm)':>8} {'tilt_r (deg)':>12}  lowest f_k over the layer (Hz)")
     for z, r, layer in zip(fmap["heights_mm"], fmap["regular_tilt_deg"], fmap["frequencies_hz"]):
-        values = [f for ring in layer for az in ring for f in [az] if az and az[0] is not None]
-        lows = [min(v[k] for v in values) for k in range(len(values[0]))] if values else []
+        values = [az for ring in layer for az in ring if az and az[0] is not None]
+        lows = [_least(v[k] for v in values) for k in range(len(values[0]))] if values else []
         print(f"{z:8.1f} {r:12.2f}  " + ", ".join(f"{f:.2f}" for f in lows))
     print(f"{fmap['seconds']:.2f} s, {fmap['settings']}")
+
+
+def _least(values: Iterable[float | None]) -> float:
+    """The least of the values, none of them None (TypeError then, as min or printing None
+    would raise)."""
+    listed = list(values)
+    found = [v for v in listed if v is not None]
+    if len(found) < len(listed):
+        raise TypeError("a reachable map pose without one of its frequencies")
+    return min(found)
 
 
 def add_arguments(w: argparse.ArgumentParser) -> None:
@@ -108,10 +150,10 @@ def run(args: argparse.Namespace) -> int:
     fmap = cmd_workspace(args)
     if args.json:
         print(json.dumps(fmap))
-    elif args.minimum is not None:
-        _print_minimum(fmap)
-    else:
-        _print_workspace(fmap)
+    elif args.minimum is not None:  # cmd_workspace answered with the minimum
+        _print_minimum(cast("MinimumOutput", fmap))
+    else:  # and otherwise with the map
+        _print_workspace(cast("WorkspaceOutput", fmap))
     warn(fmap["warnings"])
     return 0
 

@@ -11,13 +11,15 @@ plate, other metals, turned layouts, lower joint limits).
 from __future__ import annotations
 
 import math
+from typing import Callable, cast
 
+import results
 from common.errors import ComputeError, RpsError
 from common.settings import as_dict
 from runtime.cache import ResultCache
 from scene import Scene
 
-from ..registry import Context, Study
+from ..registry import OWN_TEMPLATE, Context, Section, Study, own
 from .base import SEED, Row, random_rotation, turned, untestable  # noqa: F401
 from .geometry import *  # noqa: F401,F403
 from .geometry import aluminium_scaling, slender_legs, stocky_legs, thin_plate, titanium_scaling
@@ -39,7 +41,7 @@ CHEAP = (repeated_pairs, turned_layout, eigen_residuals, mode_count, no_spurious
          titanium_scaling, boundary_ring)
 
 
-def _row(task) -> dict:
+def _row(task) -> results.HardCase:
     """One claim's row. A claim whose own computation is refused (an eigen solve of the
     machine's highest modes less accurate than modal.RESIDUAL_LIMIT, a pose it cannot reach)
     has not held: it is a failed row that says why, never the end of the run."""
@@ -50,25 +52,27 @@ def _row(task) -> dict:
         name = claim.__name__.replace("_", " ") + ("" if argument is None else f" ({argument})")
         row = Row(name, "the claim could be evaluated on this machine", 0.0, 1.0,
                   "evaluations that failed", note=" ".join(str(exc).split()))
-    return row.to_dict()
+    return row.record()
 
 
-def evaluate(scene: Scene, workers: int = 1) -> list[dict]:
+def evaluate(scene: Scene, workers: int = 1) -> list[results.HardCase]:
     """The analytical hard cases of `scene` (about ten seconds of one core): rows for the
     report, in the order of CHEAP then LIMITS, the claims spread over `workers` processes."""
     from runtime.sweep import map_tasks
 
-    tasks = [(claim, scene, None) for claim in CHEAP]
+    tasks: list[tuple[Callable[..., Row], Scene, str | None]] = [
+        (claim, scene, None) for claim in CHEAP]
     tasks += [(joint_limit, scene, limit) for limit in LIMITS]
     rows = map_tasks(_row, tasks, workers)
     for (claim, _, argument), row in zip(tasks, rows):
         if "error" in row and "claim" not in row:
             raise ComputeError(f"hard case {claim.__name__}"
                                f"{'' if argument is None else f' ({argument})'}: {row['error']}")
-    return rows
+    return [cast(results.HardCase, row) for row in rows]  # _row's records: none failed
 
 
-def hard_case_rows(scene: Scene, cache: ResultCache, workers: int = 1) -> list[dict]:
+def hard_case_rows(scene: Scene, cache: ResultCache,
+                   workers: int = 1) -> list[results.HardCase]:
     """The analytical hard cases of the scene's machine, cases and chosen setting
     (`evaluate`), through the result cache: recomputed when any of them or the
     code changes."""
@@ -80,8 +84,10 @@ def hard_case_rows(scene: Scene, cache: ResultCache, workers: int = 1) -> list[d
     return value["rows"]
 
 
-def run(ctx: Context) -> list[dict]:
+def run(ctx: Context) -> list[results.HardCase]:
     return hard_case_rows(ctx.scene, ctx.cache, ctx.workers)
 
 
-STUDY = Study("hard_cases", "scene", run)
+STUDY = Study(own("hard_cases", "scene", section=Section(
+    "hard-cases", "Hard cases: numerical stability and physics checks", "hard cases",
+    OWN_TEMPLATE)), "scene", run)

@@ -1,10 +1,11 @@
 """The hard cases' row and the helpers every claim uses."""
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+import results
 from analytical.params import Manipulator
 from common.leg_profile import LegProfile
 from common.payload import Payload
@@ -26,8 +27,18 @@ class Row:
     def passed(self) -> bool:
         return bool(self.measured <= self.tolerance)
 
-    def to_dict(self) -> dict:
-        return {**asdict(self), "passed": self.passed}
+    def record(self) -> results.HardCase:
+        return results.HardCase(case=self.case, claim=self.claim, tolerance=self.tolerance,
+                                measured=self.measured, unit=self.unit, note=self.note,
+                                passed=self.passed)
+
+
+def checked_residuals(modal) -> np.ndarray:
+    """The relative residuals of a solve's eigenpairs (`analytical.modal`; every dense solve
+    states them)."""
+    if modal.residuals is None:
+        raise ValueError("the eigen solve stated no residuals")
+    return modal.residuals
 
 
 def bare(m: Manipulator) -> Manipulator:
@@ -46,7 +57,8 @@ def uniform(m: Manipulator, diameter: float) -> Manipulator:
 
 def turned(m: Manipulator, angle: float) -> Manipulator:
     """The same machine with its leg layout turned by `angle` (rad) about z."""
-    return replace(m, leg_angles=tuple(a + angle for a in m.leg_angles))
+    a, b, c = (x + angle for x in m.leg_angles)
+    return replace(m, leg_angles=(a, b, c))
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:

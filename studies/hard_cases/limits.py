@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -15,7 +16,7 @@ from analytical.reach import layer_heights, max_tilts, regular_radius
 from common.errors import InputError
 from scene import Scene
 
-from .base import Row
+from .base import Row, checked_residuals
 
 # --- workspace boundary and joint limits ----------------------------------------------------
 
@@ -35,14 +36,15 @@ def boundary_ring(scene: Scene, layers: int = 5, azimuths: int = 72) -> Row:
                 modal = analyse(m, Pose(float(z), float(phi), radius), opts).modal
             except PoseError:
                 return Row("workspace boundary", "a boundary pose is unreachable", 0.0, 1.0)
-            worst = max(worst, float(modal.residuals.max()))
+            worst = max(worst, float(checked_residuals(modal).max()))
         if pose_batch(m, z, bounding, radius + 1e-5).feasible[0]:
             return Row("workspace boundary", "the boundary is not where theta_r says", 0.0, 1.0)
     return Row("workspace boundary", "residual at every boundary pose (5 layers x 72 "
                "azimuths); beyond it unreachable", 1e-8, worst, "relative")
 
 
-LIMITS = {  # limit -> (the phrase PoseError uses, a change that makes it bind somewhere);
+# limit -> (the phrase PoseError uses, a change that makes it bind somewhere);
+LIMITS: dict[str, tuple[str, dict[str, Any]]] = {
     # the actuator's: a 3-RPS's leg lengths, a 3-PRS's slider travels (analytical.architecture)
     "actuator_min": ("outside the (actuator range|slider stroke)", {}),
     "actuator_max": ("outside the (actuator range|slider stroke)", {}),
@@ -66,7 +68,7 @@ def limit_pose(m: Manipulator, limit: str) -> Pose:
                 "s_joint_max": (m.s_joint_max - np.abs(poses.s_joint_angles[k])).min(),
                 "r_joint_max": (m.r_joint_max - np.abs(poses.r_joint_angles[k])).min(),
             }
-            if min(margins, key=margins.get) == limit:
+            if min(margins, key=lambda k: margins[k]) == limit:
                 return Pose(float(z), float(phis[k]), float(tilts[k]))
     raise InputError(f"no pose of this machine has {limit} binding")
 

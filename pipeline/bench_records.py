@@ -1,0 +1,78 @@
+"""The records of `make bench` (out/bench.json), typed once: what each benchmark reports, in
+seconds (medians of repeated runs), mesh sizes in mm."""
+from __future__ import annotations
+
+from typing_extensions import TypedDict
+
+
+class Timing(TypedDict):
+    median_seconds: float
+    min_seconds: float
+    runs: int
+
+
+Timings = dict[str, Timing]  # setting ("s=3", "s=5, solid ends") -> its time per pose
+
+
+class BestModel(TypedDict):
+    """The most accurate analytical setting, batched over the map's poses on one core."""
+    setting: str
+    poses: int
+    matrix_size: int
+    modes: int
+    runs: int
+    pose_seconds: float
+    assembly_pose_seconds: float
+
+
+class Grid(TypedDict):
+    heights: int
+    rings: int
+    azimuths: int
+    poses: int
+    distinct_poses: int
+
+
+class MapBench(TypedDict):
+    """The 10,000-pose map against as many plain eigh calls, timed alternately."""
+    grid: Grid
+    modes: int
+    matrix_size: int
+    workers: int
+    openblas_num_threads: str | None
+    map_median_seconds: float
+    map_seconds: list[float]
+    plain_eigh_calls: int
+    plain_eigh_median_seconds: float
+    plain_eigh_seconds: list[float]
+    ratio: float
+    poses_with_shapes: int
+    steps_matched_by_shape: int
+    steps: int
+    crossings: int
+    runs: int
+
+
+class FemTiming(TypedDict):
+    mesh_size_mm: float
+    dofs: int
+    median_seconds: float
+    min_seconds: float
+    median_timings: dict[str, float]  # per stage of the solve
+    runs: int
+
+
+FemTimings = dict[str, FemTiming]  # "<h>mm" -> the FEM's time per pose at that mesh size
+
+
+class SweepBench(TypedDict):
+    """The CI-size workspace-validation sweep from an empty cache, per worker count."""
+    poses: int
+    runs: int
+    models: int
+    median_seconds: dict[str, float]  # worker count -> median wall time
+    seconds: dict[str, list[float]]
+    speedup: float  # fewest workers' median / most workers'
+
+
+EstimatedErrors = dict[str, float]  # "<h>mm" -> the refinement study's worst estimated error, %

@@ -1,0 +1,125 @@
+"""A new study is one module and one registry line: registered at run time, touching no other
+file, its typed record is in results.json (checked against its type as soon as it returns),
+its table in out/tables/studies/ and its section in the report."""
+from __future__ import annotations
+
+import csv
+import importlib.util
+import json
+from functools import partial
+
+import pytest
+
+import studies
+from common.errors import InputError
+from results import Record, Section, Table, stub, table_rows
+from tests.conftest import PAPER_SCENE, copied
+
+NEW_STUDY = '''
+"""A study added by a test: the longest leg of every case, in leg diameters."""
+from pydantic import FiniteFloat, with_config
+from typing_extensions import TypedDict
+
+from analytical.kinematics import pose_geometry
+from results import STRICT, Record, Section, Table
+from studies import Study
+
+
+@with_config(STRICT)
+class Slenderness(TypedDict):
+    case: str
+    longest_leg_mm: FiniteFloat
+    slenderness: FiniteFloat  # longest leg / leg diameter
+
+
+def run(ctx):
+    m = ctx.scene.manipulator
+    rows = []
+    for name, case in ctx.scene.cases.items():
+        longest = float(max(pose_geometry(m, case.pose).leg_lengths))
+        rows.append(Slenderness(case=name, longest_leg_mm=longest * 1e3,
+                                slenderness=longest / m.leg_diameter))
+    return rows
+
+
+STUDY = Study(Record("leg_slenderness", "scene", list[Slenderness], [],
+                     Section("slenderness", "Leg slenderness", "leg slenderness"),
+                     (Table("legs", ("case", "longest_leg_mm", "slenderness")),)),
+              "scene", run, profiles=("full", "ci"))
+'''
+
+
+def load_module(path, name):
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture
+def registered(tmp_path, monkeypatch):
+    """The new study's module, and its one registry line (studies/__init__.py's STUDIES,
+    from which RECORDS is made) applied for this test only."""
+    path = tmp_path / "leg_slenderness.py"
+    path.write_text(NEW_STUDY, encoding="utf-8")
+    module = load_module(path, "leg_slenderness_study")
+    monkeypatch.setattr(studies, "STUDIES", studies.STUDIES + (module.STUDY,))
+    monkeypatch.setattr(studies, "RECORDS", studies.RECORDS + (module.STUDY.record,))
+    return module
+
+
+@pytest.mark.slow
+def test_a_study_registered_at_run_time_has_its_record_table_and_section(
+        registered, paper_ci_run, tmp_path):
+    from pipeline.run import validate
+    from reports.build import render_report
+
+    out = tmp_path / "out"
+    results = validate(str(PAPER_SCENE), out, copied(paper_ci_run.cache, tmp_path / "cache"),
+                       profile="ci", report=partial(render_report, records=studies.RECORDS))
+    written = json.loads((out / "results.json").read_text())
+    rows = written["studies"]["leg_slenderness"]
+    assert rows == results["studies"]["leg_slenderness"]
+    assert {r["case"] for r in rows} >= {c["name"] for c in written["cases"]}  # every case
+    for r in rows:  # the record's numbers: a leg is longer than its diameter, and in mm
+        assert r["slenderness"] > 1 and r["longest_leg_mm"] > 100
+    with (out / "tables" / "studies" / "leg_slenderness-legs.csv").open() as handle:
+        table = list(csv.DictReader(handle))
+    assert [row["case"] for row in table] == [r["case"] for r in rows]
+    assert [float(row["slenderness"]) for row in table] == [r["slenderness"] for r in rows]
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert '<section id="slenderness">' in page and "Leg slenderness</h2>" in page
+    assert 'href="#slenderness"' in page  # in the contents, numbered with the others
+    assert 'data-src="/studies/leg_slenderness/0/slenderness"' in page
+
+
+def test_a_study_returning_a_wrong_record_is_refused_when_it_returns():
+    record = Record("leg_slenderness", "scene", list[dict[str, float]], [])
+    with pytest.raises(InputError, match=r"^results: leg_slenderness\[0\]\.x: input should "
+                                         r"be a valid number"):
+        record.checked([{"x": "long"}])
+
+
+def test_results_holding_a_study_nobody_declared_are_refused_in_one_line(paper_ci_run):
+    import results
+
+    data = json.loads((paper_ci_run.out / "results.json").read_text())
+    data["studies"]["leg_slenderness"] = []
+    with pytest.raises(InputError, match="studies.leg_slenderness: not a field of the results, "
+                                         "nor a study this version declares"):
+        results.validated(data, studies.RECORDS)
+    del data["studies"]["workspace"]
+    data["studies"].pop("leg_slenderness")
+    with pytest.raises(InputError, match="studies.workspace: field required"):
+        results.validated(data, studies.RECORDS)
+
+
+def test_the_stub_and_the_tables_of_a_case_study_come_from_its_declaration():
+    record = Record("first_mode", "case", dict[str, float] | None, None,
+                    Section("first-mode", "First mode"), (Table("f1", ("hz",)),))
+    assert stub([record], "case") == {"first_mode": None}
+    assert stub([record], "scene") == {}
+    held = {"studies": {}, "cases": [{"name": "a", "first_mode": {"hz": 12.5}},
+                                     {"name": "b", "first_mode": None}]}
+    assert table_rows(record, record.tables[0], held) == [
+        {"": "/cases/0/first_mode", "case": "a", "hz": 12.5}]
