@@ -3,6 +3,7 @@ case with paper rows, the worst error of every analytical model variant, both jo
 couplings, and the workspace validation's percentiles."""
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -68,11 +69,11 @@ def workspace_markdown(results: Results) -> str:
 
 
 def _largest(values: list[float | None]) -> float:
-    """max of the values, none of them None (TypeError then, as max would raise)."""
-    present = [v for v in values if v is not None]
-    if len(present) < len(values):
-        raise TypeError("'>' not supported between a percentile and None")
-    return max(present)
+    """The largest of a model's percentiles; infinite when a mode has none (unpaired at every
+    pose), so such a model is never named the most accurate."""
+    if not values or any(v is None for v in values):
+        return math.inf
+    return max(v for v in values if v is not None)
 
 
 def couplings_markdown(results: Results) -> str:

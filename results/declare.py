@@ -170,6 +170,8 @@ def table_rows(record: Record, table: Table, results: Mapping[str, Any]) -> list
         if value is None:
             continue
         items = _at(value, table.each)
+        if items is None:  # an optional part of the record, absent here
+            continue
         listed = list(enumerate(items)) if isinstance(items, list) else [(None, items)]
         for i, item in listed:
             at = base + (f"/{table.each}" if table.each else "") + ("" if i is None else f"/{i}")

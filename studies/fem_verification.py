@@ -36,4 +36,6 @@ def run(ctx: Context) -> results.FemVerification:
 
 STUDY = Study(own("fem_verification", "scene", section=Section(
     "verification", "Verifying the referee: published benchmarks",
-    "verification of the FEM against published benchmarks", OWN_TEMPLATE)), "scene", run)
+    "verification of the FEM against published benchmarks", OWN_TEMPLATE), tables=(results.Table(
+        "benchmarks", ("name", "discretisation", "tolerance_percent", "passed"),
+        each="cases"),)), "scene", run)

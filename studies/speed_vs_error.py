@@ -45,4 +45,6 @@ def run(ctx: Context, cc: CaseContext) -> list[schema.SpeedPoint]:
 
 
 STUDY = Study(own("speed_vs_error", "case", section=Section(
-    "speed", "Speed vs error", "speed vs error", OWN_TEMPLATE)), "case", run)
+    "speed", "Speed vs error", "speed vs error", OWN_TEMPLATE), tables=(schema.Table(
+        "points", ("model", "setting", "seconds", "worst_error_percent", "single_run")),)),
+    "case", run)

@@ -272,4 +272,9 @@ def summarise(study: results.ValidationSweep, default: str) -> results.Workspace
 
 STUDY = Study(own("workspace_validation", "scene", section=Section(
     "validation", "The model against the FEM over the workspace", "workspace validation",
-    OWN_TEMPLATE)), "fidelity", None, profiles=("full", "ci"))
+    OWN_TEMPLATE), tables=(
+        results.Table("poses", ("height_mm", "azimuth_deg", "tilt_deg", "kind", "fem_seconds",
+                                "error"), each="poses"),
+        results.Table("worst_pose", ("height_mm", "azimuth_deg", "tilt_deg", "kind",
+                                     "worst_error_percent"), each="worst_pose"))),
+    "fidelity", None, profiles=("full", "ci"))

@@ -90,4 +90,6 @@ def run(ctx: Context) -> list[results.HardCase]:
 
 STUDY = Study(own("hard_cases", "scene", section=Section(
     "hard-cases", "Hard cases: numerical stability and physics checks", "hard cases",
-    OWN_TEMPLATE)), "scene", run)
+    OWN_TEMPLATE), tables=(results.Table(
+        "claims", ("case", "claim", "measured", "tolerance", "unit", "passed", "note")),)),
+    "scene", run)
