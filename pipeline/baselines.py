@@ -49,7 +49,7 @@ Compared = Literal["error_percent", "mac", "f_fem_hz", "f_analytical_hz"]
 class Baseline(TypedDict):
     """tests/baselines/error_tables.json."""
     scene: str
-    mesh_size_m: float
+    mesh_size_mm: float
     analytical: dict[str, object]  # the settings the tables were computed with
     tolerances: dict[str, float]
     cases: Tables
@@ -136,7 +136,7 @@ def update_command(scene_path: str) -> int:
     size = scene.fem_study.ci_mesh_size
     tables = compute_tables(scene_path, size)
     write_json_atomic(BASELINE, Baseline(
-        scene=str(scene_path), mesh_size_m=size,
+        scene=str(scene_path), mesh_size_mm=size * 1e3,
         analytical={"elements": scene.analytical.elements, "beam": scene.analytical.beam,
                     "platform_inertia": scene.analytical.platform_inertia},
         tolerances={"error_percent_pp": ERROR_TOLERANCE_PP, "mac": MAC_TOLERANCE,
@@ -179,10 +179,10 @@ def results_tables(path: str | Path, baseline: Baseline) -> Tables:
         if case is None:
             raise InputError(f"{path}: no case {name!r} (the baselines cover "
                              f"{', '.join(baseline['cases'])})")
-        size = case["fem"].get("mesh_size_m")
-        if not isinstance(size, (int, float)) or abs(size / baseline["mesh_size_m"] - 1) > 1e-9:
-            raise InputError(f"{path}: case {name!r} has its FEM at mesh_size_m = {size!r}, the "
-                             f"baselines at {baseline['mesh_size_m']:g}: not comparable")
+        size = case["fem"].get("mesh_size_mm")
+        if not isinstance(size, (int, float)) or abs(size / baseline["mesh_size_mm"] - 1) > 1e-9:
+            raise InputError(f"{path}: case {name!r} has its FEM at mesh_size_mm = {size!r}, "
+                             f"the baselines at {baseline['mesh_size_mm']:g}: not comparable")
         analytical = case["analytical"]  # the model of the case's table (the run's choice)
         for key, value in baseline.get("analytical", {}).items():
             if analytical.get(key) != value:
@@ -200,7 +200,7 @@ def check_command(results: str | None = None) -> int:
     (a results.json at the baseline's mesh size). 0: within tolerance, 1: moved."""
     baseline = load_baseline()
     if results is None:
-        current = compute_tables(baseline["scene"], baseline["mesh_size_m"])
+        current = compute_tables(baseline["scene"], baseline["mesh_size_mm"] * 1e-3)
     else:
         current = results_tables(results, baseline)
     lines = compare(baseline, current)

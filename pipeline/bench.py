@@ -331,7 +331,7 @@ def _estimated_errors(results_path: Path, case_name: str) -> EstimatedErrors | N
     study = case and case["fem_refinement"]
     if not study:
         return None
-    return {f"{s * 1e3:g}mm": e for s, e in zip(study["sizes_m"],
+    return {f"{h:g}mm": e for h, e in zip(study["mesh_sizes_mm"],
                                                  study["estimated_error_percent_max"])}
 
 

@@ -46,7 +46,7 @@ class Digest(TypedDict):
     profile: str
     cases: list[CaseDigest]
     candidates: dict[str, float]  # setting -> its worst error over the cases and study poses, %
-    fem_mesh_size_mm: float
+    mesh_size_mm: float
     validation_poses: list[PoseDigest]
     reachable_workspace: results.ReachableWorkspace
 
@@ -60,7 +60,7 @@ def digest(run: results.Results) -> Digest:
                           fem_dofs=c["fem"]["dofs"]) for c in run["cases"]],
         candidates={c["setting"]: c["worst_error_percent"]
                     for c in run["fidelity"]["candidates"]},
-        fem_mesh_size_mm=run["fidelity"]["fem"]["mesh_size_mm"],
+        mesh_size_mm=run["fidelity"]["fem"]["mesh_size_mm"],
         validation_poses=[PoseDigest(height_mm=p["height_mm"], azimuth_deg=p["azimuth_deg"],
                                      tilt_deg=p["tilt_deg"], fem_hz=p["fem_hz"],
                                      models=p["models"])

@@ -112,13 +112,13 @@ def refinement_table(results: Results, i: int, c: Cells) -> dict | None:
     q = f"/cases/{i}/fem_refinement"
     labels = ["h (mm)", "h eff. (mm)", "dofs", "time (s)"]
     labels += [f"f{k + 1} (Hz)" for k in range(n)] + ["GCI max (%)", "est. error max (%)"]
-    rows = [[c.num(f"{q}/sizes_m/{r}", 1, scale=1000.0),
-             c.num(f"{q}/effective_sizes_m/{r}", 1, scale=1000.0),
+    rows = [[c.num(f"{q}/mesh_sizes_mm/{r}", 1),
+             c.num(f"{q}/effective_mesh_sizes_mm/{r}", 1),
              c.num(f"{q}/dofs/{r}", None), c.num(f"{q}/seconds/{r}", 1)]
             + [c.num(f"{q}/frequencies_hz/{r}/{k}", 2) for k in range(n)]
             + [c.num(f"{q}/gci_percent_max/{r}", 3),
                c.num(f"{q}/estimated_error_percent_max/{r}", 3)]
-            for r, _ in enumerate(ref["sizes_m"])]
+            for r, _ in enumerate(ref["mesh_sizes_mm"])]
 
     def extra(label: str, cells: list[dict]) -> list[dict]:
         return [c.text(literal=label, cls="text label")] + [cell("")] * 3 + cells + [cell("")] * 2
@@ -128,7 +128,7 @@ def refinement_table(results: Results, i: int, c: Cells) -> dict | None:
     rows.append(extra("GCI: h → 0", [c.num(f"{q}/gci_extrapolated_hz/{k}", 2)
                                      for k in range(n)]))
     rows.append(extra("GCI: order p", [c.num(f"{q}/gci_order/{k}", 2) for k in range(n)]))
-    last = len(ref["sizes_m"]) - 1
+    last = len(ref["mesh_sizes_mm"]) - 1
     rows.append(extra("GCI of the finest (%)", [c.sci(f"{q}/gci_percent/{last}/{k}")
                                                 for k in range(n)]))
     rows.append(extra("est. error of the finest (%)",

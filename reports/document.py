@@ -177,7 +177,7 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
         "joint_orders": joint_orders,
         "couplings": couplings,
         "couplings_sizes": ", ".join(
-            f"{h:g}" for h in (studies["joint_couplings"][0]["readings"][0]["fem_sizes_mm"]
+            f"{h:g}" for h in (studies["joint_couplings"][0]["readings"][0]["mesh_sizes_mm"]
                                if studies["joint_couplings"] else [])),
         "hard_cases": hard,
         "verification_table": verification,

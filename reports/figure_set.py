@@ -106,7 +106,7 @@ def make_figures(results: Results, results_path: Path, fig_dir: Path,
         if case["fem_refinement"]:
             path = inside(fig_dir, f"fem_refinement_{stem}.png")
             plan.add(figures.fem_refinement, path, case["fem_refinement"], path,
-                     case["fem"]["mesh_size_m"])
+                     case["fem"]["mesh_size_mm"])
             entry["fem_refinement"] = path
         if case in main:
             entry["mac"] = inside(fig_dir, f"mac_{stem}.png")

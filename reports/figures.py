@@ -71,9 +71,9 @@ def element_convergence(conv: ElementConvergences, reference_hz: Sequence[float]
     save(fig, path)
 
 
-def fem_refinement(ref: Refinement, path: Path, scene_size_m: float | None = None) -> None:
+def fem_refinement(ref: Refinement, path: Path, scene_size_mm: float | None = None) -> None:
     """FEM frequencies vs mesh size h, one panel per mode, with the extrapolated h -> 0 limit."""
-    h = np.asarray(ref["sizes_m"], float) * 1e3
+    h = np.asarray(ref["mesh_sizes_mm"], float)
     f = np.asarray(ref["frequencies_hz"], float)
     extrap = ref["extrapolated_hz"]
     n = f.shape[1]
@@ -90,8 +90,8 @@ def fem_refinement(ref: Refinement, path: Path, scene_size_m: float | None = Non
             ax.plot([0], [extrap[k]], marker="*", ms=8, color="k", ls="none",
                     label="extrapolated (h → 0)")
             ax.axhline(extrap[k], color="0.4", lw=0.8, ls="--")
-        if scene_size_m:
-            ax.axvline(scene_size_m * 1e3, color="0.6", lw=0.8, ls=":")
+        if scene_size_mm:
+            ax.axvline(scene_size_mm, color="0.6", lw=0.8, ls=":")
         ax.set_xlim(-2, h.max() * 1.08)
         note = limit_note(ref, k)
         ax.set_title(f"$f_{k + 1}$" + (f" ({note})" if note else ""), pad=2,

@@ -66,7 +66,7 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
                 case["element_convergence"], ref, label)
         if case["fem_refinement"]:
             add(chart_key("fem_refinement", name), charts.fem_refinement,
-                case["fem_refinement"], case["fem"]["mesh_size_m"])
+                case["fem_refinement"], case["fem"]["mesh_size_mm"])
         add(chart_key("mac", name), charts.mac_matrix, case["mac_matrix"], case["pairs"])
         add(chart_key("modes", name), mode_viewer, case, m, results_path)
     speed = {c["name"]: c["speed_vs_error"] for c in results["cases"] if c["speed_vs_error"]}

@@ -135,9 +135,9 @@ def element_convergence(conv: dict, reference_hz, reference_label: str,
     return fig
 
 
-def fem_refinement(ref: Refinement, scene_size_m: float | None) -> go.Figure:
+def fem_refinement(ref: Refinement, scene_size_mm: float | None) -> go.Figure:
     """FEM frequencies against mesh size h per mode, with the extrapolated h -> 0 limit."""
-    h = np.asarray(ref["sizes_m"], float) * 1e3
+    h = np.asarray(ref["mesh_sizes_mm"], float)
     f = np.asarray(ref["frequencies_hz"], float)
     n = f.shape[1]
     cols = 3
@@ -163,8 +163,8 @@ def fem_refinement(ref: Refinement, scene_size_m: float | None) -> go.Figure:
                 hovertemplate=(f"f{k + 1} limit (h → 0) = %{{y:.4f}} Hz<br>status: "
                                f"{ref['status'][k]}<extra></extra>")), row=row, col=col)
             shapes.append(hline(k + 1, limit, color="#666666", dash="dash"))
-        if scene_size_m:
-            shapes.append(vline(k + 1, scene_size_m * 1e3, color="#999999", dash="dot"))
+        if scene_size_mm:
+            shapes.append(vline(k + 1, scene_size_mm, color="#999999", dash="dot"))
     fig.update_layout(shapes=shapes)
     fig.update_xaxes(title_text="mesh size h (mm)", range=[-2, float(h.max()) * 1.08])
     fig.update_yaxes(title_text="frequency (Hz)", col=1)

@@ -48,8 +48,8 @@ def workspace_markdown(results: Results) -> str:
                           if label in wv["per_mode"] and label != default]
     n = max(len(s["p95"]) for s in wv["per_mode"].values())
     lines = [f"**The model over the workspace**: |error vs FEM limit| (%) at {len(wv['poses'])} "
-             f"poses (FEM limit per pose from h = {wv['fem_mesh_size_mm']:g} and "
-             f"{wv['fem_coarse_size_mm']:g} mm, modes paired by shape); the run's model "
+             f"poses (FEM limit per pose from h = {wv['mesh_size_mm']:g} and "
+             f"{wv['coarse_mesh_size_mm']:g} mm, modes paired by shape); the run's model "
              f"is {default}, the most accurate {best}\n",
              "| model | statistic | " + " | ".join(f"f{k + 1}" for k in range(n)) + " |",
              "|---|---|" + "---:|" * n]

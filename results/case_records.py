@@ -163,7 +163,7 @@ class FemRecord(TypedDict):
     frequencies_hz: Hz
     dofs: int
     raw_dofs: int
-    mesh_size_m: FiniteFloat
+    mesh_size_mm: FiniteFloat
     platform: str
     coupling: str
     timings: dict[str, FiniteFloat]  # seconds: mesh, assemble, solve, total
@@ -197,8 +197,8 @@ class Paper(TypedDict):
 @with_config(STRICT)
 class Refinement(TypedDict):
     """The FEM at a sequence of mesh sizes, extrapolated to h -> 0 (Richardson)."""
-    sizes_m: list[FiniteFloat]
-    effective_sizes_m: list[FiniteFloat]
+    mesh_sizes_mm: list[FiniteFloat]
+    effective_mesh_sizes_mm: list[FiniteFloat]
     frequencies_hz: list[Hz]  # [size][mode]
     dofs: list[int]
     raw_dofs: list[int]

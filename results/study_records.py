@@ -114,7 +114,7 @@ class CouplingReading(TypedDict):
     coupling: str  # "rigid" or "distributing" joint faces, in both models
     scene_coupling: bool  # the coupling of the scene's FEM
     error: str | None  # why this coupling could not be solved
-    fem_sizes_mm: list[FiniteFloat]  # the refinement study behind the limit
+    mesh_sizes_mm: list[FiniteFloat]  # the refinement study behind the limit
     fem_limit_hz: Frequencies | None  # Richardson limit h -> 0
     fem_finest_error_percent: list[FiniteFloat] | None  # stated error of the finest mesh
     fem_finest_gci_percent: list[FiniteFloat] | None  # its grid convergence index
@@ -174,8 +174,8 @@ class ValidationSweep(TypedDict):
     poses: list[ValidationPose]
     per_mode: PerMode
     models: dict[str, dict[str, Any]]  # model label -> its analytical options
-    fem_mesh_size_mm: FiniteFloat
-    fem_coarse_size_mm: FiniteFloat
+    mesh_size_mm: FiniteFloat  # the FEM's, and the coarser one of each pose's two meshes
+    coarse_mesh_size_mm: FiniteFloat
     failed: int
 
 
@@ -237,7 +237,7 @@ class Benchmark(TypedDict):
     reference_uncertainty_percent: FiniteFloat | None
     tolerance_percent: FiniteFloat  # the case's band (a mode may declare its own)
     tolerance_reason: str
-    sizes_m: list[FiniteFloat]
+    mesh_sizes_mm: list[FiniteFloat]
     dofs: list[int]
     seconds: list[FiniteFloat]
     modes: list[BenchmarkMode]
@@ -295,7 +295,7 @@ class EnergyShares(TypedDict):
 class LowestModes(TypedDict):
     """What sets the lowest modes of one case (studies.lowest_modes)."""
     case: str
-    fem_size_mm: FiniteFloat
+    mesh_size_mm: FiniteFloat  # the FEM's
     sweep: list[SweepPoint]  # empty: the drive is rigid
     rigid_drive: SweepPoint | None
     knee_factors: list[FiniteFloat | None]  # per mode: f = f(rigid drive) / sqrt(2) there

@@ -76,7 +76,7 @@ def case_markdown(case: Case) -> str:
     head = (f"**{case['description']}** — z = {pose['height_mm']:.1f} mm, "
             f"phi = {pose['azimuth_deg']:g}°, theta = {pose['tilt_deg']:g}°; "
             f"analytical: {a['beam']}, s = {a['elements']}, {a['platform_inertia']} inertia; "
-            f"FEM: h = {case['fem']['mesh_size_m'] * 1e3:g} mm, {case['fem']['dofs']} dofs\n\n")
+            f"FEM: h = {case['fem']['mesh_size_mm']:g} mm, {case['fem']['dofs']} dofs\n\n")
     cols = columns(case)
     lines = ["| " + " | ".join(HEADINGS[c] for c in cols) + " |",
              "|" + "---:|" * len(cols)]

@@ -184,7 +184,7 @@ def fem_case(scene: Scene, geometry: PoseGeometry, cache: ResultCache, mesh_size
             leftover.unlink(missing_ok=True)
     record = results.FemRecord(
         frequencies_hz=value["frequencies_hz"], dofs=value["dofs"], raw_dofs=value["raw_dofs"],
-        mesh_size_m=value["mesh_size_m"], platform=value["platform"],
+        mesh_size_mm=value["mesh_size_m"] * 1e3, platform=value["platform"],
         coupling=value["coupling"], timings=value["timings"],
         mesh_cache_hit=value["mesh_cache_hit"], platform_motion=value["platform_motion"],
         min_scaled_jacobian=value["min_scaled_jacobian"], cache_hit=hit)

@@ -27,6 +27,11 @@ def study_sizes(refinement, size: float | None = None) -> tuple[float, ...]:
     return tuple(sorted(sizes, reverse=True))
 
 
+def sizes_m(study: schema.Refinement) -> list[float]:
+    """A refinement study's mesh sizes in m (the record holds them in mm)."""
+    return [h * 1e-3 for h in study["mesh_sizes_mm"]]
+
+
 def size_index(sizes, size: float) -> int | None:
     """Where `size` is in a study's `sizes` (to 1e-9, as `study_sizes` added it); None when it
     is not one of them."""
@@ -117,7 +122,8 @@ def fem_refinement(scene: Scene, geometry, cache: ResultCache,
                               [s["dofs"] for s in solves], [s["raw_dofs"] for s in solves],
                               [s["timings"] for s in solves], volume)
     return schema.Refinement(
-        sizes_m=study.sizes, effective_sizes_m=study.effective_sizes,
+        mesh_sizes_mm=[h * 1e3 for h in study.sizes],
+        effective_mesh_sizes_mm=[h * 1e3 for h in study.effective_sizes],
         frequencies_hz=study.frequencies_hz, dofs=study.dofs, raw_dofs=study.raw_dofs,
         timings=study.timings,
         seconds=[t.get("total", sum(t.values())) for t in study.timings],

@@ -62,7 +62,7 @@ def coupling_study(scene: Scene, case_names, cache: ResultCache, chosen_label: s
             variant = coupled(scene, coupling)
             entry = results.CouplingReading(
                 coupling=coupling, scene_coupling=coupling == scene.fem.coupling, error=None,
-                fem_sizes_mm=[1e3 * h for h in sizes], fem_limit_hz=None,
+                mesh_sizes_mm=[1e3 * h for h in sizes], fem_limit_hz=None,
                 fem_finest_error_percent=None, fem_finest_gci_percent=None, models=None)
             try:
                 refinement = fem_refinement(variant, geometry, cache, sizes)

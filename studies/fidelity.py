@@ -17,7 +17,7 @@ from analytical.params import Pose
 from runtime.cache import ResultCache
 from scene import Scene
 from solvers.compare import analytical_case, error_table, fem_case, reference_error
-from solvers.refinement import coarse_size, prefetch_fem, size_index, study_sizes
+from solvers.refinement import coarse_size, prefetch_fem, size_index, sizes_m, study_sizes
 from solvers.settings import Settings, model_variants, speed_settings
 from solvers.timing import seconds_per_pose
 from studies.choice import (
@@ -78,7 +78,7 @@ class Fidelity:
 
 def _fem_seconds(fid: Fidelity) -> float | None:
     size = fid.scene.fem.mesh_size
-    found = [(study, size_index(study["sizes_m"], size)) for study in fid.refinements.values()]
+    found = [(study, size_index(sizes_m(study), size)) for study in fid.refinements.values()]
     times = [study["seconds"][k] for study, k in found if k is not None]
     return float(np.median(times)) if times else None
 
@@ -209,7 +209,7 @@ def _fem_seconds_of(refinements: dict[str, results.Refinement], *sizes) -> float
     when a study lacks one of the sizes."""
     total = []
     for study in refinements.values():
-        where = [size_index(study["sizes_m"], h) for h in sizes]
+        where = [size_index(sizes_m(study), h) for h in sizes]
         if any(k is None for k in where):
             return None
         total.append(sum(study["seconds"][k] for k in where if k is not None))

@@ -120,7 +120,7 @@ def lowest_modes(scene: Scene, case_names, cache) -> list[results.LowestModes]:
                           rigid["analytical_hz"][j]) for j in range(count)]
         energy = shares(scene, case.pose, count)
         out.append(results.LowestModes(
-            case=name, fem_size_mm=1e3 * scene.fem.mesh_size, sweep=sweep, rigid_drive=rigid,
+            case=name, mesh_size_mm=1e3 * scene.fem.mesh_size, sweep=sweep, rigid_drive=rigid,
             knee_factors=knees,
             knee_n_per_um=[None if k is None else k * springs.actuator_axial / 1e6
                            for k in knees],

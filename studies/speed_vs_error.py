@@ -29,12 +29,12 @@ def speed_vs_error(scene: Scene, case: Case, fem: Solve, reference, refinement,
             worst_error_percent=max(abs(schema.best_error(r)) for r in rows),
             single_run=False, mesh_from_cache=None))
     if refinement:
-        for size, secs, err, cached in zip(refinement["sizes_m"], refinement["seconds"],
+        for size, secs, err, cached in zip(refinement["mesh_sizes_mm"], refinement["seconds"],
                                            refinement["estimated_error_percent_max"],
                                            refinement["mesh_cache_hit"]):
             # one run, as computed when the result cache was filled (medians: make bench)
             out.append(schema.SpeedPoint(
-                model="fem", setting=f"h = {size * 1e3:g} mm", seconds=secs,
+                model="fem", setting=f"h = {size:g} mm", seconds=secs,
                 worst_error_percent=err, single_run=True, mesh_from_cache=cached))
     return out
 

@@ -253,7 +253,7 @@ def run_study(scene, models: dict[str, ModelOptions], cache: ResultCache, coarse
     return results.ValidationSweep(
         poses=rows, per_mode=percentiles(rows, list(models)),
         models={k: as_dict(v) for k, v in models.items()},
-        fem_mesh_size_mm=scene.fem.mesh_size * 1e3, fem_coarse_size_mm=coarse_size * 1e3,
+        mesh_size_mm=scene.fem.mesh_size * 1e3, coarse_mesh_size_mm=coarse_size * 1e3,
         failed=sum(1 for r in rows if r["error"]))
 
 

@@ -1,6 +1,7 @@
 """Shared fixtures: the paper's scene and its two cases; one CI-profile run of it."""
 from __future__ import annotations
 
+import fcntl
 import shutil
 from pathlib import Path
 from types import SimpleNamespace
@@ -24,22 +25,49 @@ def manipulator(scene):
     return scene.manipulator
 
 
-@pytest.fixture(scope="session")
-def paper_ci_run(tmp_path_factory):
-    """One CI-profile run of the paper's scene from an empty cache, made once for the session
-    (each run takes ~15 s): its out/, its cache, its results, and where the solid end zones
-    would have gone had the run not kept every cache under its own (`default_zones`, which
-    must stay absent). Tests read it; a test that writes copies it (`copied`)."""
-    import joint_ends.cache
-    import pipeline.run as run
+def shared(tmp_path_factory, worker_id: str, name: str, make) -> Path:
+    """A folder made once for the whole test session, whatever the number of xdist workers:
+    the first worker to ask makes it (`make(folder)`) under a lock, the others wait and read
+    it (a session fixture is otherwise made once per worker)."""
+    if worker_id == "master":  # no xdist
+        folder = tmp_path_factory.mktemp(name)
+        make(folder)
+        return folder
+    root = tmp_path_factory.getbasetemp().parent  # shared by the workers of this session
+    folder = root / name
+    with open(root / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (root / f"{name}.done").exists():
+            shutil.rmtree(folder, ignore_errors=True)
+            folder.mkdir()
+            make(folder)
+            (root / f"{name}.done").touch()
+    return folder
 
-    base = tmp_path_factory.mktemp("paper-ci")
-    default = base / "default-cache"
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(joint_ends.cache, "cache_root", lambda: default)
-        results = run.validate(str(PAPER_SCENE), base / "out", base / "cache", profile="ci")
-    return SimpleNamespace(out=base / "out", cache=base / "cache", results=results,
-                           default_zones=default)
+
+@pytest.fixture(scope="session")
+def paper_ci_run(tmp_path_factory, worker_id):
+    """One CI-profile run of the paper's scene from an empty cache, made once for the session
+    (each run takes ~15 s; `shared` across the workers): its out/, its cache, its results, and
+    where the solid end zones would have gone had the run not kept every cache under its own
+    (`default_zones`, which must stay absent). Tests read it; a test that writes copies it
+    (`copied`)."""
+
+    def make(base: Path) -> None:
+        import joint_ends.cache
+        import pipeline.run as run
+
+        with pytest.MonkeyPatch.context() as patch:
+            patch.setattr(joint_ends.cache, "cache_root", lambda: base / "default-cache")
+            run.validate(str(PAPER_SCENE), base / "out", base / "cache", profile="ci")
+
+    from results import read
+    from studies import RECORDS
+
+    base = shared(tmp_path_factory, worker_id, "paper-ci", make)
+    return SimpleNamespace(out=base / "out", cache=base / "cache",
+                           results=read(base / "out" / "results.json", RECORDS),
+                           default_zones=base / "default-cache")
 
 
 def copied(folder: Path, target: Path) -> Path:
@@ -49,12 +77,16 @@ def copied(folder: Path, target: Path) -> Path:
 
 
 @pytest.fixture(scope="session")
-def fixture_report(tmp_path_factory):
+def fixture_report(tmp_path_factory, worker_id):
     """The report of the fixture results (tests/fixtures/report_results.json), built once for
-    the session (~15 s): (its folder, report.html, report.pdf). Tests only read it."""
-    from reports.build import build_report
-    from studies import RECORDS
+    the session (~15 s; `shared` across the workers): (its folder, report.html, report.pdf).
+    Tests only read it."""
 
-    out = tmp_path_factory.mktemp("fixture-report")
-    html, pdf = build_report(REPORT_FIXTURE, out, records=RECORDS)
-    return SimpleNamespace(out=out, html=html, pdf=pdf)
+    def make(out: Path) -> None:
+        from reports.build import build_report
+        from studies import RECORDS
+
+        build_report(REPORT_FIXTURE, out, records=RECORDS)
+
+    out = shared(tmp_path_factory, worker_id, "fixture-report", make)
+    return SimpleNamespace(out=out, html=out / "report.html", pdf=out / "report.pdf")

@@ -405,9 +405,9 @@ def test_check_baselines_reads_the_results_it_is_given(warm, tmp_path, capsys):
     path.write_text(json.dumps(results))
     assert check_command(str(path)) == 1
     assert "error_percent" in capsys.readouterr().err
-    results["cases"][0]["fem"]["mesh_size_m"] = 0.032
+    results["cases"][0]["fem"]["mesh_size_mm"] = 32.0
     path.write_text(json.dumps(results))
-    with pytest.raises(ValueError, match="mesh_size_m = 0.032, the baselines at 0.04"):
+    with pytest.raises(ValueError, match="mesh_size_mm = 32.0, the baselines at 40"):
         check_command(str(path))
     path.write_text(json.dumps(warm.results))  # the run's own chosen model: not comparable
     with pytest.raises(ValueError, match="not comparable"):

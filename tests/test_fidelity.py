@@ -68,7 +68,7 @@ def test_the_fem_seconds_of_sizes_outside_a_study_are_unknown_not_an_error():
     its seconds are None; sizes of the study are summed (to 1e-9) and the median taken."""
     from studies.fidelity import _fem_seconds_of
 
-    studies = {"a": {"sizes_m": [0.04, 0.032], "seconds": [1.0, 2.0]},
-               "b": {"sizes_m": [0.04, 0.032], "seconds": [3.0, 4.0]}}
+    studies = {"a": {"mesh_sizes_mm": [40.0, 32.0], "seconds": [1.0, 2.0]},
+               "b": {"mesh_sizes_mm": [40.0, 32.0], "seconds": [3.0, 4.0]}}
     assert _fem_seconds_of(studies, 0.04, 0.05) is None
     assert _fem_seconds_of(studies, 0.04 * (1 + 1e-12), 0.032) == 5.0

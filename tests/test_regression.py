@@ -22,7 +22,7 @@ def baseline():
 
 @pytest.fixture(scope="module")
 def current(baseline, tmp_path_factory):
-    return compute_tables(ROOT / baseline["scene"], baseline["mesh_size_m"],
+    return compute_tables(ROOT / baseline["scene"], baseline["mesh_size_mm"] * 1e-3,
                           tmp_path_factory.mktemp("cache"))
 
 

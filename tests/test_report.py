@@ -440,9 +440,9 @@ def test_the_refinement_tables_state_the_gci_beside_richardson(built):
     srcs = {c["attrs"]["data-src"] for c in built["page"].cells if "data-src" in c["attrs"]}
     for i, case in enumerate(built["results"]["cases"]):
         ref = case["fem_refinement"]
-        if not ref or f"/cases/{i}/fem_refinement/sizes_m/0" not in srcs:
+        if not ref or f"/cases/{i}/fem_refinement/mesh_sizes_mm/0" not in srcs:
             continue  # no refinement table for this case (the other cases have none)
-        for r, _ in enumerate(ref["sizes_m"]):
+        for r, _ in enumerate(ref["mesh_sizes_mm"]):
             assert f"/cases/{i}/fem_refinement/gci_percent_max/{r}" in srcs
         # the stated error is the larger of the two estimates, mode by mode
         for rich, grid, stated in zip(ref["richardson_error_percent"], ref["gci_percent"],

@@ -21,16 +21,16 @@ MODE_KEYS = {"label": str, "reference_hz": float, "hz": list, "deviation_percent
              "bounded": bool, "counted": bool, "passed": bool}
 CASE_KEYS = {"name", "title", "source", "discretisation", "what",
              "reference_uncertainty_percent", "tolerance_percent", "tolerance_reason",
-             "sizes_m", "dofs", "seconds", "modes", "checks", "bound_note", "passed"}
+             "mesh_sizes_mm", "dofs", "seconds", "modes", "checks", "bound_note", "passed"}
 
 
 def assert_record(record: dict) -> None:
     """The record has exactly the documented keys and types, and is JSON-ready."""
     assert set(record) == CASE_KEYS
     assert record["discretisation"] in ("tetrahedra", "harmonic")
-    n = len(record["sizes_m"])
+    n = len(record["mesh_sizes_mm"])
     assert n >= 3 and len(record["dofs"]) == n and len(record["seconds"]) == n
-    assert all(a > b for a, b in zip(record["sizes_m"], record["sizes_m"][1:]))
+    assert all(a > b for a, b in zip(record["mesh_sizes_mm"], record["mesh_sizes_mm"][1:]))
     for mode in record["modes"]:
         assert set(mode) == set(MODE_KEYS) | {"observed_order", "note"}
         for key, kind in MODE_KEYS.items():
@@ -51,7 +51,7 @@ def test_a_cheap_case_gives_a_complete_record(monkeypatch):
     monkeypatch.setattr(vrun, "CASE_LIST", (coarse,))
     record = vrun.run_case("fv41-torsion")
     assert_record(record)
-    assert record["sizes_m"] == [1.0, 0.5, 0.25]
+    assert record["mesh_sizes_mm"] == [1e3, 500.0, 250.0]
     assert abs(record["modes"][0]["deviation_percent"]) < 1e-3
 
 

@@ -5,7 +5,7 @@ finest from the reference, and the project's own discretisation-error estimates 
 size (`fem_reference.convergence`): Richardson's relative error and the GCI, the stated error
 being the larger (as for every FEM result of the project). Both are computed on the EFFECTIVE
 sizes of the meshes ((V / nodes)^(1/3) in 3D, (A / nodes)^(1/2) on a meridian, as the project's
-refinement studies do); `sizes_m` reports the nominal ones. The observed order is Celik's from
+refinement studies do); `mesh_sizes_mm` reports the nominal ones. The observed order is Celik's from
 the three sizes, uncapped (None when the sizes give none).
 
 A mode passes when |deviation| <= its tolerance and its deviation is either bounded by the
@@ -131,7 +131,8 @@ def run_case(name: str) -> dict:
             "reference_uncertainty_percent": case.reference_uncertainty_percent,
             "tolerance_percent": case.tolerance_percent,
             "tolerance_reason": case.tolerance_reason,
-            "sizes_m": [float(h) for h in case.sizes_m], "dofs": [o.dofs for o in outcomes],
+            "mesh_sizes_mm": [1e3 * float(h) for h in case.sizes_m],
+            "dofs": [o.dofs for o in outcomes],
             "seconds": seconds, "modes": modes, "checks": checks,
             "bound_note": case.bound_note, "passed": passed}
 
