@@ -192,6 +192,11 @@ def setting(default: Any = MISSING, **spec) -> Any:
     return field(default=default, metadata={"setting": Setting(**spec)})
 
 
+def named_setting(**spec) -> Any:
+    """A declared field without a default that may follow fields with one: given by name."""
+    return field(kw_only=True, metadata={"setting": Setting(**spec)})
+
+
 def declared(cls_or_obj) -> list[tuple[str, Setting, Any]]:
     """(name, Setting, default or MISSING) of every declared field, in order."""
     out = []

@@ -29,7 +29,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from common.errors import ComputeError
-from common.settings import MAX_LENGTH, MIN_PART, as_dict, check_settings, setting
+from common.settings import (
+    MAX_LENGTH,
+    MIN_PART,
+    as_dict,
+    check_settings,
+    named_setting,
+    setting,
+)
 
 from .bodies import Assembly, Cylinder, Plate
 from .mesh import SolidMesh
@@ -64,8 +71,10 @@ class MeshSettings:
         "least 0.005, the deepest grading measured (the harmonic legs' reference meshes): the "
         "singular rim limits convergence whatever the grading, so deeper only adds elements",
         minimum=MIN_RIM_FACTOR, maximum=1.0)
-    rim_zone: float = setting(
-        0.015, doc="distance from the joint-face rims at which the element size is back to the "
+    # no default here: a scene's is a fraction of its legs' diameter, the one rule
+    # (scene.load.geometry_defaults); every other caller gives its own, by name
+    rim_zone: float = named_setting(
+        doc="distance from the joint-face rims at which the element size is back to the "
         "global size (0 = no refinement)", unit="mm", minimum=0.0, maximum=MAX_LENGTH)
     rim_grading: float = setting(
         1.0, doc="exponent a of the graded size h (distance / rim_zone)^a near the rims, "

@@ -105,4 +105,4 @@ def test_a_new_mesh_knob_changes_the_key_without_touching_the_key_code(scene):
 
 def test_declared_ranges_are_checked_from_python_too():
     with pytest.raises(ValueError, match="rim_factor = 1.5: must be >= 0.005 and <= 1"):
-        MeshSettings(0.03, rim_factor=1.5)
+        MeshSettings(0.03, rim_factor=1.5, rim_zone=0.015)

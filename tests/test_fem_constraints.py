@@ -15,6 +15,7 @@ from fem_reference.discretisation import discretise
 from meshing import MeshSettings, build_mesh, pose_assembly
 
 SIZE = 0.045
+RIM_ZONE = 0.015  # the paper machine's: 0.15 of its 100 mm legs
 ORDERS = {"RPS": ("R", "S"), "SPR": ("S", "R")}
 
 
@@ -26,7 +27,7 @@ def pose(request, scene):
     m = replace(scene.manipulator, base_joint=base, platform_joint=top)
     geom = pose_geometry(m, scene.case(case).pose)
     assembly = pose_assembly(m, geom)
-    disc = discretise(build_mesh(assembly, MeshSettings(SIZE)))
+    disc = discretise(build_mesh(assembly, MeshSettings(SIZE, rim_zone=RIM_ZONE)))
     return geom, assembly, disc
 
 

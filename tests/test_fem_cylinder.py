@@ -57,7 +57,7 @@ def timoshenko_free_free(n_root: int = 1) -> float:
 @pytest.fixture(scope="module")
 def cylinder_modes():
     rod = Assembly((Cylinder("leg1", (0.0, 0.0, 0.0), tuple(L * AXIS), D / 2),))
-    disc = discretise(build_mesh(rod, MeshSettings(0.02)))
+    disc = discretise(build_mesh(rod, MeshSettings(0.02, rim_zone=0.15 * D)))
     k, m = stiffness_and_mass(disc, STEEL)
     modes = lowest_modes(k, m, 12)
     return disc, modes

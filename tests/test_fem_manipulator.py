@@ -20,7 +20,8 @@ SIZE = 0.04  # coarse: ~7000 dofs, ~0.5 s a pose
 
 def options(size: float, **kwargs) -> FemOptions:
     """The tetrahedral legs (this file specifies them; the harmonic ones: test_fem_harmonic)."""
-    return FemOptions(MeshSettings(size), **({"legs": "tetrahedra"} | kwargs))
+    return FemOptions(MeshSettings(size, rim_zone=0.015),  # 0.15 of the paper's 100 mm legs
+                      **({"legs": "tetrahedra"} | kwargs))
 
 
 def runtime(cache, **kwargs) -> FemRuntime:
@@ -215,7 +216,7 @@ def test_bad_options_raise_fem_error(kwargs, message):
 ])
 def test_bad_mesh_settings_name_the_value(kwargs, message):
     with pytest.raises(ValueError, match=message):
-        MeshSettings(**kwargs)
+        MeshSettings(**({"rim_zone": 0.015} | kwargs))
 
 
 def test_bad_sizes_and_geometry_raise_fem_error(manipulator, case1, cache):

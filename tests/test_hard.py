@@ -193,8 +193,8 @@ def fem_level_solves(scene, tmp_path_factory):
         for size, turn in MESHES:
             machine = hc.turned(scene.manipulator, math.radians(turn))
             geometry = pose_geometry(machine, scene.case("case1").pose)
-            result = solve_pose(machine, geometry, FemOptions(MeshSettings(size), modes=6,
-                                                              legs="tetrahedra"),
+            result = solve_pose(machine, geometry, FemOptions(
+                MeshSettings(size, rim_zone=scene.fem.mesh.rim_zone), modes=6, legs="tetrahedra"),
                                 runtime)
             out.append((size, turn, result, *seen[-1]))
     return out
@@ -286,15 +286,16 @@ def _geometry_cases():
     legs = pose_geometry(paper.manipulator, pose).leg_lengths.mean()
     slender = replace(paper.manipulator, leg_diameter=legs / 30)
     e, nu, rho = hc.TITANIUM
+    ci_mesh = MeshSettings(paper.fem_study.ci_mesh_size, rim_zone=paper.fem.mesh.rim_zone)
     cases = {
         "slender L/d 30": (slender, pose, MeshSettings(0.75 * slender.leg_diameter,
                                                        rim_zone=0.15 * slender.leg_diameter)),
         "thin plate 5 mm": (replace(paper.manipulator, platform_thickness=0.005), pose,
-                            MeshSettings(paper.fem_study.ci_mesh_size)),
+                            ci_mesh),
         "titanium": (replace(paper.manipulator, material=Material(e, e / (2 * (1 + nu)), rho)),
-                     pose, MeshSettings(paper.fem_study.ci_mesh_size)),
+                     pose, ci_mesh),
         "S-joint limit": (paper.manipulator, hc.limit_pose(paper.manipulator, "s_joint_max"),
-                          MeshSettings(paper.fem_study.ci_mesh_size)),
+                          ci_mesh),
     }
     for name in ("stocky", "aluminium"):
         scene = scene_named(name)

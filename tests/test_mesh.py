@@ -22,7 +22,7 @@ from meshing import (
 )
 
 ROD = Assembly((Cylinder("leg1", (0.0, 0.0, 0.0), (0.1, 0.2, 0.5), 0.05),))
-COARSE = MeshSettings(0.04)
+COARSE = MeshSettings(0.04, rim_zone=0.015)  # 0.15 of the rod's 100 mm diameter
 
 
 @pytest.fixture(scope="module")
@@ -91,9 +91,10 @@ def test_cache_hit_returns_the_identical_mesh(tmp_path):
 def test_cache_key_follows_geometry_and_settings():
     moved = Assembly((replace(ROD.cylinders[0], end=(0.1, 0.2, 0.5 + 1e-6)),))
     keys = {cache_key(ROD, COARSE), cache_key(moved, COARSE),
-            cache_key(ROD, MeshSettings(0.035)), cache_key(ROD, MeshSettings(0.04, 0.5, 0.01))}
+            cache_key(ROD, MeshSettings(0.035, rim_zone=0.015)),
+            cache_key(ROD, MeshSettings(0.04, 0.5, rim_zone=0.01))}
     assert len(keys) == 4
-    assert cache_key(ROD, COARSE) == cache_key(ROD, MeshSettings(0.04))
+    assert cache_key(ROD, COARSE) == cache_key(ROD, MeshSettings(0.04, rim_zone=0.015))
 
 
 @pytest.mark.parametrize("damage", ["garbage", "truncate", "empty", "bad-json", "other-mesh"])

@@ -127,8 +127,8 @@ def test_an_elastic_plate_with_a_payload_is_refused(scene):
     m = replace(scene.manipulator, payload=TOOL)
     geometry = pose_geometry(m, Pose(0.5436))
     with pytest.raises(FemError, match="elastic.*payload"):
-        solve_pose(m, geometry, FemOptions(MeshSettings(0.08), platform="elastic",
-                                           legs="tetrahedra"))
+        solve_pose(m, geometry, FemOptions(MeshSettings(0.08, rim_zone=scene.fem.mesh.rim_zone),
+                                           platform="elastic", legs="tetrahedra"))
 
 
 def test_the_symmetry_and_scaling_claims_are_the_structures_payload_or_not(scene):

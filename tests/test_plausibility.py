@@ -122,7 +122,7 @@ def test_mesh_cache_files_are_readable_by_others(tmp_path):
     mask = os.umask(0o022)
     try:
         cached_mesh(Assembly((Cylinder("leg1", (0, 0, 0), (0, 0, 0.3), 0.05),)),
-                    MeshSettings(0.04, 1.0, 0.0), tmp_path)
+                    MeshSettings(0.04, 1.0, rim_zone=0.0), tmp_path)
     finally:
         os.umask(mask)
     modes = {p.suffix: stat.S_IMODE(p.stat().st_mode) for p in tmp_path.iterdir()}
