@@ -66,7 +66,8 @@ FemTimings = dict[str, FemTiming]  # "<h>mm" -> the FEM's time per pose at that 
 
 
 class SweepBench(TypedDict):
-    """The CI-size workspace-validation sweep from an empty cache, per worker count."""
+    """The CI-size workspace-validation sweep from an empty cache, per worker count (keyed by
+    the count, "1", "2"; until schema 14's change it was workers_<n>_median_seconds)."""
     poses: int
     runs: int
     models: int

@@ -243,7 +243,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: schema.Profil
     scene = with_cache_dir(scene, cache.directory)  # solid end zones beside the other entries
     workers = workers or min(os.cpu_count() or 1, 8)
     console = Console(stderr=True)
-    summary = scene_summary(scene, scene_path)
+    summary, started = scene_summary(scene, scene_path), environment()  # at the run's start
     # every registered scene study's record, empty until it runs (the registry's stub)
     held: dict[str, Any] = {**schema.stub(studies.RECORDS, "scene"),
                             "reachable_workspace": reachable_workspace}
@@ -278,7 +278,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: schema.Profil
             held[study.key] = study.compute(ctx)
         results = _write_outputs(schema.Results(
             schema=schema.SCHEMA_VERSION, profile=profile, scene=summary,
-            environment=environment(), fidelity=fidelity.summary(), cases=cases,
+            environment=started, fidelity=fidelity.summary(), cases=cases,
             studies=cast(schema.Studies, held),  # the registry's keys: checked when written
             fixture_note=None), mode_files, stage)
         if report is not None:

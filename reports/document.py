@@ -113,7 +113,7 @@ def generic_sections(results: Results, records: Sequence[Record], c: Cells) -> d
             if not rows:
                 continue
             columns = [k for k in rows[0] if k]
-            tables.append({"name": table.name, "head": [head(*columns)], "rows": [
+            tables.append({"name": table.name, "cls": "generic", "head": [head(*columns)], "rows": [
                 [_generic_cell(c, row[""], k, row[k]) for k in columns] for row in rows]})
     return out
 

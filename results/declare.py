@@ -14,9 +14,20 @@ import csv
 import io
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, Iterable, Literal, Mapping
+from types import UnionType
+from typing import (
+    Annotated,
+    Any,
+    Iterable,
+    Literal,
+    Mapping,
+    Union,
+    get_args,
+    get_origin,
+)
 
 from pydantic import PydanticUserError, TypeAdapter, ValidationError
+from typing_extensions import get_type_hints, is_typeddict  # its TypedDicts (pydantic's)
 
 from common.errors import InputError
 
@@ -73,6 +84,13 @@ class Record:
         if self.empty not in (None, []):
             raise InputError(f"record {self.key}: an empty record is None or [], got "
                              f"{self.empty!r}")
+        for table in self.tables:  # a column the record cannot hold is refused here, at import
+            for column in table.columns:
+                if not _holds(self.type, [*filter(None, table.each.split("/")),
+                                          *column.split("/")]):
+                    raise InputError(f"record {self.key}: table {table.name}: column {column!r}"
+                                     f"{f' of {table.each!r}' if table.each else ''} is not a "
+                                     "field of the record")
 
     def checked(self, value: Any, where: str = "results") -> Any:
         """The record checked against its type, as soon as the study returns it (not after
@@ -128,17 +146,28 @@ def stub(records: Iterable[Record], scope: Scope) -> dict[str, Any]:
     return {r.key: [] if r.empty == [] else None for r in in_scope(records, scope)}
 
 
+# the report's own sections (the summary, the fidelity choice, the comparison of each case,
+# its mode shapes, the other cases): no study's section may take their anchors
+REPORT_ANCHORS = ("summary", "fidelity", "comparison", "modes", "other")
+
+
 def unique(records: Iterable[Record]) -> tuple[Record, ...]:
-    """The registry checked: one record per key, one section per anchor."""
+    """The registry checked: one record per key, one section per anchor (studies sharing an
+    anchor declare the same `Section`), none of the report's own anchors."""
     out = tuple(records)
     keys = [r.key for r in out]
     twice = sorted({k for k in keys if keys.count(k) > 1})
     if twice:
         raise InputError(f"records: {', '.join(twice)} declared more than once")
-    anchors = [(r.section.anchor, r.section.title) for r in out if r.section is not None]
-    clash = sorted({a for a, t in anchors if any(a == b and t != u for b, u in anchors)})
+    sections = [r.section for r in out if r.section is not None]
+    clash = sorted({s.anchor for s in sections
+                    if any(s.anchor == o.anchor and s != o for o in sections)})
     if clash:
-        raise InputError(f"records: the report anchor {', '.join(clash)} has two titles")
+        raise InputError(f"records: the report anchor {', '.join(clash)} is declared twice, "
+                         "differently")
+    taken = sorted({s.anchor for s in sections} & set(REPORT_ANCHORS))
+    if taken:
+        raise InputError(f"records: the report anchor {', '.join(taken)} is the report's own")
     return out
 
 
@@ -180,6 +209,31 @@ def table_rows(record: Record, table: Table, results: Mapping[str, Any]) -> list
 
 
 def _at(value: Any, pointer: str) -> Any:
+    """The value at a pointer; None where an optional part is absent."""
     for token in filter(None, pointer.split("/")):
-        value = value[int(token)] if isinstance(value, list) else value[token]
+        if value is None:
+            return None
+        value = value[int(token)] if isinstance(value, list) else value.get(token)
     return value
+
+
+def _holds(kind: Any, path: list[str]) -> bool:
+    """Whether a value of type `kind` can hold `path` (field names; a list's items are passed
+    through, an optional's value is its type's, a free mapping holds any key)."""
+    while True:
+        args = [a for a in get_args(kind) if a is not type(None)]
+        origin = get_origin(kind)
+        if origin is Annotated:
+            kind = args[0]
+        elif origin in (Union, UnionType) and len(args) == 1:
+            kind = args[0]
+        elif origin is list:
+            kind = args[0]
+        else:
+            break
+    if not path:
+        return True
+    if is_typeddict(kind):
+        hints = get_type_hints(kind, include_extras=True)
+        return path[0] in hints and _holds(hints[path[0]], path[1:])
+    return origin is dict or kind is Any  # a mapping of labels: any key

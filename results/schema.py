@@ -3,8 +3,11 @@ reports read it, the report test fixture is built through it.
 
 Every object is a TypedDict whose keys are all required (a value the run did not compute is
 null, never a missing key), checked by pydantic in strict mode with unknown keys rejected:
-`validated(results)` before writing, `read(path)` when reading. A file of another schema
-version gets one line naming its version. Change a field here and bump SCHEMA_VERSION.
+`validated(results, records)` before writing, `read(path, records)` when reading. The
+studies' records (`Studies`, and a `Case` beyond its `CaseCore`) are the keys the registry
+of study records declares (`records`: `studies.RECORDS`), each checked against its declared
+type: every declared one present, no other. A file of another schema version gets one line
+naming its version. Change a field here and bump SCHEMA_VERSION.
 
 Units are in the key names (_hz, _mm, _m, _deg, _percent, seconds); modes are 1-based in
 `pairs` and 0-based in lists. Every frequency is finite, positive and at most

@@ -120,8 +120,11 @@ def test_a_run_replaces_out_whole(warm, tmp_path):
     assert json.loads(second["results.json"])["scene"]["name"] == "second"
     assert {"modes/case2_fem.vtu", "modes/case2_fem.pvd", "results.json", "tables/case2.csv",
             "tables/case2.md"} <= set(second)
-    assert all(name.startswith(("modes/case2_fem", "results.json", "tables/case2"))
+    assert all(name.startswith(("modes/case2_fem", "results.json", "tables/case2",
+                                "tables/studies/"))
                for name in second), sorted(second)
+    assert not any("case1" in (out / name).read_text() for name in second
+                   if name.startswith("tables/studies/"))  # the studies' tables are the run's
     assert leftovers(out) == []
 
 

@@ -82,7 +82,8 @@ def test_harmless_characters_are_written_as_underscores(tmp_path):
     results = json.loads(RESULTS.read_text())
     results["cases"][0]["name"] = "niveau élevé: z 543"
     write_tables(results, tmp_path, RECORDS)
-    written = everything_under(tmp_path / "tables")
+    written = [p for p in everything_under(tmp_path / "tables")
+               if not p.startswith("studies")]  # the studies' tables are named by their keys
     assert {"niveau__lev___z_543.csv", "niveau__lev___z_543.md"} <= set(written)
     assert len(written) == 2 * len(results["cases"])
     assert file_stem("level pose") == "level_pose" and file_stem("café") == "caf_"

@@ -16,35 +16,41 @@ from results import Record, Section, Table, stub, table_rows
 from tests.conftest import PAPER_SCENE, copied
 
 NEW_STUDY = '''
-"""A study added by a test: the longest leg of every case, in leg diameters."""
+"""A study added by a test: the legs' slenderness over the machine's level band."""
+import numpy as np
 from pydantic import FiniteFloat, with_config
 from typing_extensions import TypedDict
 
 from analytical.kinematics import pose_geometry
+from analytical.params import Pose
+from analytical.reach import level_band
 from results import STRICT, Record, Section, Table
 from studies import Study
+
+HEIGHTS = 20  # more rows than a short table keeps on one page
 
 
 @with_config(STRICT)
 class Slenderness(TypedDict):
-    case: str
+    height_mm: FiniteFloat
     longest_leg_mm: FiniteFloat
     slenderness: FiniteFloat  # longest leg / leg diameter
 
 
 def run(ctx):
     m = ctx.scene.manipulator
+    band = level_band(m)
     rows = []
-    for name, case in ctx.scene.cases.items():
-        longest = float(max(pose_geometry(m, case.pose).leg_lengths))
-        rows.append(Slenderness(case=name, longest_leg_mm=longest * 1e3,
+    for z in np.linspace(band.low, band.high, HEIGHTS):
+        longest = float(max(pose_geometry(m, Pose(float(z))).leg_lengths))
+        rows.append(Slenderness(height_mm=float(z) * 1e3, longest_leg_mm=longest * 1e3,
                                 slenderness=longest / m.leg_diameter))
     return rows
 
 
 STUDY = Study(Record("leg_slenderness", "scene", list[Slenderness], [],
                      Section("slenderness", "Leg slenderness", "leg slenderness"),
-                     (Table("legs", ("case", "longest_leg_mm", "slenderness")),)),
+                     (Table("legs", ("height_mm", "longest_leg_mm", "slenderness")),)),
               "scene", run, profiles=("full", "ci"))
 '''
 
@@ -79,18 +85,18 @@ def test_a_study_registered_at_run_time_has_its_record_table_and_section(
                        profile="ci", report=partial(render_report, records=studies.RECORDS))
     written = json.loads((out / "results.json").read_text())
     rows = written["studies"]["leg_slenderness"]
-    assert rows == results["studies"]["leg_slenderness"]
-    assert {r["case"] for r in rows} >= {c["name"] for c in written["cases"]}  # every case
-    for r in rows:  # the record's numbers: a leg is longer than its diameter, and in mm
-        assert r["slenderness"] > 1 and r["longest_leg_mm"] > 100
+    assert rows == results["studies"]["leg_slenderness"] and len(rows) == 20
+    slender = [r["slenderness"] for r in rows]  # a level platform rises on longer legs
+    assert all(a < b for a, b in zip(slender, slender[1:])) and slender[0] > 1
+    assert all(r["longest_leg_mm"] == pytest.approx(r["slenderness"] * 100.0) for r in rows)
     with (out / "tables" / "studies" / "leg_slenderness-legs.csv").open() as handle:
         table = list(csv.DictReader(handle))
-    assert [row["case"] for row in table] == [r["case"] for r in rows]
+    assert [float(row["height_mm"]) for row in table] == [r["height_mm"] for r in rows]
     assert [float(row["slenderness"]) for row in table] == [r["slenderness"] for r in rows]
     page = (out / "report.html").read_text(encoding="utf-8")
     assert '<section id="slenderness">' in page and "Leg slenderness</h2>" in page
     assert 'href="#slenderness"' in page  # in the contents, numbered with the others
-    assert 'data-src="/studies/leg_slenderness/0/slenderness"' in page
+    assert 'data-src="/studies/leg_slenderness/19/slenderness"' in page  # every row, drawn
 
 
 def test_a_study_returning_a_wrong_record_is_refused_when_it_returns():
@@ -112,6 +118,25 @@ def test_results_holding_a_study_nobody_declared_are_refused_in_one_line(paper_c
     data["studies"].pop("leg_slenderness")
     with pytest.raises(InputError, match="studies.workspace: field required"):
         results.validated(data, studies.RECORDS)
+
+
+def test_a_table_column_the_record_cannot_hold_is_refused_at_declaration():
+    from results import HardCase
+
+    with pytest.raises(InputError, match="record x: table t: column 'nope' is not a field"):
+        Record("x", "scene", list[HardCase], [], None, (Table("t", ("claim", "nope")),))
+
+
+def test_a_section_on_the_reports_own_anchor_or_redeclared_is_refused():
+    from results import unique
+
+    mine = Record("x", "scene", list[dict[str, float]], [], Section("summary", "Mine"))
+    with pytest.raises(InputError, match="anchor summary is the report's own"):
+        unique([mine])
+    a = Record("a", "scene", list[dict[str, float]], [], Section("s", "One"))
+    b = Record("b", "scene", list[dict[str, float]], [], Section("s", "Two"))
+    with pytest.raises(InputError, match="anchor s is declared twice, differently"):
+        unique([a, b])
 
 
 def test_the_stub_and_the_tables_of_a_case_study_come_from_its_declaration():
