@@ -90,3 +90,12 @@ def fixture_report(tmp_path_factory, worker_id):
 
     out = shared(tmp_path_factory, worker_id, "fixture-report", make)
     return SimpleNamespace(out=out, html=out / "report.html", pdf=out / "report.pdf")
+
+
+def pytest_collection_modifyitems(config, items):
+    """The modules with slow tests first (each module's tests kept together, in their order),
+    so that the two workers do not end on one long FEM run while the other idles: the suite's
+    wall time is its critical path, and the long tests are in those modules."""
+    slow = {item.module.__name__ for item in items
+            if item.get_closest_marker("slow") is not None and item.module is not None}
+    items.sort(key=lambda item: (item.module is None or item.module.__name__ not in slow))
