@@ -100,7 +100,7 @@ def scene_summary(scene: Scene, path: str) -> schema.SceneSummary:
                               "platform_joint")),
             "actuator": act.quantity,
             "actuator_range_mm": [edge(m, "actuator_min", x) for x in (act.low, act.high)],
-            "leg_length_range_mm": [edge(m, "actuator_min", x) for x in leg_length_range(m)],
+            "leg_length_range_mm": [edge(m, "leg_length", x) for x in leg_length_range(m)],
             "rail_angle_deg": edge(m, "rail_angle", m.rail_angle) if is_prs(m) else None,
             **edge_values(m.material), "poisson_ratio": m.material.poisson_ratio,
             "payload": edge_values(m.payload), "leg": edge_values(m.leg),

@@ -21,6 +21,7 @@ from typing import (
     Iterable,
     Literal,
     Mapping,
+    Sequence,
     Union,
     get_args,
     get_origin,
@@ -171,7 +172,7 @@ def unique(records: Iterable[Record]) -> tuple[Record, ...]:
     return out
 
 
-def csv_text(rows: list[Row]) -> str:
+def csv_text(rows: Sequence[Row]) -> str:
     """Rows as CSV: the first row's keys are the columns (the row pointer "" left out), None
     an empty cell."""
     buf = io.StringIO()

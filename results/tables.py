@@ -6,8 +6,6 @@ model, the error and the MAC.
 """
 from __future__ import annotations
 
-import csv
-import io
 from pathlib import Path
 from typing import Literal, Sequence
 
@@ -63,12 +61,7 @@ def fmt(value: float | None, digits: int) -> str:
 
 
 def case_csv(case: Case) -> str:
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=columns(case), lineterminator="\n")
-    writer.writeheader()
-    for row in case_rows(case):
-        writer.writerow({k: ("" if v is None else v) for k, v in row.items()})
-    return buf.getvalue()
+    return csv_text(case_rows(case))
 
 
 def case_markdown(case: Case) -> str:
