@@ -90,7 +90,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return COMMANDS_BY_NAME[args.command].run(args)
     except ModuleNotFoundError as exc:
-        extras = "fem,report" if args.command in ("validate", "report") else "fem"
+        extras = ("fem,report" if args.command in ("validate", "report") else
+                  "modal-test" if args.command in ("correlate", "identify") else "fem")
         print(f"error: {exc.name} is not installed; `{prog} {args.command}` needs "
               f"pip install '{DISTRIBUTION}[{extras}]'", file=sys.stderr)
         return EXIT_BAD_INPUT

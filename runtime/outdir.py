@@ -27,8 +27,8 @@
   run killed exactly there leaves the previous tree aside, put back by the next run.
 - Safety: out/ must be a directory of its own. The current directory or one of its parents is
   refused, and an existing non-empty directory is replaced only if it holds an output of this
-  pipeline (results.json, report.html or bench.json at its top), so a mistyped `--out` never
-  deletes someone's files.
+  pipeline (one of OUTPUT_MARKERS at its top: results.json, a report, a study's record), so a
+  mistyped `--out` never deletes someone's files.
 """
 from __future__ import annotations
 
@@ -49,7 +49,8 @@ from typing import Callable, Iterator
 from common.errors import RpsError
 
 # An existing directory holding one of these may be replaced (outputs of earlier runs).
-OUTPUT_MARKERS = ("results.json", "report.html", "bench.json", "design.json")
+OUTPUT_MARKERS = ("results.json", "report.html", "bench.json", "design.json",
+                  "correlation.json", "identification.json")
 
 _AT_FDCWD = -100
 _RENAME_EXCHANGE = 2  # linux/fs.h
@@ -106,9 +107,10 @@ def check_output_dir(out: str | os.PathLike, option: str = "--out") -> Path:
             raise OutputError(f"{option} {text}: cannot be read ({exc.strerror})") from None
         if names and not any(n in names for n in OUTPUT_MARKERS):
             shown = ", ".join(names[:3]) + (", ..." if len(names) > 3 else "")
-            raise OutputError(f"{option} {text}: holds {shown} but no results.json or report: not "
-                              "an output directory of this pipeline, and each run replaces it "
-                              "whole; choose another directory")
+            raise OutputError(f"{option} {text}: holds {shown} but none of "
+                              f"{', '.join(OUTPUT_MARKERS)}: not an output directory of this "
+                              "pipeline, and each run replaces it whole; choose another "
+                              "directory")
     from .places import PlaceError, check_writable_dir
     try:  # the run is staged beside it, in its parent
         check_writable_dir(path.parent, option, typed=text)

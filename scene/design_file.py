@@ -33,17 +33,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from analytical.params import Manipulator, ModelOptions
+from analytical.params import ModelOptions
 from analytical.substructure import model_coordinates
-from common.leg_profile import LegProfile
-from common.payload import Payload
-from common.settings import MAX_MODES, Setting, declared, setting, text_problem
-from common.stiffness import Stiffness
+from common.settings import MAX_MODES, Setting, setting, text_problem
 
+from .address import resolve
 from .load import Scene, SceneError, _short, _Table, parse_scene, read_toml
 
-TABLES = {"manipulator": Manipulator, "leg": LegProfile, "stiffness": Stiffness,
-          "payload": Payload}
 OBJECTIVES = ("moving_mass", "lowest_frequency")
 MAX_DESIGNS = 2000  # a study's designs at most (each one workspace minimum, about a second)
 
@@ -107,27 +103,14 @@ class DesignSpec:
     model: ModelOptions
 
 
-def _number_keys(cls) -> dict[str, Setting]:
-    """The scene keys of the numbers `cls` declares (its nested tables excluded)."""
-    return {spec.scene_key(name): spec for name, spec, _ in declared(cls)
-            if spec.scene and spec.kind is float}
-
-
 def _variable(name: Any, bounds: Any, where: str) -> Variable:
-    table, _, key = str(name).partition(".")
-    if table not in TABLES or not key:
-        raise SceneError(f"{where}.variables: {name!r}: expected a scene key as 'table.key', "
-                         f"table one of {', '.join(TABLES)}")
-    known = _number_keys(TABLES[table])
-    if key not in known:
-        raise SceneError(f"{where}.variables: {name!r} is not a number of [{table}] (it has: "
-                         f"{', '.join(sorted(known))})")
+    address = resolve(name, f"{where}.variables:")
+    table, key, spec = address.table, address.key, address.spec
     if (not isinstance(bounds, list) or len(bounds) != 2
             or not all(isinstance(b, (int, float)) and not isinstance(b, bool)
                        and math.isfinite(b) for b in bounds) or not bounds[0] < bounds[1]):
         raise SceneError(f"{where}.variables.{name} = {bounds!r}: expected [low, high], two "
                          "finite numbers, low below high")
-    spec = known[key]
     for b in bounds:
         why = spec.problem(float(b) * spec.scale, edge=True)
         if why is not None:

@@ -114,20 +114,25 @@ def _cell(text: str) -> str:
     return " ".join(str(text).split()).replace("|", "\\|")
 
 
+def section(title: str, intro: str, classes) -> list[str]:
+    """One table's section: its title, its introduction and a row per declared key."""
+    lines = [f"## {title}", "", intro, "",
+             "| key | type | unit | default | allowed | meaning |",
+             "|---|---|---|---|---|---|"]
+    for cls in classes:
+        for name, spec, default in declared(cls):
+            if not spec.scene:
+                continue
+            lines.append("| " + " | ".join(_cell(x) for x in (
+                f"`{spec.scene_key(name)}`", _type(spec), spec.unit or "",
+                _default(name, spec, default), spec.range_text(), spec.doc)) + " |")
+    return lines + [""]
+
+
 def render() -> str:
     lines = [HEADER]
     for title, intro, classes in TABLES:
-        lines += [f"## {title}", "", intro, "",
-                  "| key | type | unit | default | allowed | meaning |",
-                  "|---|---|---|---|---|---|"]
-        for cls in classes:
-            for name, spec, default in declared(cls):
-                if not spec.scene:
-                    continue
-                lines.append("| " + " | ".join(_cell(x) for x in (
-                    f"`{spec.scene_key(name)}`", _type(spec), spec.unit or "",
-                    _default(name, spec, default), spec.range_text(), spec.doc)) + " |")
-        lines.append("")
+        lines += section(title, intro, classes)
     lines += ["## Physical consistency", "",
               "Rules that tie values together, checked when a scene is read, before any work "
               "(analytical/plausibility.py): a machine that breaks one cannot exist and is "

@@ -31,7 +31,7 @@ class Pair:
         return 100.0 * (f_model[self.model_mode] / f_reference[self.reference_mode] - 1.0)
 
 
-def _group_scores(model_shapes: np.ndarray, reference_shapes: np.ndarray, mac: np.ndarray,
+def group_scores(model_shapes: np.ndarray, reference_shapes: np.ndarray, mac: np.ndarray,
                   groups: list[list[int]]) -> np.ndarray:
     """MAC, except against a repeated group: there every member's column holds the share of
     each model shape lying in the group's subspace, ||P x||^2 / ||x||^2, which does not depend
@@ -66,7 +66,7 @@ def pair_modes(model_shapes: np.ndarray, model_hz: np.ndarray, reference_shapes:
         raise InputError(f"pairing needs {len(columns)} model modes, got "
                          f"{model_shapes.shape[1]}")
     mac = mac_matrix(model_shapes, reference_shapes)
-    rows, cols = linear_sum_assignment(-_group_scores(model_shapes, reference_shapes, mac,
+    rows, cols = linear_sum_assignment(-group_scores(model_shapes, reference_shapes, mac,
                                                       groups)[:, columns])
     assigned = {columns[c]: int(r) for r, c in zip(rows, cols)}
     pairs: list[Pair] = []

@@ -30,11 +30,13 @@ ROOMS: dict[str, frozenset[str]] = {
                           "results", "runtime"}),
     "studies": frozenset({"common", "verification", "analytical", "scene", "results", "runtime",
                           "solvers"}),
+    "modaltest": frozenset({"common", "fem_reference", "analytical", "scene", "results",
+                            "solvers"}),
     "pipeline": frozenset({"common", "meshing", "fem_reference", "analytical", "scene",
                            "results", "runtime", "solvers", "studies"}),
     "reports": frozenset({"common", "results", "runtime"}),
     "rps": frozenset({"common", "meshing", "fem_reference", "analytical", "scene", "results",
-                      "runtime", "solvers", "studies", "pipeline", "reports"}),
+                      "runtime", "solvers", "studies", "modaltest", "pipeline", "reports"}),
 }
 FLOORS = tuple(ROOMS)
 MAX_LINES = 450

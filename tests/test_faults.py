@@ -223,7 +223,7 @@ def test_out_must_be_a_directory_of_its_own(tmp_path):
     (tmp_path / "work" / "notes.txt").write_text("someone's work")
     for out, needle in ((".", "--out .: each run replaces the output directory whole, so it "
                               "cannot be the current directory"),
-                        ("work", "--out work: holds notes.txt but no results.json or report")):
+                        ("work", "--out work: holds notes.txt but none of results.json, ")):
         proc = finished("rps", "validate", "--scene", PAPER_SCENE, "--profile", "ci",
                         "--no-report", "--out", out, "--cache", tmp_path / "cache", cwd=tmp_path)
         assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1, proc.stderr

@@ -1,4 +1,5 @@
-"""`rps scene-docs`: rewrite docs/scenes.md from the scene declarations (checkout only)."""
+"""`rps scene-docs`: rewrite docs/scenes.md and docs/campaigns.md from the declarations of
+scene and campaign files (checkout only)."""
 from __future__ import annotations
 
 import argparse
@@ -13,10 +14,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     checkout(args.command)
+    from modaltest.docs import write as write_campaigns
     from scene.docs import write
     print(f"wrote {write()}")
+    print(f"wrote {write_campaigns()}")
     return 0
 
 
-COMMAND = Command("scene-docs", "rewrite docs/scenes.md from the scene declarations (checkout "
-                  "only)", add_arguments, run)
+COMMAND = Command("scene-docs", "rewrite docs/scenes.md and docs/campaigns.md from the "
+                  "declarations (checkout only)", add_arguments, run)

@@ -1,0 +1,146 @@
+"""What correlation.json and identification.json hold: typed records, mm and degrees at this
+edge as in every output (`rps correlate`, `rps identify`)."""
+from __future__ import annotations
+
+from typing_extensions import TypedDict
+
+SCHEMA = 1
+
+
+class PairRecord(TypedDict):
+    test_mode: int  # 1-based
+    model_mode: int  # 1-based
+    test_hz: float
+    model_hz: float
+    error_percent: float  # 100 (f_model / f_test - 1)
+    mac: float  # or, against a repeated model group, the test shape's share in its subspace
+    repeated: bool  # the model mode belongs to a group of (near-)repeated frequencies
+
+
+class UnpairedTest(TypedDict):
+    test_mode: int
+    test_hz: float
+    reason: str
+
+
+class UnpairedModel(TypedDict):
+    model_mode: int
+    model_hz: float
+
+
+class NodeRecord(TypedDict):
+    id: int
+    xyz_mm: list[float]
+    body: str
+    distance_mm: float  # outside the body (0: inside)
+    directions: list[str]
+
+
+class MachineRecord(TypedDict):
+    base_joints_mm: list[list[float]]
+    platform_joints_mm: list[list[float]]
+    platform_centre_mm: list[float]
+    platform_normal: list[float]
+    platform_radius_mm: float
+    leg_diameter_mm: float
+
+
+class PoseCorrelation(TypedDict):
+    name: str
+    height_mm: float
+    azimuth_deg: float
+    tilt_deg: float
+    source: str
+    data: str
+    test_hz: list[float]
+    test_damping_ratio: list[float] | None
+    model_hz: list[float]
+    mac: list[list[float]]  # rows: test modes, columns: model modes
+    pairs: list[PairRecord]
+    unpaired_test_modes: list[UnpairedTest]
+    unpaired_model_modes: list[UnpairedModel]
+    nodes: list[NodeRecord]
+    machine: MachineRecord
+
+
+class ModelRecord(TypedDict):
+    kind: str  # "analytical" or "fem"
+    description: str
+
+
+class PairingRecord(TypedDict):
+    min_mac: float
+    max_frequency_ratio: float
+    rule: str
+
+
+class CorrelationSummary(TypedDict):
+    pairs: int
+    unpaired_test_modes: int
+    mean_abs_error_percent: float | None
+    max_abs_error_percent: float | None
+    min_mac: float | None
+
+
+class Correlation(TypedDict):
+    schema: int
+    campaign: str
+    scene: str
+    model: ModelRecord
+    pairing: PairingRecord
+    poses: list[PoseCorrelation]
+    summary: CorrelationSummary
+    seconds: float
+
+
+class ParameterRecord(TypedDict):
+    key: str
+    unit: str
+    initial: float
+    value: float
+    ci95: list[float]
+    bounds: list[float]
+    identifiable: bool
+    at_bound: bool
+    relative_std_percent: float | None
+    reason: str
+
+
+class FitMode(TypedDict):
+    test_mode: int
+    test_hz: float
+    before_hz: float
+    after_hz: float
+    error_before_percent: float
+    error_after_percent: float
+    mac_after: float
+
+
+class FitPose(TypedDict):
+    pose: str
+    modes: list[FitMode]
+
+
+class NoiseRecord(TypedDict):
+    frequency_percent: float | None
+    source: str  # "stated" or "residuals"
+    degrees_of_freedom: int
+
+
+class Identification(TypedDict):
+    schema: int
+    campaign: str
+    scene: str
+    identified_scene: str
+    model: ModelRecord
+    parameters: list[ParameterRecord]
+    residual_rms_percent_before: float
+    residual_rms_percent_after: float
+    noise: NoiseRecord
+    singular_values: list[float]
+    parameter_correlation: list[list[float]]
+    fit: list[FitPose]
+    evaluations: int
+    seconds: float
+    optimiser: str
+    correlation_after: Correlation

@@ -1,0 +1,137 @@
+"""A campaign's correlation and identification, end to end, and what they write: the JSON
+record, its CSV tables and its page (`rps correlate`, `rps identify`)."""
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from analytical.params import ModelOptions
+from common.atomic import write_json_atomic, write_text_atomic
+from results.declare import csv_text
+from scene.address import edited_text
+
+from . import identify as ident
+from .campaign import Campaign
+from .correlate import correlate_pose, correlation, sampled, scores
+from .models import AnalyticalField, analytical_field, fem_field
+from .records import Correlation, Identification, ModelRecord
+
+
+def model_record(kind: str, options: ModelOptions, source: str) -> ModelRecord:
+    if kind == "fem":
+        return ModelRecord(kind="fem", description="the scene's 3D solid FEM at its default "
+                           "mesh size")
+    return ModelRecord(kind="analytical", description=(
+        f"substructure model: {options.beam} beams ({options.shear} shear), s = "
+        f"{options.elements}, joint ends {options.joint_ends}, legs {options.legs}; {source}"))
+
+
+def solved_modes(campaign: Campaign) -> list[int]:
+    """The model modes solved at each pose: the test's count and the extra ones."""
+    return [len(tp.modes.frequencies_hz) + campaign.correlation.extra_model_modes
+            for tp in campaign.poses]
+
+
+def analytical_fields(campaign: Campaign, options: ModelOptions) -> list[AnalyticalField]:
+    return [analytical_field(campaign.scene.manipulator, tp.pose, tp.geometry, options, n)
+            for tp, n in zip(campaign.poses, solved_modes(campaign))]
+
+
+def run_correlation(campaign: Campaign, options: ModelOptions, source: str,
+                    model: str = "analytical", cache=None) -> Correlation:
+    """Every pose's correlation with the analytical model (or the FEM)."""
+    start = time.perf_counter()
+    fields = (analytical_fields(campaign, options) if model == "analytical" else
+              [fem_field(campaign.scene, tp.geometry, n, cache)
+               for tp, n in zip(campaign.poses, solved_modes(campaign))])
+    poses = [correlate_pose(campaign, tp, f) for tp, f in zip(campaign.poses, fields)]
+    return correlation(campaign, poses, model_record(model, options, source),
+                       time.perf_counter() - start)
+
+
+def run_identification(campaign: Campaign, options: ModelOptions,
+                       source: str) -> tuple[Identification, str]:
+    """The fit of the campaign's [identify] keys; the record and the identified scene's
+    text (the scene file with the identified values, every comment kept)."""
+    start = time.perf_counter()
+    problem = ident.Problem(campaign, options, solved_modes(campaign))
+    before = [correlate_pose(campaign, tp, f) for tp, f in
+              zip(campaign.poses, problem.fields(np.log([p.initial
+                                                          for p in campaign.parameters])))]
+    problem.fitted = [(k, pr["test_mode"] - 1) for k, pose in enumerate(before)
+                      for pr in pose["pairs"]]
+    if not problem.fitted:
+        from common.errors import ComputeError
+        raise ComputeError("identification: no test mode pairs with a model mode at the "
+                           "scene's values (see `rps correlate`); nothing to fit")
+    fit = ident.fit(problem)
+    records, noise, singular, corr = ident.uncertainty(fit, campaign)
+    after_fields = problem.fields(fit.x)
+    after = [correlate_pose(campaign, tp, f) for tp, f in zip(campaign.poses, after_fields)]
+    macs = {}
+    for k, (tp, f) in enumerate(zip(campaign.poses, after_fields)):
+        _, score, _ = scores(tp.modes.shapes, sampled(tp, f), f.frequencies_hz,
+                             tp.modes.frequencies_hz)
+        for r, (pose, i) in enumerate(problem.fitted):
+            if pose == k:
+                j = problem.partners(after_fields)[r]
+                macs[(pose, i)] = float(score[i, j])
+    values = {p.address: math.exp(x) for p, x in zip(campaign.parameters, fit.x)}
+    text = Path(campaign.scene_path).read_text(encoding="utf-8")
+    identified = edited_text(text, values)
+    model = model_record("analytical", options, source)
+    seconds = time.perf_counter() - start
+    record = Identification(
+        schema=1, campaign=campaign.path, scene=campaign.scene_path,
+        identified_scene="identified.toml", model=model, parameters=records,
+        residual_rms_percent_before=ident.rms_percent(fit.residuals_before),
+        residual_rms_percent_after=ident.rms_percent(fit.residuals_after), noise=noise,
+        singular_values=singular, parameter_correlation=corr,
+        fit=ident.fit_table(problem, fit, after_fields, macs), evaluations=fit.evaluations,
+        seconds=seconds, optimiser=f"scipy least_squares (trf, bounded, log space): "
+                                   f"{fit.message}",
+        correlation_after=correlation(campaign, after, model, seconds))
+    return record, identified
+
+
+def pair_rows(data: Correlation) -> list[dict]:
+    return [{"pose": pose["name"], **{k: p[k] for k in ("test_mode", "model_mode", "test_hz",
+                                                          "model_hz", "error_percent", "mac",
+                                                          "repeated")}}
+            for pose in data["poses"] for p in pose["pairs"]]
+
+
+def unpaired_rows(data: Correlation) -> list[dict]:
+    return [{"pose": pose["name"], "test_mode": u["test_mode"], "test_hz": u["test_hz"],
+             "reason": u["reason"]} for pose in data["poses"] for u in pose["unpaired_test_modes"]]
+
+
+def write_correlation(data: Correlation, directory: Path) -> list[Path]:
+    """correlation.json, tables/correlation-pairs.csv and -unpaired.csv (the page is the
+    report room's, `reports.campaign_pages`)."""
+    out = [write_json_atomic(directory / "correlation.json", data)]
+    tables = directory / "tables"
+    tables.mkdir(exist_ok=True)
+    out.append(write_text_atomic(tables / "correlation-pairs.csv", csv_text(pair_rows(data))))
+    out.append(write_text_atomic(tables / "correlation-unpaired.csv",
+                                 csv_text(unpaired_rows(data))))
+    return out
+
+
+def write_identification(data: Identification, identified: str, directory: Path) -> list[Path]:
+    """identification.json, identified.toml, tables/identification-*.csv."""
+    out = [write_json_atomic(directory / "identification.json", data),
+           write_text_atomic(directory / "identified.toml", identified)]
+    tables = directory / "tables"
+    tables.mkdir(exist_ok=True)
+    out.append(write_text_atomic(tables / "identification-parameters.csv", csv_text(
+        [{**{k: v for k, v in p.items() if k not in ("ci95", "bounds")},
+          "ci95_low": p["ci95"][0], "ci95_high": p["ci95"][1], "low": p["bounds"][0],
+          "high": p["bounds"][1]} for p in data["parameters"]])))
+    out.append(write_text_atomic(tables / "identification-fit.csv", csv_text(
+        [{"pose": pose["pose"], **m} for pose in data["fit"] for m in pose["modes"]])))
+    return out
+

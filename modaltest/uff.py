@@ -1,0 +1,448 @@
+"""Universal File Format (UFF) files read and written through pyuff (never parsed by hand):
+units (164), nodes (15, 2411), modes (55), FRFs (58). SI inside: metres, hertz, m/N.
+
+Reading (`read_uff`; any refusal is a `UffError`, one line naming the file and the problem):
+- lengths are mm and forces N unless a 164 gives the file's units (then its factors, file units
+  per SI unit); nodes (15, 2411) are in the global frame: a local system that a 2420/18 defines
+  off it is refused, an undefined system label is taken as global;
+- modes: one 55 per mode, in file order; normal modes (analysis type 2) give the frequency and
+  the modal viscous damping ratio, complex ones (3, 7) the eigenvalue in rad/s (f = |lambda| /
+  2 pi, zeta = -Re lambda / |lambda|) and shapes made real by the best common phase rotation
+  (`complex_to_real_shape`). Three translations per node (six only with zero rotations). A
+  component exactly 0 in every mode is taken as NOT measured, left out of `Modes.dofs` (the dofs
+  come grouped by node, in order of appearance, x, y, z, all +). Shapes keep the file's numbers;
+- FRFs: 58s of function type 4, directions 1/2/3 = x/y/z, negative = minus (kept), rotations
+  refused; numerator displacement, velocity or acceleration, denominator force (unknown types
+  taken as these), converted to receptance in m/N (at 0 Hz a mobility or accelerance cannot be:
+  that line is dropped for every FRF); one frequency axis for all;
+- a shape or FRF at a node no 15/2411 defines is refused, and so is any non-finite number.
+
+Writing (`write_uff`): 164 (code 5: mm and mN, coherent with kg, so receptances and mass-
+normalised shapes keep their SI numbers), 2411 nodes in mm, one 55 per mode, one binary 58 per
+FRF (receptance, with its frequencies). The round trip is as exact as pyuff allows: 2411 has 17
+digits, a coordinate returns as (x * 1000) / 1000 (within 1 ulp); 58b holds raw doubles, FRFs
+return bitwise; 55 is written '%13.5e' (no double option), frequencies, damping ratios and shapes
+return as float(f'{v:.5e}'), 6 significant digits. pyuff's 58b header counts 8 bytes a point
+where a complex record with frequencies has 24: pyuff ignores it, a strict reader may not.
+"""
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import pyuff
+
+from common.atomic import atomic_write
+from common.errors import InputError
+from common.messages import one_line
+
+FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.int64]
+ComplexArray = npt.NDArray[np.complex128]
+
+MM_PER_M = 1000.0
+_WRITE_UNITS = {"type": 164, "units_code": 5, "units_description": "mm (milli-newton)",
+                "temp_mode": 2, "length": 1000.0, "force": 1000.0, "temp": 1.0,
+                "temp_offset": 273.15}
+_READ = {15, 18, 55, 58, 164, 2411, 2420}
+_NUMERATOR_POWER = {0: 0, 8: 0, 11: 1, 12: 2}  # unknown, displacement, velocity, acceleration
+_DENOMINATOR = {0, 9, 13}  # unknown, reaction force, excitation force
+_ABSCISSA = {0, 18}  # unknown, frequency (Hz)
+_Sets = list[tuple[int, dict[str, Any]]]  # (dataset number in the file, pyuff's dict)
+
+
+class UffError(InputError):
+    """A UFF file, or data meant for one, refused: one line naming it and what is wrong."""
+
+
+def _array(values: Any, dtype: type, what: str, shape: tuple[int | None, ...]) -> Any:
+    """A read-only finite copy of `values` with this dtype and shape (None: any length); ids
+    (int64) may come as floats with integral values."""
+    try:
+        raw = np.asarray(values)
+    except ValueError as exc:  # ragged
+        raise UffError(f"{what}: {one_line(exc)}") from None
+    if raw.dtype.kind not in ("iufc" if dtype is np.complex128 else "iuf"):
+        raise UffError(f"{what}: {raw.dtype} values where {dtype.__name__} ones are expected")
+    if dtype is np.int64 and not np.all(np.isfinite(raw) & (raw == np.round(raw))):
+        raise UffError(f"{what}: ids must be integers")
+    arr: Any = raw.astype(dtype)  # a copy
+    if arr.ndim != len(shape) or any(n is not None and n != s for n, s in zip(shape, arr.shape)):
+        expected = "(" + ", ".join("n" if n is None else str(n) for n in shape) + ")"
+        raise UffError(f"{what}: shape {arr.shape}, expected {expected}")
+    if not np.all(np.isfinite(arr)):
+        raise UffError(f"{what}: non-finite values")
+    arr.setflags(write=False)
+    return arr
+
+
+@dataclass(frozen=True, eq=False)
+class Nodes:
+    """Node ids and their coordinates (m) in the file's frame."""
+
+    ids: IntArray  # (n,)
+    xyz: FloatArray  # (n, 3)
+
+    def __post_init__(self) -> None:
+        ids = _array(self.ids, np.int64, "Nodes.ids", (None,))
+        object.__setattr__(self, "ids", ids)
+        object.__setattr__(self, "xyz", _array(self.xyz, np.float64, "Nodes.xyz", (len(ids), 3)))
+        unique, counts = np.unique(ids, return_counts=True)
+        if np.any(counts > 1):
+            raise UffError(f"node {unique[counts > 1][0]} is defined twice")
+
+
+@dataclass(frozen=True, eq=False)
+class Dofs:
+    """Degrees of freedom: a node and a unit direction (x, y, z of the base frame, signed)."""
+
+    node: IntArray  # (k,)
+    direction: FloatArray  # (k, 3)
+
+    def __post_init__(self) -> None:
+        node = _array(self.node, np.int64, "Dofs.node", (None,))
+        object.__setattr__(self, "node", node)
+        direction = _array(self.direction, np.float64, "Dofs.direction", (len(node), 3))
+        if np.any(np.abs(np.linalg.norm(direction, axis=1) - 1.0) > 1e-9):
+            raise UffError("Dofs.direction: not unit vectors")
+        object.__setattr__(self, "direction", direction)
+
+    @classmethod
+    def from_codes(cls, node: Any, codes: Any) -> Dofs:
+        """Dofs from UFF direction codes: 1, 2, 3 = +x, +y, +z; negative = minus."""
+        c = np.asarray(codes, dtype=np.int64)
+        if np.any((c == 0) | (np.abs(c) > 3)):
+            raise UffError(f"direction codes {sorted(set(c.tolist()))}: only +-1, 2, 3")
+        return cls(node, np.sign(c)[:, None] * np.eye(3)[np.abs(c) - 1])
+
+    def codes(self) -> IntArray:
+        """The UFF direction codes (+-1, 2, 3); UffError for a direction off the axes."""
+        d = self.direction
+        axis = np.argmax(np.abs(d), axis=1)
+        off = np.abs(np.abs(d) - np.eye(3)[axis]).max(axis=1, initial=0.0) > 1e-12
+        if np.any(off):
+            i = int(np.flatnonzero(off)[0])
+            raise UffError(f"dof at node {self.node[i]}: direction {d[i].tolist()} is not along "
+                           "x, y or z (a UFF direction is +-x, +-y or +-z)")
+        codes: IntArray = (np.sign(d[np.arange(len(d)), axis]) * (axis + 1)).astype(np.int64)
+        return codes
+
+
+@dataclass(frozen=True, eq=False)
+class Modes:
+    """Real modes at measured dofs."""
+
+    frequencies_hz: FloatArray  # (m,)
+    damping_ratios: FloatArray | None  # (m,), or None when the file gives none (all zero)
+    dofs: Dofs
+    shapes: FloatArray  # (k, m)
+
+    def __post_init__(self) -> None:
+        hz = _array(self.frequencies_hz, np.float64, "Modes.frequencies_hz", (None,))
+        if np.any(hz < 0.0):
+            raise UffError("Modes.frequencies_hz: negative frequency")
+        object.__setattr__(self, "frequencies_hz", hz)
+        if (zeta := self.damping_ratios) is not None:
+            zeta = _array(zeta, np.float64, "Modes.damping_ratios", (len(hz),))
+            object.__setattr__(self, "damping_ratios", zeta)
+        object.__setattr__(self, "shapes", _array(self.shapes, np.float64, "Modes.shapes",
+                                                  (len(self.dofs.node), len(hz))))
+
+
+@dataclass(frozen=True, eq=False)
+class Frfs:
+    """Receptances (m/N) on one frequency axis, one excitation dof per FRF."""
+
+    frequency_hz: FloatArray  # (nf,)
+    dofs: Dofs  # response dofs, k
+    reference: Dofs  # excitation dof per FRF, k
+    values: ComplexArray  # (k, nf)
+
+    def __post_init__(self) -> None:
+        f = _array(self.frequency_hz, np.float64, "Frfs.frequency_hz", (None,))
+        if len(f) < 2 or f[0] < 0.0 or np.any(np.diff(f) <= 0.0):
+            raise UffError("Frfs.frequency_hz: expected at least 2 lines, >= 0, increasing")
+        object.__setattr__(self, "frequency_hz", f)
+        if (k := len(self.dofs.node)) != len(self.reference.node):
+            raise UffError(f"Frfs: {k} response dofs, {len(self.reference.node)} references")
+        object.__setattr__(self, "values", _array(self.values, np.complex128, "Frfs.values",
+                                                  (k, len(f))))
+
+
+@dataclass(frozen=True, eq=False)
+class UffContent:
+    path: str
+    nodes: Nodes
+    modes: Modes | None
+    frfs: Frfs | None
+    length_unit_m: float  # metres per file length unit
+
+
+def complex_to_real_shape(psi: Any) -> FloatArray:
+    """Re(psi e^(-i theta)), theta = arg(sum psi^2) / 2: the common phase rotation that maximises
+    the real part's norm (the best real shape up to scale); signed: largest component > 0."""
+    z = np.asarray(psi, dtype=np.complex128)
+    real: FloatArray = (z * np.exp(-0.5j * np.angle(np.sum(z * z)))).real
+    return -real if real.size and real[int(np.argmax(np.abs(real)))] < 0 else real
+
+
+def read_uff(path: str | os.PathLike[str]) -> UffContent:
+    """Nodes, modes (55) and FRFs (58) of a UFF file, in SI (module docstring for the rules)."""
+    name = os.fspath(path)
+    try:
+        sets = _read_sets(name)
+        length, force = _units(sets)
+        nodes = _nodes(sets, length)
+        modes = _modes(sets, set(nodes.ids.tolist()))
+        frfs = _frfs(sets, set(nodes.ids.tolist()), force / length)
+        if modes is None and frfs is None:
+            raise UffError("neither modes (dataset 55) nor FRFs (dataset 58, function type 4)")
+    except UffError as exc:
+        raise UffError(f"{name}: {exc}") from None
+    return UffContent(name, nodes, modes, frfs, 1.0 / length)
+
+
+def _read_sets(name: str) -> _Sets:
+    if not os.path.isfile(name):
+        raise UffError("not a file" if os.path.exists(name) else "no such file")
+    try:
+        uff = pyuff.UFF(name)
+        types = [int(t) for t in uff.get_set_types()]
+    except Exception as exc:
+        raise UffError(f"cannot be read ({one_line(exc)})") from None
+    if not any(t > 0 for t in types):
+        raise UffError("not a universal file (no dataset between '-1' delimiter lines)")
+    out = []
+    for i, t in enumerate(types):
+        if t in _READ:
+            try:
+                out.append((i + 1, uff.read_sets(i)))
+            except Exception as exc:
+                raise UffError(f"dataset {i + 1} (type {t}) cannot be read by pyuff: "
+                               f"{one_line(exc)}") from None
+    return out
+
+
+def _units(sets: _Sets) -> tuple[float, float]:
+    """(file length units per metre, file force units per newton)."""
+    found = {(float(d["length"]), float(d["force"])) for _, d in sets if d["type"] == 164}
+    if not found:
+        return MM_PER_M, 1.0
+    if len(found) > 1:
+        raise UffError(f"{len(found)} different unit systems (dataset 164)")
+    length, force = found.pop()
+    if not (math.isfinite(length) and length > 0.0 and math.isfinite(force) and force > 0.0):
+        raise UffError(f"dataset 164: unusable unit factors (length {length}, force {force})")
+    return length, force
+
+
+def _nodes(sets: _Sets, length: float) -> Nodes:
+    ids: list[float] = []
+    xyz: list[tuple[float, float, float]] = []
+    frames: set[float] = set()
+    for _, d in sets:
+        if d["type"] in (15, 2411):
+            ids += list(d["node_nums"])
+            xyz += list(zip(d["x"], d["y"], d["z"]))
+            frames.update(np.concatenate([d["def_cs"], d["disp_cs"]]).tolist())
+    if not ids:
+        raise UffError("no nodes (dataset 15 or 2411)")
+    _check_frames(sets, frames - {0.0})
+    return Nodes(np.array(ids, dtype=np.float64), np.array(xyz, dtype=np.float64) / length)
+
+
+def _check_frames(sets: _Sets, used: set[float]) -> None:
+    """Refuse nodes in a local coordinate system that a 2420 or 18 defines off the global one."""
+    for index, d in sets:
+        if d["type"] == 2420:
+            frames = [(label, kind == 0 and np.array_equal(m, np.eye(4, 3)))
+                      for label, kind, m in zip(d["CS_sys_labels"], d["CS_types"],
+                                                d["CS_matrices"])]
+        elif d["type"] == 18:  # origin, a point on +x, a point in the xz plane (z > 0)
+            frames = [(label, kind == 0 and not np.any(o) and x[0] > 0 and not np.any(x[1:])
+                       and xz[1] == 0 and xz[2] > 0) for label, kind, o, x, xz in
+                      zip(d["cs_num"], d["cs_type"], d["ref_o"], d["x_point"], d["xz_point"])]
+        else:
+            continue
+        for label, is_global in frames:
+            if label in used and not is_global:
+                raise UffError(f"dataset {index} ({d['type']}): nodes use local coordinate "
+                               f"system {label:g}, not the global frame (not supported)")
+
+
+def _modes(sets: _Sets, known: set[int]) -> Modes | None:
+    order: dict[int, int] = {}  # node id -> position, by first appearance
+    columns: list[dict[int, Any]] = []
+    info: list[tuple[float, float, bool]] = []  # frequency, damping ratio, complex shape
+    for index, d in sets:
+        if d["type"] != 55 or d["analysis_type"] not in (2, 3, 7):
+            continue
+        where = f"dataset {index} (55, mode {len(info) + 1})"
+        if d["analysis_type"] == 2:
+            f, z = float(d["freq"]), float(d.get("modal_damp_vis", 0.0))
+        else:
+            eig = complex(d["eig"])
+            f, z = abs(eig) / (2.0 * math.pi), (-eig.real / abs(eig) if eig != 0 else 0.0)
+        ndv = d["n_data_per_node"]
+        if ndv not in (3, 6) or (ndv == 6 and any(np.any(d[r] != 0) for r in ("r4", "r5", "r6"))):
+            raise UffError(f"{where}: {ndv} values per node, not 3 translations (or 6, zero turns)")
+        values = np.stack([np.asarray(d[r]) for r in ("r1", "r2", "r3")], axis=1)
+        column: dict[int, Any] = {}
+        for node_id, v in zip(np.asarray(d["node_nums"]).tolist(), values):
+            if node_id not in known:
+                raise UffError(f"{where}: shape at node {node_id}, which no 15/2411 defines")
+            if node_id in column:
+                raise UffError(f"{where}: node {node_id} given twice")
+            column[node_id] = v
+            order.setdefault(node_id, len(order))
+        columns.append(column)
+        info.append((f, z, bool(np.iscomplexobj(values))))
+    if not columns:
+        return None
+    full = np.zeros((3 * len(order), len(columns)), dtype=np.complex128)
+    for r, column in enumerate(columns):
+        for node_id, v in column.items():
+            full[3 * order[node_id]:3 * order[node_id] + 3, r] = v
+    hz, zeta, is_complex = (np.array(v) for v in zip(*info))
+    if not (np.all(np.isfinite(full)) and np.all(np.isfinite(hz)) and np.all(np.isfinite(zeta))):
+        raise UffError("non-finite numbers in a mode (dataset 55)")
+    measured = np.any(full != 0, axis=1)
+    if not np.any(measured):
+        raise UffError("every mode-shape component is zero (dataset 55)")
+    full = full[measured]
+    shapes = np.column_stack([complex_to_real_shape(full[:, r]) if is_complex[r]
+                              else full[:, r].real for r in range(len(columns))])
+    axis = np.tile(np.arange(3), len(order))[measured]
+    dofs = Dofs(np.repeat(np.array(list(order), dtype=np.int64), 3)[measured], np.eye(3)[axis])
+    return Modes(hz, zeta if np.any(zeta != 0.0) else None, dofs, shapes)
+
+
+def _frfs(sets: _Sets, known: set[int], factor: float) -> Frfs | None:
+    rows: list[Any] = []
+    powers: list[int] = []
+    ends: list[list[int]] = []  # response node, code, reference node, code
+    axis: FloatArray | None = None
+    for index, d in sets:
+        if d["type"] != 58 or d["func_type"] != 4:
+            continue
+        where = f"dataset {index} (58, FRF {len(rows) + 1})"
+        end = [int(d[k]) for k in ("rsp_node", "rsp_dir", "ref_node", "ref_dir")]
+        for what, node_id, code in (("response", end[0], end[1]), ("reference", end[2], end[3])):
+            if node_id not in known:
+                raise UffError(f"{where}: {what} at node {node_id}, which no 15/2411 defines")
+            if not 1 <= abs(code) <= 3:
+                raise UffError(f"{where}: {what} direction {code}, not a translation (+-1..3)")
+        ends.append(end)
+        num, den = d["ordinate_spec_data_type"], d["orddenom_spec_data_type"]
+        if d["abscissa_spec_data_type"] not in _ABSCISSA:
+            raise UffError(f"{where}: abscissa type {d['abscissa_spec_data_type']} (not Hz)")
+        if num not in _NUMERATOR_POWER or den not in _DENOMINATOR:
+            raise UffError(f"{where}: ordinate types {num}/{den} are not displacement, "
+                           "velocity or acceleration per force; cannot convert to receptance")
+        x, data = np.asarray(d["x"], dtype=np.float64), np.asarray(d["data"])
+        if not np.iscomplexobj(data):
+            raise UffError(f"{where}: real-valued data; an FRF is complex")
+        if len(x) != len(data) or not (np.all(np.isfinite(x)) and np.all(np.isfinite(data))):
+            raise UffError(f"{where}: non-finite numbers, or not one value per frequency")
+        if axis is None:
+            if len(x) < 2 or x[0] < 0.0 or np.any(np.diff(x) <= 0.0):
+                raise UffError(f"{where}: frequencies not increasing from >= 0 Hz")
+            axis = x
+        elif len(x) != len(axis) or np.max(np.abs(x - axis)) > 1e-9 * np.max(np.abs(axis)):
+            raise UffError(f"{where}: its frequency axis ({len(x)} lines, {x[0]:g}-{x[-1]:g} "
+                           f"Hz) differs from the first FRF's ({len(axis)} lines, "
+                           f"{axis[0]:g}-{axis[-1]:g} Hz)")
+        rows.append(data)
+        powers.append(_NUMERATOR_POWER[num])
+    if axis is None:
+        return None
+    values = np.array(rows, dtype=np.complex128)
+    if factor != 1.0:
+        values = values * factor
+    if any(powers) and axis[0] == 0.0:  # mobility/accelerance: no receptance at 0 Hz
+        axis, values = axis[1:], values[:, 1:]
+    omega = 2.0 * np.pi * axis
+    for i, p in enumerate(powers):
+        if p == 1:
+            values[i] = values[i] / (1j * omega)
+        elif p == 2:
+            values[i] = values[i] / -(omega * omega)
+    e = np.array(ends, dtype=np.int64)
+    return Frfs(axis, Dofs.from_codes(e[:, 0], e[:, 1]), Dofs.from_codes(e[:, 2], e[:, 3]), values)
+
+
+def write_uff(path: str | os.PathLike[str], nodes: Nodes, modes: Modes | None = None,
+              frfs: Frfs | None = None, description: str = "") -> None:
+    """Write nodes, modes and FRFs as 164, 2411, 55 (one per mode) and binary 58 (one per FRF),
+    lengths in mm (module docstring for the precision); the file is replaced atomically."""
+    name = os.fspath(path)
+    text = " ".join(description.split())[:80] or "NONE"
+    try:
+        known = set(nodes.ids.tolist())
+        mm = nodes.xyz * MM_PER_M
+        zeros = np.zeros(len(nodes.ids), dtype=np.int64)
+        sets: list[dict[str, Any]] = [dict(_WRITE_UNITS), {
+            "type": 2411, "node_nums": nodes.ids, "def_cs": zeros, "disp_cs": zeros,
+            "color": zeros, "x": mm[:, 0], "y": mm[:, 1], "z": mm[:, 2]}]
+        sets += [] if modes is None else _mode_sets(modes, known, text)
+        sets += [] if frfs is None else _frf_sets(frfs, known, text)
+    except UffError as exc:
+        raise UffError(f"{name}: {exc}") from None
+
+    def write(tmp: str) -> None:
+        try:
+            with warnings.catch_warnings():  # pyuff leaves a 58b's reopened handle to the GC
+                warnings.simplefilter("ignore", ResourceWarning)
+                pyuff.UFF(tmp).write_sets(sets, mode="add")
+        except Exception as exc:
+            raise UffError(f"{name}: pyuff could not write it ({one_line(exc)})") from None
+
+    atomic_write(name, write)
+
+
+def _known(dofs: Dofs, known: set[int], what: str) -> IntArray:
+    if missing := sorted(set(dofs.node.tolist()) - known):
+        raise UffError(f"{what} at node {missing[0]}, which the nodes do not define")
+    return dofs.codes()
+
+
+def _mode_sets(modes: Modes, known: set[int], text: str) -> list[dict[str, Any]]:
+    codes = _known(modes.dofs, known, "a mode-shape dof")
+    order = {n: p for p, n in enumerate(dict.fromkeys(modes.dofs.node.tolist()))}
+    grid = np.zeros((len(order), 3, len(modes.frequencies_hz)))
+    filled = np.zeros((len(order), 3), dtype=bool)
+    for i, (node_id, code) in enumerate(zip(modes.dofs.node.tolist(), codes.tolist())):
+        p, a = order[node_id], abs(code) - 1
+        if filled[p, a]:
+            raise UffError(f"Modes.dofs: node {node_id} direction {'xyz'[a]} given twice")
+        filled[p, a] = True
+        grid[p, a] = modes.shapes[i] if code > 0 else -modes.shapes[i]
+    ids = np.array(list(order), dtype=np.int64)
+    zeta = np.zeros(len(modes.frequencies_hz)) if modes.damping_ratios is None \
+        else modes.damping_ratios
+    # pyuff's defaults: id3-id5 "NONE", model type 1 (structural), no modal mass or hysteresis
+    return [{"type": 55, "id1": text, "id2": f"mode {r + 1}", "analysis_type": 2, "data_ch": 2,
+             "spec_data_type": 8, "load_case": 1, "mode_n": r + 1, "freq": float(f),
+             "modal_damp_vis": float(zeta[r]), "node_nums": ids, "r1": grid[:, 0, r].copy(),
+             "r2": grid[:, 1, r].copy(), "r3": grid[:, 2, r].copy()}
+            for r, f in enumerate(modes.frequencies_hz)]
+
+
+def _frf_sets(frfs: Frfs, known: set[int], text: str) -> list[dict[str, Any]]:
+    rsp = _known(frfs.dofs, known, "an FRF response")
+    ref = _known(frfs.reference, known, "an FRF reference")
+    # pyuff's defaults: id3-id5, entity names and labels "NONE", version and load case 0
+    return [{"type": 58, "binary": 1, "id1": text, "id2": "receptance", "func_type": 4,
+             "func_id": i + 1, "rsp_node": int(frfs.dofs.node[i]), "rsp_dir": int(rsp[i]),
+             "ref_node": int(frfs.reference.node[i]), "ref_dir": int(ref[i]),
+             "abscissa_spacing": 0, "abscissa_spec_data_type": 18,
+             "abscissa_axis_units_lab": "Hz", "ordinate_spec_data_type": 8,
+             "ordinate_len_unit_exp": 1, "ordinate_axis_units_lab": "mm",
+             "orddenom_spec_data_type": 13, "orddenom_force_unit_exp": 1,
+             "orddenom_axis_units_lab": "mN", "x": np.array(frfs.frequency_hz),
+             "data": np.array(frfs.values[i])} for i in range(len(frfs.dofs.node))]
