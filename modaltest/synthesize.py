@@ -104,6 +104,7 @@ def write_campaign(scene_path: Path, hidden: dict[str, float], points: Sequence[
     raw = read_toml(scene_path)
     scene = hidden_scene(raw, str(scene_path), hidden)
     rng = np.random.default_rng(seed)
+    sizes: list[str] = []
     directory.mkdir(parents=True, exist_ok=True)
     relative = os.path.relpath(Path(scene_path).resolve(), directory.resolve())
     lines = [f'scene = "{Path(relative).as_posix()}"']
@@ -117,12 +118,16 @@ def write_campaign(scene_path: Path, hidden: dict[str, float], points: Sequence[
                                      modes)
         nodes, test = test_modes(field, scene.manipulator, geometry, modes, frequency_noise,
                                  shape_noise, rng)
-        name = f"{tp.name}.unv"
-        uff.write_uff(directory / name, nodes, test,
+        file_name = f"{tp.name}.unv"
+        uff.write_uff(directory / file_name, nodes, test,
                       description=f"synthetic: {model} model, pose {tp.name}")
         lines += ["", "[[pose]]", f'name = "{tp.name}"', f"height_mm = {tp.height_mm!r}",
                   f"azimuth_deg = {tp.azimuth_deg!r}", f"tilt_deg = {tp.tilt_deg!r}",
-                  f'data = "{name}"']
+                  f'data = "{file_name}"']
+        if model == "fem":
+            mesh = getattr(field, "mesh_size", None)
+            sizes.append(f"{tp.name}: {mesh * 1e3:.4g} mm, {getattr(field, 'dofs', 0)} dofs"
+                         if mesh else tp.name)
     if identify:
         lines += ["", "[identify]", "keys = [" + ", ".join(f'"{k}"' for k in identify) + "]"]
     made_by = ("our solid FEM (fem_reference) at the scene's mesh size" if model == "fem"
@@ -139,6 +144,7 @@ def write_campaign(scene_path: Path, hidden: dict[str, float], points: Sequence[
         f"frequency_noise_percent = {100 * frequency_noise!r}",
         f"shape_noise_percent_of_largest = {100 * shape_noise!r}",
         f"seed = {seed}", f"modes = {modes}", f'made_at = "{made_at}"',
+        f"fem_meshes = {sizes!r}".replace("'", '"'),
         "", "[hidden]  # the scene values the test was made with (edge units)"]
     provenance += [f'"{k}" = {float(v)!r}' for k, v in hidden.items()]
     (directory / "provenance.toml").write_text("\n".join(provenance) + "\n", encoding="utf-8")
