@@ -1,5 +1,6 @@
 # 3-RPS elastodynamics: analytical substructure model validated against a 3D solid FEM.
 #   make          set up (first time) and run the validation of the default scene into out/
+#   make campaign correlate and identify the test campaign (CAMPAIGN=...) into out/
 #   make test     set up (first time) and run the test suite
 #   make lint     the linter (ruff) and the type checker (mypy), as CI runs them
 #   make verify   the solid FEM against published benchmarks (pytest -m verification)
@@ -10,6 +11,7 @@
 #   make clean    remove outputs and caches
 
 SCENE  ?= scenes/paper.toml
+CAMPAIGN ?= campaigns/actuator-legs/campaign.toml
 DESIGN ?= designs/3prs-head.toml
 VENV   ?= .venv
 PYTHON := $(VENV)/bin/python
@@ -19,7 +21,7 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run setup test fuzz verify lint bench report readme docs clean clean-cache update-baselines design
+.PHONY: run campaign setup test fuzz verify lint bench report readme docs clean clean-cache update-baselines design
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -31,6 +33,12 @@ setup: $(STAMP)
 
 run: $(STAMP)
 	$(PYTHON) -m rps validate --scene $(SCENE) --out out
+	$(MAKE) --no-print-directory campaign
+
+# the example test campaign (CAMPAIGN): correlation and identification into out/
+campaign: $(STAMP)
+	$(PYTHON) -m rps correlate --campaign $(CAMPAIGN) --out out/correlation
+	$(PYTHON) -m rps identify --campaign $(CAMPAIGN) --out out/identification
 
 # two workers (pytest-xdist): the suite's heavy tests are single-threaded (one BLAS thread)
 test: $(STAMP)
