@@ -20,7 +20,7 @@ each key to identify and its bounds. Units at this edge as in scenes; SI inside.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import MISSING, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -39,9 +39,10 @@ from .placement import Placement, place
 MAX_POSES = 50  # a campaign's poses at most (each one model solve per evaluation)
 
 
-def _pose_setting(name: str, doc: str, **default: float) -> Any:
+def _pose_setting(name: str, doc: str, default: Any = MISSING) -> Any:
     """A pose key declared as the scene case's, with its own meaning."""
-    return field(**default, metadata={"setting": replace(spec_of(CaseSettings, name), doc=doc)})
+    return field(default=default,
+                 metadata={"setting": replace(spec_of(CaseSettings, name), doc=doc)})
 
 
 @dataclass(frozen=True)

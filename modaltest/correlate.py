@@ -21,11 +21,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from common.modes import clusters, mac_matrix
-from solvers.pairing import group_scores
-
-from .campaign import Campaign, CorrelationSettings, TestPose
-from .placement import ModeField, sample
-from .records import (
+from results.campaign_records import (
     Correlation,
     CorrelationSummary,
     MachineRecord,
@@ -37,6 +33,10 @@ from .records import (
     UnpairedModel,
     UnpairedTest,
 )
+from solvers.pairing import group_scores
+
+from .campaign import Campaign, CorrelationSettings, TestPose
+from .placement import ModeField, sample
 
 REPEAT_TOLERANCE = 0.02  # relative frequency gap of a repeated group (as solvers.pairing)
 RULE = ("admissible: MAC >= min_mac and |f_model / f_test - 1| <= the largest deviation; "

@@ -36,12 +36,12 @@ from analytical.kinematics import pose_geometry
 from analytical.params import Manipulator, ModelOptions
 from analytical.substructure import assemble
 from common.errors import ComputeError
+from results.campaign_records import FitMode, FitPose, NoiseRecord, ParameterRecord
 from scene.address import Address
 
 from .campaign import Campaign
 from .correlate import pair, sampled, scores
 from .models import AnalyticalField, analytical_field
-from .records import FitMode, FitPose, NoiseRecord, ParameterRecord
 
 STEP = 1e-4  # the central difference step of the matrices, in ln(value)
 AT_BOUND = 1e-6  # a key within this of a bound (in ln) sits at it

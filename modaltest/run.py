@@ -10,14 +10,15 @@ import numpy as np
 
 from analytical.params import ModelOptions
 from common.atomic import write_json_atomic, write_text_atomic
+from results.campaign_records import Correlation, Identification, ModelRecord
 from results.declare import csv_text
 from scene.address import edited_text
+from scene.load import SceneError
 
 from . import identify as ident
 from .campaign import Campaign
 from .correlate import correlate_pose, correlation, sampled, scores
 from .models import AnalyticalField, analytical_field, fem_field
-from .records import Correlation, Identification, ModelRecord
 
 
 def model_record(kind: str, options: ModelOptions, source: str) -> ModelRecord:
@@ -82,11 +83,17 @@ def run_identification(campaign: Campaign, options: ModelOptions,
     values = {p.address: math.exp(x) for p, x in zip(campaign.parameters, fit.x)}
     text = Path(campaign.scene_path).read_text(encoding="utf-8")
     identified = edited_text(text, values)
+    try:  # the identified machine as a whole (plausibility: parse_scene's checks)
+        scene = campaign.scene_with(values)
+        check = "accepted" + "".join(f"; warning: {w}" for w in scene.warnings)
+    except SceneError as exc:
+        check = f"refused: {exc}"
     model = model_record("analytical", options, source)
     seconds = time.perf_counter() - start
     record = Identification(
         schema=1, campaign=campaign.path, scene=campaign.scene_path,
-        identified_scene="identified.toml", model=model, parameters=records,
+        identified_scene="identified.toml", identified_scene_check=check, model=model,
+        parameters=records,
         residual_rms_percent_before=ident.rms_percent(fit.residuals_before),
         residual_rms_percent_after=ident.rms_percent(fit.residuals_after), noise=noise,
         singular_values=singular, parameter_correlation=corr,

@@ -18,51 +18,17 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined
 from markupsafe import Markup
 
 from common.atomic import write_text_atomic
+from common.errors import InputError
+from results.campaign_records import SCHEMA, Correlation, Identification
+from results.declare import check_type
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
-SCHEMA = 1
 # as interactive_charts.LAYOUT (not imported from there: it brings matplotlib in)
 LAYOUT = dict(template="plotly_white", font=dict(size=12), margin=dict(l=60, r=20, t=50, b=50),
               hoverlabel=dict(align="left"))
 PAIR_COLOUR = "#d62728"  # the pairs outlined, as the report's MAC matrix
 BODY_COLOURS = {"platform": "#1f77b4", "leg 1": "#ff7f0e", "leg 2": "#2ca02c", "leg 3": "#9467bd"}
 OTHER_COLOURS = ("#8c564b", "#e377c2", "#17becf", "#bcbd22")
-
-# The keys each page needs: a sub-dict, a list of dicts ([spec]), or a dict or null ((spec,));
-# any other value is a leaf (its value may be null where the page allows).
-_PAIR = dict.fromkeys(("test_mode", "model_mode", "test_hz", "model_hz", "error_percent", "mac"))
-_POSE = {
-    **dict.fromkeys(("name", "height_mm", "azimuth_deg", "tilt_deg", "source", "test_hz",
-                     "test_damping_ratio", "model_hz", "mac")),
-    "pairs": [_PAIR],
-    "unpaired_test_modes": [dict.fromkeys(("test_mode", "test_hz", "reason"))],
-    "unpaired_model_modes": [dict.fromkeys(("model_mode", "model_hz"))],
-    "nodes": [dict.fromkeys(("id", "xyz_mm", "body", "distance_mm", "directions"))],
-    "machine": dict.fromkeys(("base_joints_mm", "platform_joints_mm", "platform_centre_mm",
-                              "platform_normal", "platform_radius_mm", "leg_diameter_mm")),
-}
-CORRELATION_KEYS: dict[str, Any] = {
-    **dict.fromkeys(("schema", "campaign", "scene")),
-    "model": dict.fromkeys(("kind", "description")),
-    "pairing": dict.fromkeys(("min_mac", "max_frequency_ratio", "rule")),
-    "poses": [_POSE],
-    "summary": dict.fromkeys(("pairs", "mean_abs_error_percent", "max_abs_error_percent",
-                              "min_mac")),
-}
-IDENTIFICATION_KEYS: dict[str, Any] = {
-    **dict.fromkeys(("schema", "campaign", "scene", "identified_scene",
-                     "residual_rms_percent_before", "residual_rms_percent_after",
-                     "singular_values", "parameter_correlation", "evaluations", "seconds")),
-    "parameters": [dict.fromkeys(("key", "unit", "initial", "value", "ci95", "bounds",
-                                  "identifiable", "at_bound", "relative_std_percent",
-                                  "reason"))],
-    "noise": dict.fromkeys(("frequency_percent", "source")),
-    "fit": [{"pose": None, "modes": [dict.fromkeys((
-        "test_mode", "test_hz", "before_hz", "after_hz", "error_before_percent",
-        "error_after_percent", "mac_after"))]}],
-    "correlation_after": (CORRELATION_KEYS,),
-}
-
 
 class CampaignDataError(KeyError, ValueError):
     """A campaign dict the page cannot be drawn from: a key missing (where, which), a part of
@@ -72,24 +38,17 @@ class CampaignDataError(KeyError, ValueError):
         return str(self.args[0])
 
 
-def check(data: Any, spec: Mapping[str, Any], where: str) -> None:
-    """Raise CampaignDataError naming the first key of `spec` that `data` lacks (a path such
-    as "correlation.json: poses[1].machine")."""
-    if not isinstance(data, Mapping):
-        raise CampaignDataError(f"{where}: a JSON object expected, not {type(data).__name__}")
-    for key, sub in spec.items():
-        if key not in data:
-            raise CampaignDataError(f"{where}: no {key!r}")
-        value, at = data[key], f"{where}.{key}" if ":" in where else f"{where}: {key}"
-        if isinstance(sub, dict) or isinstance(sub, tuple) and value is not None:
-            check(value, sub[0] if isinstance(sub, tuple) else sub, at)
-        elif isinstance(sub, list):
-            if not isinstance(value, list):
-                raise CampaignDataError(f"{at}: a list expected, not {type(value).__name__}")
-            for i, item in enumerate(value):
-                check(item, sub[0], f"{at}[{i}]")
-    if "schema" in spec and data["schema"] != SCHEMA:
-        raise CampaignDataError(f"{where}: schema {data['schema']!r}, this page reads {SCHEMA}")
+def check(data: Any, kind: Any, where: str) -> None:
+    """Raise CampaignDataError naming the first field of the record type `kind` (results.
+    campaign_records, the one declaration of these files) that `data` lacks or holds wrongly,
+    or a schema this page does not read."""
+    if isinstance(data, Mapping) and data.get("schema") != SCHEMA:
+        raise CampaignDataError(f"{where}: schema {data.get('schema')!r}, this page reads "
+                                f"{SCHEMA}")
+    try:
+        check_type(kind, data, where)
+    except InputError as exc:
+        raise CampaignDataError(str(exc)) from None
 
 
 def num(x: Any, fmt: str = "{:.2f}") -> str:
@@ -405,7 +364,7 @@ def _render(page: str, title: str, charts: dict, **context: Any) -> str:
 
 def correlation_page(data: Mapping[str, Any]) -> str:
     """The HTML of a correlation.json dict."""
-    check(data, CORRELATION_KEYS, "correlation.json")
+    check(data, Correlation, "correlation.json")
     charts: dict = {}
     ctx = correlation_context(data, charts, "")
     return _render("correlation", f"Correlation — {data['campaign']}", charts, c=ctx)
@@ -413,7 +372,7 @@ def correlation_page(data: Mapping[str, Any]) -> str:
 
 def identification_page(data: Mapping[str, Any]) -> str:
     """The HTML of an identification.json dict."""
-    check(data, IDENTIFICATION_KEYS, "identification.json")
+    check(data, Identification, "identification.json")
     charts: dict = {}
     keys = [str(p["key"]) for p in data["parameters"]]
     for name, chart in (("singular", singular_chart(data["singular_values"])),

@@ -106,6 +106,15 @@ def check(record: Record, value: Any, where: str, loc: tuple = ()) -> Any:
         raise refusal(exc, where, loc) from None
 
 
+def check_type(kind: Any, value: Any, where: str) -> Any:
+    """`value` checked against a record type (a TypedDict of this room), strictly: the value,
+    or InputError in one line naming `where` and the first offending field."""
+    try:
+        return _adapter(kind).validate_python(value)
+    except ValidationError as exc:
+        raise refusal(exc, where) from None
+
+
 def refusal(exc: ValidationError, where: str, loc: tuple = ()) -> InputError:
     """A pydantic failure in one line: where, the first offending field, its value."""
     errors = exc.errors(include_url=False)

@@ -132,6 +132,7 @@ class Identification(TypedDict):
     campaign: str
     scene: str
     identified_scene: str
+    identified_scene_check: str  # "accepted", with its warnings, or why the scene refuses it
     model: ModelRecord
     parameters: list[ParameterRecord]
     residual_rms_percent_before: float
