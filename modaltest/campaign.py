@@ -123,7 +123,7 @@ class EmaTable:
     poses whose file holds FRFs (58)."""
 
     lower: float = setting(0.0, unit=None, scene_name="lower_hz", minimum=0.0, maximum=1e6,
-                           doc="lower end of the band, Hz (0: the FRFs' first line)")
+                           doc="lower end of the band, Hz (0: the FRFs' first line above 0 Hz)")
     upper: float = setting(0.0, unit=None, scene_name="upper_hz", minimum=0.0, maximum=1e6,
                            doc="upper end of the band, Hz (0: the FRFs' last line)")
     model_order: int = setting(60, kind=int, minimum=5, maximum=400,
@@ -199,7 +199,8 @@ def _pose(table: _Table, campaign_dir: Path, scene: Scene, ema: EmaSettings | No
         assert content.frfs is not None  # read_uff refuses a file with neither
         axis = content.frfs.frequency_hz
         settings = EmaSettings(
-            lower_hz=float(ema.lower_hz if ema is not None and ema.lower_hz > 0 else axis[0]),
+            lower_hz=float(ema.lower_hz if ema is not None and ema.lower_hz > 0
+                           else axis[0] if axis[0] > 0 else axis[min(1, len(axis) - 1)]),
             upper_hz=float(ema.upper_hz if ema is not None and ema.upper_hz > 0 else axis[-1]),
             model_order=ema.model_order if ema is not None else 60)
         modes = identify_modes(content.frfs, settings)

@@ -89,6 +89,28 @@ def test_modes(field: ModeField, manipulator: Manipulator, geometry: PoseGeometr
             uff.Modes(hz[order], None, uff.Dofs(node, direction), shapes[:, order]))
 
 
+def test_frfs(field: ModeField, manipulator: Manipulator, geometry: PoseGeometry, modes: int,
+              damping_ratio: float, resolution_hz: float) -> tuple[uff.Nodes, uff.Frfs]:
+    """Receptances of the model's lowest `modes` modes at the sensors (triaxial), from one
+    excitation dof (the one every mode moves most evenly), by modal superposition of the
+    mass-normalised modes with a modal damping ratio: H_jk = sum_r phi_jr phi_kr /
+    (w_r^2 - w^2 + 2 i zeta w_r w), on 0 Hz to 1.25 times the highest mode."""
+    xyz = sensor_points(manipulator, geometry)
+    ids = np.arange(1, len(xyz) + 1)
+    placements = place(manipulator, geometry, ids, xyz, 1e-6, "synthetic sensors")
+    node = np.repeat(ids, 3)
+    direction = np.tile(np.eye(3), (len(ids), 1))
+    phi = sample(field, geometry, placements, node, direction)[:, :modes]
+    hz = np.asarray(field.frequencies_hz[:modes], float)
+    ref = int(np.argmax(np.min(np.abs(phi) / np.abs(phi).max(axis=0), axis=1)))
+    f = np.arange(0.0, 1.25 * hz[-1], resolution_hz)
+    w, wr = 2 * np.pi * f, 2 * np.pi * hz
+    h = (phi[:, None, :] * phi[ref, None, None, :]
+         / (wr**2 - w[:, None] ** 2 + 2j * damping_ratio * wr * w[:, None])[None]).sum(axis=2)
+    reference = uff.Dofs(np.full(len(node), node[ref]), np.tile(direction[ref], (len(node), 1)))
+    return uff.Nodes(ids, xyz), uff.Frfs(f, uff.Dofs(node, direction), reference, h)
+
+
 def hidden_scene(raw: dict, scene_path: str, hidden: dict[str, float]) -> Scene:
     return parse_scene(with_values(raw, {resolve(k): v for k, v in hidden.items()}), scene_path)
 
@@ -97,10 +119,13 @@ def write_campaign(scene_path: Path, hidden: dict[str, float], points: Sequence[
                    directory: Path, identify: Sequence[str], model: str = "analytical",
                    modes: int = 6, frequency_noise: float = 0.0, shape_noise: float = 0.0,
                    seed: int = 1, extra: str = "", name: str = "synthetic modal test",
-                   made_at: str = "") -> Path:
+                   made_at: str = "", frf_damping: float | None = None,
+                   frf_resolution: float = 0.1) -> Path:
     """A campaign file and its UFF files in `directory`, made by `model` ("analytical": the
     scene's settings; "fem": its solid at the default mesh size) on the scene with the
-    `hidden` values (edge units); returns the campaign file."""
+    `hidden` values (edge units); returns the campaign file. With `frf_damping` each pose's
+    file holds receptances (UFF 58, that modal damping ratio, `frf_resolution` Hz lines)
+    instead of modes."""
     raw = read_toml(scene_path)
     scene = hidden_scene(raw, str(scene_path), hidden)
     rng = np.random.default_rng(seed)
@@ -116,11 +141,17 @@ def write_campaign(scene_path: Path, hidden: dict[str, float], points: Sequence[
         else:
             field = analytical_field(scene.manipulator, tp.pose, geometry, scene.analytical,
                                      modes)
-        nodes, test = test_modes(field, scene.manipulator, geometry, modes, frequency_noise,
-                                 shape_noise, rng)
         file_name = f"{tp.name}.unv"
-        uff.write_uff(directory / file_name, nodes, test,
-                      description=f"synthetic: {model} model, pose {tp.name}")
+        if frf_damping is None:
+            nodes, test = test_modes(field, scene.manipulator, geometry, modes,
+                                     frequency_noise, shape_noise, rng)
+            uff.write_uff(directory / file_name, nodes, test,
+                          description=f"synthetic: {model} model, pose {tp.name}")
+        else:
+            nodes, frfs = test_frfs(field, scene.manipulator, geometry, modes, frf_damping,
+                                    frf_resolution)
+            uff.write_uff(directory / file_name, nodes, frfs=frfs,
+                          description=f"synthetic FRFs: {model} model, pose {tp.name}")
         lines += ["", "[[pose]]", f'name = "{tp.name}"', f"height_mm = {tp.height_mm!r}",
                   f"azimuth_deg = {tp.azimuth_deg!r}", f"tilt_deg = {tp.tilt_deg!r}",
                   f'data = "{file_name}"']

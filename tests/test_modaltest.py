@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from common.errors import InputError
 from modaltest import uff
 from modaltest.campaign import Campaign, load_campaign
 from modaltest.correlate import sampled
@@ -195,45 +196,49 @@ def _rps(*args: str, cwd: Path = ROOT) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, timeout=300)
 
 
-def _refused(campaign: Path, out: Path, *words: str) -> None:
-    proc = _rps("identify", "--campaign", str(campaign), "--out", str(out))
-    assert proc.returncode == 2, proc.stderr
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and all(w in lines[0] for w in words), lines
-    assert not out.exists()
+def _refused(campaign: Path, *words: str) -> None:
+    """Read like every command reads a campaign, before any solve: one line naming it."""
+    with pytest.raises(InputError) as exc:
+        load_campaign(campaign)
+    text = str(exc.value)
+    assert "\n" not in text and all(w in text for w in words), text
 
 
 def test_bad_campaigns_are_refused_in_one_line_before_any_solve(tmp_path, model_made):
     base = Path(model_made.path)
     text = base.read_text()
-    out = tmp_path / "out"
 
     def variant(name: str, new: str) -> Path:
         path = base.with_name(name)
         path.write_text(new)
         return path
 
-    bad_uff = base.with_name("garbage.unv")
-    bad_uff.write_text("this is not a universal file\n")
-    _refused(variant("a.toml", text.replace('data = "low.unv"', 'data = "garbage.unv"')), out,
+    base.with_name("garbage.unv").write_text("this is not a universal file\n")
+    _refused(variant("a.toml", text.replace('data = "low.unv"', 'data = "garbage.unv"')),
              "garbage.unv")
-    _refused(variant("b.toml", text.replace("height_mm = 600.0", "height_mm = 5000.0")), out,
+    _refused(variant("b.toml", text.replace("height_mm = 600.0", "height_mm = 5000.0")),
              "cannot reach")
     _refused(variant("c.toml", text.replace('"stiffness.actuator_axial_n_per_um"',
-                                            '"stiffness.no_such_key"')), out, "no_such_key")
+                                            '"stiffness.no_such_key"')), "no_such_key")
     _refused(variant("d.toml", text.replace('"stiffness.actuator_axial_n_per_um"',
-                                            '"leg.housing_length"')), out, "housing_length")
+                                            '"manipulator.platform_shape"')),
+             "platform_shape", "not a number")
     _refused(variant("e.toml", text + '\n[identify.bounds]\n'
-                     '"stiffness.actuator_axial_n_per_um" = [200.0, 400.0]\n'), out,
+                     '"stiffness.actuator_axial_n_per_um" = [200.0, 400.0]\n'),
              "excludes the initial value 160")
-    # a node far from every body
-    tp = model_made.poses[0]
-    far = uff.Nodes(tp.nodes.ids, tp.nodes.xyz + np.array([0.0, 0.0, 0.0]))
-    xyz = far.xyz.copy()
+    tp = model_made.poses[0]  # a node far from every body
+    xyz = tp.nodes.xyz.copy()
     xyz[2] += np.array([0.0, 0.0, 0.3])
-    uff.write_uff(base.with_name("far.unv"), uff.Nodes(far.ids, xyz), tp.modes)
-    _refused(variant("f.toml", text.replace('data = "low.unv"', 'data = "far.unv"')), out,
-             f"node {int(far.ids[2])}", "lies on no body")
+    uff.write_uff(base.with_name("far.unv"), uff.Nodes(tp.nodes.ids, xyz), tp.modes)
+    far = variant("f.toml", text.replace('data = "low.unv"', 'data = "far.unv"'))
+    _refused(far, f"node {int(tp.nodes.ids[2])}", "lies on no body")
+    # on the command line: exit status 2, that one line, nothing written
+    out = tmp_path / "out"
+    for command in ("identify", "correlate"):
+        proc = _rps(command, "--campaign", str(far), "--out", str(out))
+        assert proc.returncode == 2, proc.stderr
+        assert len(proc.stderr.strip().splitlines()) == 1 and "lies on no body" in proc.stderr
+        assert not out.exists()
 
 
 def test_correlate_and_identify_write_their_records(tmp_path, model_made):
@@ -272,3 +277,18 @@ def test_scene_addresses_are_refused_in_one_line():
         with pytest.raises(SceneError, match=None) as exc:
             resolve(bad)
         assert words in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_a_campaign_of_frfs_gives_its_modes_through_sdypy_ema(tmp_path):
+    """Receptances (UFF 58) made by the model with 2 % modal damping: the modes identified
+    from them (LSCF and LSFD) pair with the model's own within 0.1 % and MAC 0.99, and their
+    damping within 5 %."""
+    path = write_campaign(ACTUATOR, {}, POINTS[1:2], tmp_path / "frf", [], frf_damping=0.02)
+    campaign = load_campaign(path)
+    tp = campaign.poses[0]
+    assert "sdypy-EMA" in tp.source
+    assert np.allclose(tp.modes.damping_ratios, 0.02, rtol=0.05)
+    pose = run_correlation(campaign, campaign.analytical, "test")["poses"][0]
+    assert len(pose["pairs"]) == len(tp.modes.frequencies_hz) == 6
+    for p in pose["pairs"]:
+        assert abs(p["error_percent"]) < 0.1 and p["mac"] > 0.99, p
