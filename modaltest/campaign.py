@@ -20,15 +20,16 @@ each key to identify and its bounds. Units at this edge as in scenes; SI inside.
 from __future__ import annotations
 
 import math
+import tomllib
 from dataclasses import MISSING, dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from analytical.kinematics import PoseError, PoseGeometry, pose_geometry
 from analytical.params import ModelOptions, Pose
 from common.settings import MAX_MODES, setting, spec_of, text_problem
 from scene import Scene
-from scene.address import Address, resolve, with_values
+from scene.address import Address, edited_text, resolve, with_values
 from scene.cases import CaseSettings
 from scene.load import SceneError, _short, _Table, parse_scene, read_toml
 
@@ -145,9 +146,15 @@ class TestPose:
 @dataclass(frozen=True)
 class Parameter:
     address: Address
-    initial: float  # edge unit
+    initial: float  # edge unit, the scene's value (0: a rigid spring)
     low: float
     high: float
+
+    @property
+    def start(self) -> float:
+        """Where the fit starts: the scene's value, or for a rigid spring the geometric
+        middle of its bounds."""
+        return self.initial if self.initial > 0.0 else math.sqrt(self.low * self.high)
 
 
 @dataclass(frozen=True)
@@ -177,8 +184,16 @@ def _relative(top: Path, text: str, where: str) -> Path:
     return (top / text).resolve()
 
 
-def _pose(table: _Table, campaign_dir: Path, scene: Scene, ema: EmaSettings | None,
-          tolerance: float) -> TestPose:
+@dataclass(frozen=True)
+class _PoseEntry:
+    spec: PoseSettings
+    where: str
+    pose: Pose
+    geometry: PoseGeometry
+
+
+def _pose_entry(table: _Table, scene: Scene) -> _PoseEntry:
+    """A [[pose]] read and its reach checked (no file read yet)."""
     spec = table.settings(PoseSettings)
     table.done()
     where = table.where
@@ -190,6 +205,13 @@ def _pose(table: _Table, campaign_dir: Path, scene: Scene, ema: EmaSettings | No
                          f"{math.degrees(spec.azimuth):g}, tilt_deg = "
                          f"{math.degrees(spec.tilt):g}): the machine cannot reach this pose: "
                          f"{exc}") from None
+    return _PoseEntry(spec, where, pose, geometry)
+
+
+def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaSettings | None,
+          tolerance: float) -> TestPose:
+    """A pose's test data read (its modes identified from FRFs) and its nodes placed."""
+    spec, where, pose, geometry = entry.spec, entry.where, entry.pose, entry.geometry
     path = _relative(campaign_dir, spec.data, f"{where}.data")
     content = uff.read_uff(path)
     if content.modes is not None:
@@ -215,8 +237,37 @@ def _pose(table: _Table, campaign_dir: Path, scene: Scene, ema: EmaSettings | No
     return TestPose(spec.name, pose, geometry, str(path), source, modes, nodes, placements)
 
 
-def _parameters(ident: _Table, settings: IdentifySettings, scene: Scene,
-                where: str) -> tuple[Parameter, ...]:
+def _varies_alone(parameter: Parameter, raw_scene: dict, scene: Scene, text: str,
+                  where: str) -> None:
+    """The key, moved, gives the machine the scene file would give with that value (so the
+    fit's machines are the scene's: a key of the other architecture, or one another key
+    derives, is refused here), and the scene file's text can be rewritten with it
+    (identified.toml)."""
+    address = parameter.address
+    value = parameter.start * 1.01 if parameter.start * 1.01 <= parameter.high else (
+        parameter.start * 0.99)
+    try:
+        parsed = parse_scene(with_values(raw_scene, {address: value}), scene.path).manipulator
+        moved = address.applied(scene.manipulator, value)
+    except (SceneError, ValueError) as exc:
+        raise SceneError(f"{where} cannot be varied on this scene: {exc}") from None
+    if parsed != moved:
+        raise SceneError(f"{where} cannot be varied alone on this scene: other values of it "
+                         "derive from it")
+    try:
+        edited = tomllib.loads(edited_text(text, {address: value}))
+        ok = edited[address.table][address.key] == value
+    except (tomllib.TOMLDecodeError, KeyError, TypeError):
+        ok = False
+    if not ok:
+        raise SceneError(f"{where}: the scene file {scene.path} gives [{address.table}] in a "
+                         "form identified.toml cannot be written from (a dotted or quoted key, "
+                         "an inline table); write it as `key = value` lines under "
+                         f"[{address.table}]")
+
+
+def _parameters(ident: _Table, settings: IdentifySettings, scene: Scene, raw_scene: dict,
+                text: str, where: str) -> tuple[Parameter, ...]:
     bounds_t = ident.table("bounds", {})
     bounds_t.used.update(bounds_t.data)
     out = []
@@ -227,12 +278,13 @@ def _parameters(ident: _Table, settings: IdentifySettings, scene: Scene,
             raise SceneError(f"{where}.keys: {key!r} is given twice")
         seen.add(address.name)
         initial = address.value(scene)
-        if not initial > 0.0:
+        given = bounds_t.data.get(key)
+        if not initial > 0.0 and given is None:
             raise SceneError(f"{where}.keys: {key!r} is {initial:g} in the scene "
                              f"({'rigid' if address.table == 'stiffness' else 'zero'}): a key "
-                             "is identified in log space from a finite, positive initial value; "
-                             "give one in the scene")
-        given = bounds_t.data.get(key)
+                             "is fitted in log space; give its [identify.bounds] (the fit "
+                             "starts at their geometric middle) or a positive value in the "
+                             "scene")
         if given is None:
             low, high = initial / settings.bound_factor, initial * settings.bound_factor
             spec = address.spec
@@ -252,19 +304,24 @@ def _parameters(ident: _Table, settings: IdentifySettings, scene: Scene,
                 if why is not None:
                     raise SceneError(f"{where}.bounds.{key} = {_short(given)}: {b!r} {why}")
             low, high = float(given[0]), float(given[1])
-            if not low <= initial <= high:
+            if initial > 0.0 and not low <= initial <= high:
                 raise SceneError(f"{where}.bounds.{key} = {_short(given)}: excludes the initial "
                                  f"value {initial:g} {address.unit} the scene gives")
-        out.append(Parameter(address, initial, low, high))
+        parameter = Parameter(address, initial, low, high)
+        _varies_alone(parameter, raw_scene, scene, text, f"{where}.keys: {key!r}")
+        out.append(parameter)
     unknown = sorted(set(bounds_t.data) - set(settings.keys))
     if unknown:
         raise SceneError(f"{where}.bounds: {unknown[0]!r} is not one of keys")
     return tuple(out)
 
 
-def load_campaign(path: str | Path) -> Campaign:
+def load_campaign(path: str | Path, need_keys: bool = False,
+                  before_data: Callable[[Scene], None] | None = None) -> Campaign:
     """Read and check a campaign, its scene, poses, files and nodes; SceneError (one line)
-    on any problem, before any model is solved."""
+    on any problem, before any model is solved. The cheap checks come first (every key, every
+    pose's reach, `need_keys`: an [identify] with keys, then `before_data`, the caller's own),
+    then the files are read (and modes identified from FRFs) and their nodes placed."""
     path = Path(path)
     raw = read_toml(path, "campaign file")
     where = str(path)
@@ -303,11 +360,9 @@ def load_campaign(path: str | Path) -> Campaign:
         raise SceneError(f"{where}.pose: missing: give at least one [[pose]] with its data")
     if len(pose_list) > MAX_POSES:
         raise SceneError(f"{where}.pose: {len(pose_list)} poses; at most {MAX_POSES}")
-    poses = []
-    for k, entry in enumerate(pose_list):
-        poses.append(_pose(_Table(entry, f"{where}.pose[{k}]"), path.parent, scene, ema,
-                           settings.node_tolerance))
-    names = [p.name for p in poses]
+    entries = [_pose_entry(_Table(entry, f"{where}.pose[{k}]"), scene)
+               for k, entry in enumerate(pose_list)]
+    names = [e.spec.name for e in entries]
     for name in names:
         why = text_problem(name)
         if why is not None or not name.strip():
@@ -316,10 +371,16 @@ def load_campaign(path: str | Path) -> Campaign:
         raise SceneError(f"{where}.pose: names {names} repeat; each pose needs its own name")
 
     ident_t, identify = tables["identify"]
-    parameters = _parameters(ident_t, identify, scene, f"{where}.identify")
+    if need_keys and not identify.keys:
+        raise SceneError(f"{where}.identify.keys: none; nothing to identify")
+    text = scene_path.read_text(encoding="utf-8")
+    parameters = _parameters(ident_t, identify, scene, raw_scene, text, f"{where}.identify")
     for key in ("correlation", "identify"):
         tables[key][0].done()
     top.done()
+    if before_data is not None:
+        before_data(scene)
+    poses = [_pose(e, path.parent, scene, ema, settings.node_tolerance) for e in entries]
     return Campaign(str(path), settings.name, str(scene_path), scene, raw_scene, tuple(poses),
                     tables["correlation"][1], identify, parameters, settings.node_tolerance,
                     analytical, "analytical" in raw)

@@ -9,13 +9,16 @@ frequency breaking near-ties: 10 % apart costs as much as 0.095 of MAC), one mod
 test mode (Hungarian algorithm, scipy's linear_sum_assignment). Against a group of model modes
 of (near-)repeated frequency (relative gap below 2 %, a symmetric machine's pairs) any basis is
 as valid as another, so a test shape's score there is its share in the group's subspace
-(`solvers.pairing.group_scores`), not its MAC with one arbitrary member; and a test's own
-near-repeated pair (two modes within 2 %, whose measured shapes mix as the model's would)
-scores a model shape by its share in the pair's subspace. Within a group, frequency orders.
+(`solvers.pairing.group_scores`), not its MAC with one arbitrary member. A test's own
+near-repeated pair (two modes within 2 %) is paired by shape first, like any mode; a member
+left without a partner (its measured shape a mix of the pair's, as the model's are not) is then
+paired by a model shape's share in the pair's subspace, among the model modes left. Within a
+group, frequency orders; such a pair is marked `repeated` and its `mac` is the subspace share.
 """
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
@@ -41,75 +44,97 @@ from .placement import ModeField, sample
 REPEAT_TOLERANCE = 0.02  # relative frequency gap of a repeated group (as solvers.pairing)
 RULE = ("admissible: MAC >= min_mac and |f_model / f_test - 1| <= the largest deviation; "
         "assigned to maximise the sum of MAC - |ln(f_model / f_test)| (Hungarian), one model "
-        "mode per test mode; against a repeated model group the test shape's share in its "
-        "subspace stands for the MAC")
+        "mode per test mode; against a repeated model group (within 2 %) the test shape's share "
+        "in its subspace stands for the MAC, and a test mode of a near-repeated test group left "
+        "unpaired is paired by its group's subspace; within a group, frequency orders")
 DIRECTIONS = ("x", "y", "z")
 
 
+@dataclass(frozen=True)
+class Scores:
+    """How alike each test shape is to each model shape (test, model)."""
+
+    mac: np.ndarray  # the plain MAC
+    score: np.ndarray  # the MAC; against a repeated model group, the share in its subspace
+    test_subspace: np.ndarray  # against a test group: a model shape's share in its subspace
+    test_groups: list[list[int]]
+    model_groups: list[list[int]]
+
+    @property
+    def repeated(self) -> set[int]:
+        """The model modes in a repeated group."""
+        return {j for g in self.model_groups if len(g) > 1 for j in g}
+
+
 def scores(test_shapes: np.ndarray, model_shapes: np.ndarray, model_hz: np.ndarray,
-           test_hz: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, set[int]]:
-    """(MAC, score, repeated model modes): MAC (test, model), the score with groups of
-    (near-)repeated modes taken as subspaces (the model's; with `test_hz` the test's too: a
-    model shape's share in a test pair's subspace), and which model modes are in such a
-    group."""
+           test_hz: np.ndarray) -> Scores:
+    """The MAC and the subspace shares of groups of (near-)repeated modes on either side."""
     mac = mac_matrix(test_shapes, model_shapes)
-    groups = clusters(np.asarray(model_hz, float), REPEAT_TOLERANCE)
-    score = group_scores(test_shapes, model_shapes, mac, groups)
-    if test_hz is not None:  # and a test's own near-repeated pair, seen from the model
-        test_groups = clusters(np.asarray(test_hz, float), REPEAT_TOLERANCE)
-        score = np.maximum(score, group_scores(model_shapes, test_shapes, mac.T,
-                                               test_groups).T)
-    repeated = {j for g in groups if len(g) > 1 for j in g}
-    return mac, score, repeated
+    model_groups = clusters(np.asarray(model_hz, float), REPEAT_TOLERANCE)
+    test_groups = clusters(np.asarray(test_hz, float), REPEAT_TOLERANCE)
+    score = group_scores(test_shapes, model_shapes, mac, model_groups)
+    test_subspace = group_scores(model_shapes, test_shapes, mac.T, test_groups).T
+    return Scores(mac, score, test_subspace, test_groups, model_groups)
 
 
-def _in_order(pairs: dict[int, int], test_hz: np.ndarray,
-              model_hz: np.ndarray) -> dict[int, int]:
-    """The pairs with, inside every group of near-repeated test modes and of near-repeated
-    model modes, the partners in ascending order of frequency (a group's members are one
-    subspace: which member pairs with which is the frequency's to say)."""
-    out = dict(pairs)
-    for hz, groups in ((test_hz, clusters(test_hz, REPEAT_TOLERANCE)),
-                       (model_hz, clusters(model_hz, REPEAT_TOLERANCE))):
-        for group in groups:
-            if len(group) < 2:
-                continue
-            if hz is test_hz:
-                members = [i for i in group if i in out]
-                partners = sorted(out[i] for i in members)
-            else:
-                members = sorted(i for i, j in out.items() if j in group)
-                partners = sorted(out[i] for i in members)
-            for i, j in zip(sorted(members, key=lambda k: test_hz[k]),
-                            sorted(partners, key=lambda k: model_hz[k])):
-                out[i] = j
-    return out
+def _assign(score: np.ndarray, ok: np.ndarray, ratio: np.ndarray, rows: list[int],
+            cols: list[int]) -> dict[int, int]:
+    """The admissible assignment of `rows` to `cols` maximising score - |ln ratio|."""
+    if not rows or not cols:
+        return {}
+    sub = np.ix_(rows, cols)
+    cost = np.where(ok[sub], -(score[sub] - np.abs(ratio[sub])), 1e6)
+    r, c = linear_sum_assignment(cost)
+    return {rows[i]: cols[j] for i, j in zip(r, c) if ok[rows[i], cols[j]]}
 
 
-def pair(score: np.ndarray, test_hz: np.ndarray, model_hz: np.ndarray,
-         settings: CorrelationSettings) -> tuple[dict[int, int], dict[int, str]]:
-    """({test mode: model mode}, {unpaired test mode: reason}), 0-based."""
+def _in_order(pairs: dict[int, int], members: list[int], test_hz: np.ndarray,
+              model_hz: np.ndarray) -> None:
+    """The partners of `members` (one group: one subspace) in ascending order of frequency."""
+    members = sorted((i for i in members if i in pairs), key=lambda k: test_hz[k])
+    partners = sorted((pairs[i] for i in members), key=lambda k: model_hz[k])
+    pairs.update(zip(members, partners))
+
+
+def pair(s: Scores, test_hz: np.ndarray, model_hz: np.ndarray,
+         settings: CorrelationSettings) -> tuple[dict[int, int], set[int], dict[int, str]]:
+    """({test mode: model mode}, test modes paired as a group's member, {unpaired test mode:
+    reason}), 0-based. First by shape (the MAC; a repeated model group as a subspace); then a
+    test mode of a near-repeated test group that found no partner (its measured shape a mix of
+    the group's) by its group's subspace, among the model modes left."""
     test_hz = np.asarray(test_hz, float)
     model_hz = np.asarray(model_hz, float)
     ratio = np.log(model_hz[None, :] / test_hz[:, None])
     limit = settings.max_frequency_deviation_percent / 100.0
     near = np.abs(model_hz[None, :] / test_hz[:, None] - 1.0) <= limit
-    ok = (score >= settings.min_mac) & near
-    cost = np.where(ok, -(score - np.abs(ratio)), 1e6)
-    rows, cols = linear_sum_assignment(cost)
-    pairs = _in_order({int(i): int(j) for i, j in zip(rows, cols) if ok[i, j]}, test_hz,
-                      model_hz)
+    ok = (s.score >= settings.min_mac) & near
+    every = list(range(len(test_hz)))
+    pairs = _assign(s.score, ok, ratio, every, list(range(len(model_hz))))
+    grouped = {i for i, j in pairs.items() if j in s.repeated}
+    for group in s.model_groups:
+        _in_order(pairs, [i for i, j in pairs.items() if j in group], test_hz, model_hz)
+    ok_group = (s.test_subspace >= settings.min_mac) & near
+    for group in s.test_groups:
+        left = [i for i in group if i not in pairs]
+        if len(group) < 2 or not left:
+            continue
+        used = set(pairs.values())
+        found = _assign(s.test_subspace, ok_group, ratio, left,
+                        [j for j in range(len(model_hz)) if j not in used])
+        pairs.update(found)
+        grouped |= set(found)
+        _in_order(pairs, list(found), test_hz, model_hz)
     reasons: dict[int, str] = {}
-    for i in range(len(test_hz)):
+    for i in every:
         if i in pairs:
             continue
-        best = int(np.argmax(score[i]))
+        best = int(np.argmax(s.score[i]))
         if not near[i].any():
             j = int(np.argmin(np.abs(ratio[i])))
             reasons[i] = (f"no model mode within {settings.max_frequency_deviation_percent:g} % "
                           f"(nearest: model mode {j + 1} at {model_hz[j]:.2f} Hz)")
         elif not ok[i].any():
-            reasons[i] = (f"no admissible shape: best MAC {score[i, best]:.2f} (model mode "
+            reasons[i] = (f"no admissible shape: best MAC {s.score[i, best]:.2f} (model mode "
                           f"{best + 1}, {model_hz[best]:.2f} Hz), below {settings.min_mac:g} or "
                           "too far in frequency")
         else:
@@ -117,7 +142,7 @@ def pair(score: np.ndarray, test_hz: np.ndarray, model_hz: np.ndarray,
             reasons[i] = ("its candidates pair better with test mode"
                           f"{'s' if len(taken) > 1 else ''} "
                           f"{', '.join(str(k + 1) for k in sorted(taken))}")
-    return pairs, reasons
+    return pairs, grouped, reasons
 
 
 def _machine(campaign: Campaign, tp: TestPose) -> MachineRecord:
@@ -155,12 +180,12 @@ def correlate_pose(campaign: Campaign, tp: TestPose, field: ModeField) -> PoseCo
     """The correlation of one pose's test with one model's modes there."""
     model_hz = np.asarray(field.frequencies_hz, float)
     test_hz = np.asarray(tp.modes.frequencies_hz, float)
-    mac, score, repeated = scores(tp.modes.shapes, sampled(tp, field), model_hz, test_hz)
-    pairs, reasons = pair(score, test_hz, model_hz, campaign.correlation)
+    found = scores(tp.modes.shapes, sampled(tp, field), model_hz, test_hz)
+    pairs, grouped, reasons = pair(found, test_hz, model_hz, campaign.correlation)
     rows = [PairRecord(test_mode=i + 1, model_mode=j + 1, test_hz=float(test_hz[i]),
                        model_hz=float(model_hz[j]),
                        error_percent=float(100.0 * (model_hz[j] / test_hz[i] - 1.0)),
-                       mac=float(score[i, j]), repeated=j in repeated)
+                       mac=float(match(found, grouped, i, j)), repeated=i in grouped)
             for i, j in sorted(pairs.items())]
     damping = tp.modes.damping_ratios
     return PoseCorrelation(
@@ -170,12 +195,21 @@ def correlate_pose(campaign: Campaign, tp: TestPose, field: ModeField) -> PoseCo
         test_hz=[float(f) for f in test_hz],
         test_damping_ratio=None if damping is None else [float(z) for z in damping],
         model_hz=[float(f) for f in model_hz],
-        mac=[[float(v) for v in row] for row in mac], pairs=rows,
+        mac=[[float(v) for v in row] for row in found.mac], pairs=rows,
         unpaired_test_modes=[UnpairedTest(test_mode=i + 1, test_hz=float(test_hz[i]),
                                           reason=why) for i, why in sorted(reasons.items())],
         unpaired_model_modes=[UnpairedModel(model_mode=j + 1, model_hz=float(model_hz[j]))
                               for j in range(len(model_hz)) if j not in pairs.values()],
         nodes=_nodes(tp), machine=_machine(campaign, tp))
+
+
+def match(s: Scores, grouped: set[int], i: int, j: int) -> float:
+    """How alike a pair's shapes are: the MAC, or for a pair within a repeated group the
+    share in the group's subspace (its MAC with one member of an arbitrary basis says
+    nothing)."""
+    if i not in grouped:
+        return float(s.mac[i, j])
+    return float(max(s.score[i, j], s.test_subspace[i, j]))
 
 
 def summary(poses: list[PoseCorrelation]) -> CorrelationSummary:

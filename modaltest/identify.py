@@ -40,7 +40,7 @@ from results.campaign_records import FitMode, FitPose, NoiseRecord, ParameterRec
 from scene.address import Address
 
 from .campaign import Campaign
-from .correlate import pair, sampled, scores
+from .correlate import Scores, match, pair, sampled, scores
 from .models import AnalyticalField, analytical_field
 
 STEP = 1e-4  # the central difference step of the matrices, in ln(value)
@@ -56,6 +56,8 @@ class Problem:
     modes: list[int]  # the model modes solved at each pose
     fitted: list[tuple[int, int]] = field(default_factory=list)  # (pose, test mode), 0-based
     evaluations: int = 0
+    partner_changes: int = 0
+    previous: dict[tuple[int, int], int] = field(default_factory=dict)
     _cache: dict = field(default_factory=dict)
 
     @property
@@ -74,11 +76,13 @@ class Problem:
             man = address.applied(man, value)
         return man
 
-    def fields(self, x: np.ndarray) -> list[AnalyticalField]:
-        key = tuple(np.round(np.asarray(x, float), 15))
+    def fields(self, x: np.ndarray | None) -> list[AnalyticalField]:
+        """The model at every pose with the keys at exp(x) (None: the scene's own values,
+        a rigid spring included)."""
+        key = None if x is None else tuple(np.round(np.asarray(x, float), 15))
         if key not in self._cache:
             self.evaluations += 1
-            man = self.manipulator_at(x)
+            man = self.campaign.scene.manipulator if x is None else self.manipulator_at(x)
             out = []
             for tp, count in zip(self.campaign.poses, self.modes):
                 geometry = pose_geometry(man, tp.pose)
@@ -86,32 +90,43 @@ class Problem:
             self._cache = {key: out}  # one point kept: fun and jac ask for the same x
         return self._cache[key]
 
-    def partners(self, fields: list[AnalyticalField]) -> list[int]:
-        """The model mode of every fitted test mode at these fields (0-based)."""
-        out = []
-        by_pose: dict[int, tuple[dict[int, int], np.ndarray, np.ndarray]] = {}
+    def partners(self, fields: list[AnalyticalField]) -> tuple[list[int], list[float]]:
+        """The model mode of every fitted test mode at these fields (0-based), and how alike
+        their shapes are. A fitted mode is paired by the pairing's rule; one that finds no
+        admissible partner at this point keeps the partner it had (else the most alike mode
+        left), so the residual stays continuous; each change of partner is counted."""
+        out, likeness = [], []
+        by_pose: dict[int, tuple[dict[int, int], set[int], Scores, set[int]]] = {}
         for pose, i in self.fitted:
+            tp, f = self.campaign.poses[pose], fields[pose]
             if pose not in by_pose:
-                tp, f = self.campaign.poses[pose], fields[pose]
-                _, score, _ = scores(tp.modes.shapes, sampled(tp, f), f.frequencies_hz,
-                                     tp.modes.frequencies_hz)
-                pairs, _ = pair(score, tp.modes.frequencies_hz, f.frequencies_hz,
-                                self.campaign.correlation)
-                by_pose[pose] = (pairs, score, np.asarray(f.frequencies_hz))
-            pairs, score, hz = by_pose[pose]
+                found = scores(tp.modes.shapes, sampled(tp, f), f.frequencies_hz,
+                               tp.modes.frequencies_hz)
+                pairs, grouped, _ = pair(found, tp.modes.frequencies_hz, f.frequencies_hz,
+                                         self.campaign.correlation)
+                by_pose[pose] = (pairs, grouped, found, set(pairs.values()))
+            pairs, grouped, found, taken = by_pose[pose]
+            previous = self.previous.get((pose, i))
             if i in pairs:
-                out.append(pairs[i])
-                continue
-            test = self.campaign.poses[pose].modes.frequencies_hz[i]
-            taken = set(pairs.values())
-            merit = score[i] - np.abs(np.log(hz / test))
-            merit[list(taken)] = -np.inf
-            out.append(int(np.argmax(merit)))
-        return out
+                j = pairs[i]
+            elif previous is not None and previous not in taken:
+                j = previous
+            else:
+                hz = np.asarray(f.frequencies_hz, float)
+                merit = found.score[i] - np.abs(np.log(hz / tp.modes.frequencies_hz[i]))
+                merit[list(taken)] = -np.inf
+                j = int(np.argmax(merit))
+            taken.add(j)
+            if previous is not None and previous != j:
+                self.partner_changes += 1
+            self.previous[(pose, i)] = j
+            out.append(j)
+            likeness.append(match(found, grouped, i, j))
+        return out, likeness
 
-    def residuals(self, x: np.ndarray) -> np.ndarray:
+    def residuals(self, x: np.ndarray | None) -> np.ndarray:
         fields = self.fields(x)
-        js = self.partners(fields)
+        js, _ = self.partners(fields)
         return np.array([math.log(fields[pose].frequencies_hz[j]
                                   / self.campaign.poses[pose].modes.frequencies_hz[i])
                          for (pose, i), j in zip(self.fitted, js)])
@@ -119,7 +134,7 @@ class Problem:
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """d ln f / d ln value of every fitted mode, from eigenvalue sensitivities."""
         fields = self.fields(x)
-        js = self.partners(fields)
+        js, _ = self.partners(fields)
         jac = np.zeros((len(self.fitted), len(self.addresses)))
         moved = [[self.manipulator_at(x, k, step) for step in (STEP, -STEP)]
                  for k in range(len(self.addresses))]
@@ -151,15 +166,15 @@ class Fit:
     evaluations: int
     seconds: float
     message: str
+    converged: bool  # the optimiser met a tolerance (not its evaluation budget)
 
 
-def fit(problem: Problem) -> Fit:
-    """The least-squares fit of the problem's keys (from the scene's values)."""
+def fit(problem: Problem, x0: np.ndarray, before: np.ndarray) -> Fit:
+    """The least-squares fit of the problem's keys from x0 (ln of the start values);
+    `before`: the residuals at the scene's own values."""
     params = problem.campaign.parameters
-    x0 = np.log([p.initial for p in params])
     lo, hi = np.log([p.low for p in params]), np.log([p.high for p in params])
     start = time.perf_counter()
-    before = problem.residuals(x0)
     try:
         result = scipy.optimize.least_squares(
             problem.residuals, x0, jac=problem.jacobian, bounds=(lo, hi), method="trf",
@@ -171,7 +186,7 @@ def fit(problem: Problem) -> Fit:
     after = problem.residuals(x)
     jac = problem.jacobian(x)
     return Fit(x0, x, before, after, jac, problem.evaluations, time.perf_counter() - start,
-               str(result.message))
+               str(result.message), bool(result.status > 0))
 
 
 def uncertainty(fit_: Fit, campaign: Campaign) -> tuple[list[ParameterRecord], NoiseRecord,
@@ -215,10 +230,13 @@ def uncertainty(fit_: Fit, campaign: Campaign) -> tuple[list[ParameterRecord], N
         x = fit_.x[k]
         half = t * sd[k]
         at_bound = bool(x - lo_all[k] < AT_BOUND or hi_all[k] - x < AT_BOUND)
-        unresolved = bool(len(null) and np.max(np.abs(null[:, k])) > 1e-3)
-        factor = math.exp(half) if math.isfinite(half) else math.inf
+        # no direction of the data moves it, or its interval is wider than its whole search
+        unresolved = bool(len(null) and np.max(np.abs(null[:, k])) > 1e-3) or bool(
+            math.isfinite(half) and half > hi_all[k] - lo_all[k])
+        factor = math.exp(half) if math.isfinite(half) and not unresolved else math.inf
         within = settings.identifiable_within_percent
-        identifiable = factor - 1.0 <= within / 100.0 and not at_bound and not unresolved
+        identifiable = (factor - 1.0 <= within / 100.0 and not at_bound and not unresolved
+                        and fit_.converged)
         partner = ""
         if n > 1 and np.all(np.isfinite(corr[k])):
             others = [(abs(corr[k, j]), j) for j in range(n) if j != k]
@@ -226,12 +244,15 @@ def uncertainty(fit_: Fit, campaign: Campaign) -> tuple[list[ParameterRecord], N
             if c > 0.9:
                 partner = (f"; correlated {corr[k, j]:+.2f} with "
                            f"{campaign.parameters[j].address.name}")
-        if unresolved:
+        if not fit_.converged:
+            reason = (f"the fit did not converge within max_evaluations "
+                      f"({settings.max_evaluations}): {fit_.message}")
+        elif unresolved:
             reason = ("the test frequencies do not depend on it (or only through a combination "
                       "with other keys): the data cannot determine it" + partner)
         elif at_bound:
             reason = "at a bound of its search: the data push it beyond [low, high]" + partner
-        elif not math.isfinite(factor):
+        elif not math.isfinite(half):
             reason = noise["source"]
         elif identifiable:
             reason = (f"determined within {100 * (factor - 1):.3g} % either side (95 %), "
@@ -243,14 +264,14 @@ def uncertainty(fit_: Fit, campaign: Campaign) -> tuple[list[ParameterRecord], N
             reason = (f"determined only within {100 * (factor - 1):.3g} % either side (95 %), "
                       f"looser than the {within:g} % asked (identifiable_within_percent)"
                       + partner)
-        ci = ([math.exp(x - half), math.exp(x + half)] if math.isfinite(half) and not unresolved
+        ci = ([math.exp(x - half), math.exp(x + half)] if math.isfinite(factor)
               else [p.low, p.high])
         records.append(ParameterRecord(
             key=p.address.name, unit=p.address.unit, initial=p.initial, value=math.exp(x),
             ci95=ci, bounds=[p.low, p.high], identifiable=bool(identifiable),
             at_bound=at_bound,
-            relative_std_percent=(100.0 * math.expm1(sd[k]) if math.isfinite(sd[k])
-                                  and not unresolved else None),
+            relative_std_percent=(100.0 * math.expm1(sd[k]) if math.isfinite(factor)
+                                  else None),
             reason=reason))
     corr_list = [[float(v) if math.isfinite(v) else 0.0 for v in row] for row in corr]
     return records, noise, [float(s) for s in singular], corr_list

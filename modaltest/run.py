@@ -10,6 +10,7 @@ import numpy as np
 
 from analytical.params import ModelOptions
 from common.atomic import write_json_atomic, write_text_atomic
+from common.errors import ComputeError
 from results.campaign_records import Correlation, Identification, ModelRecord
 from results.declare import csv_text
 from scene.address import edited_text
@@ -17,7 +18,7 @@ from scene.load import SceneError
 
 from . import identify as ident
 from .campaign import Campaign
-from .correlate import correlate_pose, correlation, sampled, scores
+from .correlate import correlate_pose, correlation
 from .models import AnalyticalField, analytical_field, fem_field
 
 
@@ -59,27 +60,30 @@ def run_identification(campaign: Campaign, options: ModelOptions,
     text (the scene file with the identified values, every comment kept)."""
     start = time.perf_counter()
     problem = ident.Problem(campaign, options, solved_modes(campaign))
-    before = [correlate_pose(campaign, tp, f) for tp, f in
-              zip(campaign.poses, problem.fields(np.log([p.initial
-                                                          for p in campaign.parameters])))]
-    problem.fitted = [(k, pr["test_mode"] - 1) for k, pose in enumerate(before)
-                      for pr in pose["pairs"]]
+    x0 = np.log([p.start for p in campaign.parameters])
+    at_scene = [correlate_pose(campaign, tp, f)
+                for tp, f in zip(campaign.poses, problem.fields(None))]
+    problem.fitted = _paired(at_scene)
+    if not problem.fitted:  # a rigid spring's scene may pair nothing: try the start
+        problem.fitted = _paired([correlate_pose(campaign, tp, f) for tp, f in
+                                  zip(campaign.poses, problem.fields(x0))])
     if not problem.fitted:
-        from common.errors import ComputeError
         raise ComputeError("identification: no test mode pairs with a model mode at the "
                            "scene's values (see `rps correlate`); nothing to fit")
-    fit = ident.fit(problem)
+    before = _residuals_at_scene(problem)
+    fit = ident.fit(problem, x0, before)
+    after = [correlate_pose(campaign, tp, f)
+             for tp, f in zip(campaign.poses, problem.fields(fit.x))]
+    more = sorted(set(_paired(after)) - set(problem.fitted))
+    if more:  # modes that pair only near the answer: fitted too, once, from there
+        problem.fitted = sorted(set(problem.fitted) | set(more))
+        fit = ident.fit(problem, fit.x, _residuals_at_scene(problem))
+        after = [correlate_pose(campaign, tp, f)
+                 for tp, f in zip(campaign.poses, problem.fields(fit.x))]
     records, noise, singular, corr = ident.uncertainty(fit, campaign)
     after_fields = problem.fields(fit.x)
-    after = [correlate_pose(campaign, tp, f) for tp, f in zip(campaign.poses, after_fields)]
-    macs = {}
-    for k, (tp, f) in enumerate(zip(campaign.poses, after_fields)):
-        _, score, _ = scores(tp.modes.shapes, sampled(tp, f), f.frequencies_hz,
-                             tp.modes.frequencies_hz)
-        for r, (pose, i) in enumerate(problem.fitted):
-            if pose == k:
-                j = problem.partners(after_fields)[r]
-                macs[(pose, i)] = float(score[i, j])
+    _, likeness = problem.partners(after_fields)
+    macs = dict(zip(problem.fitted, likeness))
     values = {p.address: math.exp(x) for p, x in zip(campaign.parameters, fit.x)}
     text = Path(campaign.scene_path).read_text(encoding="utf-8")
     identified = edited_text(text, values)
@@ -98,10 +102,29 @@ def run_identification(campaign: Campaign, options: ModelOptions,
         residual_rms_percent_after=ident.rms_percent(fit.residuals_after), noise=noise,
         singular_values=singular, parameter_correlation=corr,
         fit=ident.fit_table(problem, fit, after_fields, macs), evaluations=fit.evaluations,
-        seconds=seconds, optimiser=f"scipy least_squares (trf, bounded, log space): "
-                                   f"{fit.message}",
+        seconds=seconds, optimiser=(
+            f"scipy least_squares (trf, bounded, log space): {fit.message}"
+            + ("" if fit.converged else " (NOT converged: the keys are not to be trusted)")
+            + f"; {problem.partner_changes} changes of a fitted mode's partner"
+            + (f"; {len(more)} test modes paired only near the answer, fitted from there"
+               if more else "")),
         correlation_after=correlation(campaign, after, model, seconds))
     return record, identified
+
+
+def _paired(poses: list) -> list[tuple[int, int]]:
+    """(pose, test mode) of every pair, 0-based."""
+    return [(k, p["test_mode"] - 1) for k, pose in enumerate(poses) for p in pose["pairs"]]
+
+
+def _residuals_at_scene(problem: ident.Problem) -> np.ndarray:
+    """The fitted modes' residuals at the scene's own values (a rigid spring included),
+    each with the partner the pairing gives there; the fit's own partners are left as
+    they were."""
+    kept = dict(problem.previous), problem.partner_changes
+    out = problem.residuals(None)
+    problem.previous, problem.partner_changes = kept
+    return out
 
 
 def pair_rows(data: Correlation) -> list[dict]:

@@ -91,7 +91,7 @@ def main(argv: list[str] | None = None) -> int:
         return COMMANDS_BY_NAME[args.command].run(args)
     except ModuleNotFoundError as exc:
         extras = ("fem,report" if args.command in ("validate", "report") else
-                  "modal-test" if args.command in ("correlate", "identify") else "fem")
+                  "modal-test" if args.command in ("correlate", "identify", "modes") else "fem")
         print(f"error: {exc.name} is not installed; `{prog} {args.command}` needs "
               f"pip install '{DISTRIBUTION}[{extras}]'", file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -24,13 +24,11 @@ def campaign_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object, exact values")
 
 
-def model_source(args: argparse.Namespace, campaign) -> tuple[object, str]:
+def model_source(args: argparse.Namespace, campaign, chosen) -> tuple[object, str]:
     from .commands.analytical import CHOSEN_ANALYTICAL
 
     scene = campaign.scene
     opts = campaign.analytical
-    args.scene = scene.path  # --from-results is checked against the campaign's scene
-    chosen = run_choice(args, scene)
     if chosen is not None:
         opts = replace(opts, **{k: chosen["analytical"][k] for k in CHOSEN_ANALYTICAL})
         return opts, f"the run's choice, {chosen['analytical']['setting']} ({args.from_results})"
@@ -39,15 +37,24 @@ def model_source(args: argparse.Namespace, campaign) -> tuple[object, str]:
                   "the scene's default settings")
 
 
-def prepared(args: argparse.Namespace, fem: bool):
+def prepared(args: argparse.Namespace, fem: bool, need_keys: bool = False):
     """(campaign, model options, where they come from, FEM cache or None): the campaign read
-    and checked whole, the output directory and cache checked, before any solve."""
+    and checked whole, the output directory, --from-results and the cache checked, before any
+    solve (and before the test files are read: a wrong option is said at once)."""
     from modaltest.campaign import load_campaign
     from runtime.outdir import check_output_dir
 
-    campaign = load_campaign(args.campaign)
-    check_output_dir(args.out, "--out")
-    options, source = model_source(args, campaign)
+    chosen: dict = {}
+
+    def before_data(scene) -> None:
+        check_output_dir(args.out, "--out")
+        args.scene = scene.path  # --from-results is checked against the campaign's scene
+        chosen["run"] = run_choice(args, scene)
+        if fem:
+            cache_dir(args)
+
+    campaign = load_campaign(args.campaign, need_keys=need_keys, before_data=before_data)
+    options, source = model_source(args, campaign, chosen["run"])
     options = zone_cache(args, options)
     cache = None
     if fem:

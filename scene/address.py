@@ -52,8 +52,11 @@ class Address:
         changes: dict[str, Any] = {self.field: float(value) * self.spec.scale}
         if self.table == "manipulator":
             return replace(manipulator, **changes)
-        holder = getattr(manipulator, self.table)
-        return replace(manipulator, **{self.table: replace(holder, **changes)})
+        holder = replace(getattr(manipulator, self.table), **changes)
+        derived: dict[str, Any] = {}
+        if self.table == "leg" and holder.stepped:  # a stepped leg's diameter is its parts'
+            derived["leg_diameter"] = holder.largest_diameter
+        return replace(manipulator, **{self.table: holder}, **derived)
 
     def problem(self, value: float) -> str | None:
         """Why `value` (edge unit) is outside the key's declared range, or None."""

@@ -50,10 +50,10 @@ def _campaign(tmp_path: Path, identify=tuple(HIDDEN), hidden=HIDDEN, points=POIN
     return write_campaign(ACTUATOR, dict(hidden), points, tmp_path / "campaign", list(identify))
 
 
-def exact(campaign: Campaign) -> Campaign:
+def exact(campaign: Campaign, hidden=HIDDEN) -> Campaign:
     """The campaign with each pose's modes as the model computes them with the hidden values
     (a UFF 55 file holds 6 significant digits: tests/test_modaltest_uff.py)."""
-    truth = hidden_scene(campaign.raw_scene, campaign.scene_path, HIDDEN)
+    truth = hidden_scene(campaign.raw_scene, campaign.scene_path, hidden)
     poses = []
     for tp in campaign.poses:
         field = analytical_field(truth.manipulator, tp.pose, tp.geometry, campaign.analytical,
@@ -86,11 +86,14 @@ def test_a_campaign_made_by_the_model_is_recovered_to_1e_6(model_made):
     assert "# The drive:" in text  # the scene's comments kept
 
 
-def test_eigenvalue_sensitivities_equal_finite_differences(model_made):
-    problem = Problem(model_made, model_made.analytical, solved_modes(model_made))
-    problem.fitted = [(k, i) for k, tp in enumerate(model_made.poses)
+def test_eigenvalue_sensitivities_equal_finite_differences(tmp_path):
+    """Springs (K only), a payload's mass and the density (M: the -lambda dM/dp term)."""
+    keys = (*HIDDEN, "payload.mass_kg", "material.density_kg_m3")
+    campaign = exact(load_campaign(_campaign(tmp_path, identify=keys, points=POINTS[1:])))
+    problem = Problem(campaign, campaign.analytical, solved_modes(campaign))
+    problem.fitted = [(k, i) for k, tp in enumerate(campaign.poses)
                       for i in range(len(tp.modes.frequencies_hz))]
-    x = np.log([p.initial for p in model_made.parameters])
+    x = np.log([p.initial for p in campaign.parameters])
     jac = problem.jacobian(x)
     h = 1e-5
     for k in range(len(x)):
@@ -100,7 +103,8 @@ def test_eigenvalue_sensitivities_equal_finite_differences(model_made):
         # the difference quotient's own error: the eigen solve's rounding (about 1e-12 in ln f)
         # over 2 h, some 1e-7; its truncation, h^2 times the third derivative, far below
         assert np.allclose(jac[:, k], fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max()), (k, jac, fd)
-    assert np.abs(jac).max() > 1e-3  # the springs do move the frequencies
+    assert np.all(np.abs(jac).max(axis=0) > 1e-3)  # every key moves the frequencies
+    assert np.all(jac[:, 3:] < 0)  # more mass, lower frequencies: every mode
 
 
 def test_a_key_the_frequencies_do_not_depend_on_is_flagged(tmp_path):
@@ -116,28 +120,30 @@ def test_a_key_the_frequencies_do_not_depend_on_is_flagged(tmp_path):
 
 
 def test_correlation_pairs_by_shape_not_by_order(tmp_path, model_made):
-    """The model's own modes, written in reverse order: every pair found again, MAC 1."""
-    tp = model_made.poses[0]
-    order = np.arange(len(tp.modes.frequencies_hz))[::-1]
-    reversed_modes = uff.Modes(tp.modes.frequencies_hz[order], None, tp.modes.dofs,
-                               tp.modes.shapes[:, order])
-    data = tmp_path / "reversed.unv"
-    uff.write_uff(data, tp.nodes, reversed_modes)
-    text = Path(model_made.path).read_text().replace(f'data = "{POINTS[0].name}.unv"',
+    """The model's own modes with two frequencies exchanged (modes 4 and 5, some 20 % apart)
+    and the file in reverse order: each test mode pairs with the model mode of its shape."""
+    tp = model_made.poses[1]
+    hz = tp.modes.frequencies_hz.copy()
+    hz[[3, 4]] = hz[[4, 3]]
+    order = np.arange(len(hz))[::-1]
+    swapped = uff.Modes(hz[order], None, tp.modes.dofs, tp.modes.shapes[:, order])
+    data = tmp_path / "swapped.unv"
+    uff.write_uff(data, tp.nodes, swapped)
+    text = Path(model_made.path).read_text().replace(f'data = "{POINTS[1].name}.unv"',
                                                      f'data = "{data}"')
-    path = Path(model_made.path).with_name("reversed.toml")
+    path = Path(model_made.path).with_name("swapped.toml")
     path.write_text(text)
     campaign = load_campaign(path)
     campaign = replace(campaign, scene=hidden_scene(campaign.raw_scene, campaign.scene_path,
                                                     HIDDEN))  # the model that made the test
-    out = run_correlation(campaign, campaign.analytical, "test")
-    pose = out["poses"][0]
+    pose = run_correlation(campaign, campaign.analytical, "test")["poses"][1]
     n = len(order)
-    # every test mode finds its own model mode (a repeated pair's members either way round:
-    # one frequency), at the 6 digits a UFF 55 holds
     assert len(pose["pairs"]) == n and not pose["unpaired_test_modes"]
-    for p in pose["pairs"]:
-        assert abs(p["error_percent"]) < 1e-3 and p["mac"] > 0.999, p
+    by_test = {p["test_mode"]: p for p in pose["pairs"]}
+    for k in range(n):  # test mode k + 1 has the shape of model mode order[k] + 1
+        p = by_test[k + 1]
+        assert p["model_mode"] == order[k] + 1 and p["mac"] > 0.999, p
+    assert abs(by_test[n - 4]["error_percent"]) > 10  # the exchanged ones: by shape
 
 
 def test_a_node_moves_with_the_body_it_lies_on(model_made):
@@ -187,6 +193,9 @@ def test_the_shipped_fem_campaign_recovers_its_hidden_springs():
         else:
             flagged += 1
     assert any(p["identifiable"] for p in record["parameters"])
+    # the two translational springs act in series and trade off: flagged, never confident
+    assert flagged >= 2 and not any(p["identifiable"] for p in record["parameters"]
+                                    if "translational" in p["key"])
     assert record["residual_rms_percent_after"] < record["residual_rms_percent_before"]
 
 
@@ -292,3 +301,51 @@ def test_a_campaign_of_frfs_gives_its_modes_through_sdypy_ema(tmp_path):
     assert len(pose["pairs"]) == len(tp.modes.frequencies_hz) == 6
     for p in pose["pairs"]:
         assert abs(p["error_percent"]) < 0.1 and p["mac"] > 0.99, p
+
+
+def test_the_way_back_writes_the_prediction_and_suggests_sensors(tmp_path):
+    """`rps modes`: the model's modes at candidate points as UFF (2411 + 55), read back to the
+    file's 6 digits, and effective independence keeping the dofs that tell the modes apart."""
+    out = tmp_path / "prediction.unv"
+    proc = _rps("modes", "--scene", str(ACTUATOR), "--case", "tilted", "--out", str(out),
+                "--suggest", "12", "--json")
+    assert proc.returncode == 0, proc.stderr
+    payload = json.loads(proc.stdout)
+    content = uff.read_uff(out)
+    assert content.modes is not None
+    assert np.allclose(content.modes.frequencies_hz, payload["frequencies_hz"], rtol=1e-5)
+    scene = load_scene(ACTUATOR)
+    from analytical.model import natural_frequencies
+    direct = natural_frequencies(scene.manipulator, scene.case("tilted").pose, scene.analytical)
+    assert np.allclose(payload["frequencies_hz"], direct[:len(payload["frequencies_hz"])],
+                       rtol=1e-12)
+    rows = (tmp_path / "prediction.sensors.csv").read_text().splitlines()
+    assert len(rows) == 13 and rows[0] == "node,x_mm,y_mm,z_mm,direction"
+
+
+def test_effective_independence_keeps_the_dofs_that_tell_modes_apart():
+    from modaltest.pretest import effective_independence
+    shapes = np.array([[1.0, 0.0], [0.0, 1.0], [1e-3, 1e-3], [0.7, 0.7], [1e-4, 0.0]])
+    assert list(effective_independence(shapes, 2)) == [0, 1]
+    rng = np.random.default_rng(3)
+    tall = rng.standard_normal((40, 4))
+    keep = effective_independence(tall, 6)
+    assert len(keep) == 6 and np.linalg.matrix_rank(tall[keep]) == 4
+    with pytest.raises(InputError):
+        effective_independence(tall, 3)
+
+
+def test_a_rigid_spring_is_identified_from_its_bounds(tmp_path):
+    """The paper's machine has rigid joints and drive (0 in the scene); a drive spring
+    identified from bounds (the fit starts at their geometric middle) is recovered."""
+    paper = ROOT / "scenes" / "paper.toml"
+    hidden = {"stiffness.actuator_axial_n_per_um": 400.0}
+    points = (PoseTested("a", 543.6, 0.0, 0.0), PoseTested("b", 600.0, 30.0, 10.0))
+    path = write_campaign(paper, hidden, points, tmp_path / "paper", list(hidden),
+                          extra='\n[identify.bounds]\n"stiffness.actuator_axial_n_per_um" = '
+                          "[40.0, 40000.0]\n")
+    campaign = exact(load_campaign(path), hidden)
+    record, text = run_identification(campaign, campaign.analytical, "test")
+    p = record["parameters"][0]
+    assert p["initial"] == 0.0 and p["value"] == pytest.approx(400.0, rel=1e-6), p
+    assert tomllib.loads(text)["stiffness"]["actuator_axial_n_per_um"] == pytest.approx(400.0)

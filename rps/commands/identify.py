@@ -7,7 +7,6 @@ from __future__ import annotations
 import argparse
 import json
 
-from common.errors import InputError
 from runtime.places import path_argument
 
 from ..campaign_args import campaign_options, page, prepared
@@ -25,10 +24,7 @@ def run(args: argparse.Namespace) -> int:
     from modaltest.run import run_identification, write_identification
     from runtime.outdir import staged_output
 
-    campaign, options, source, _ = prepared(args, fem=False)
-    if not campaign.parameters:
-        raise InputError(f"--campaign {args.campaign}: has no [identify] keys; nothing to "
-                         "identify")
+    campaign, options, source, _ = prepared(args, fem=False, need_keys=True)
     data, identified = run_identification(campaign, options, source)
     with staged_output(args.out) as stage:
         write_identification(data, identified, stage)
