@@ -4,7 +4,8 @@ units (164), nodes (15, 2411), modes (55), FRFs (58). SI inside: metres, hertz, 
 Reading (`read_uff`; any refusal is a `UffError`, one line naming the file and the problem):
 - lengths are mm and forces N unless a 164 gives the file's units (then its factors, file units
   per SI unit); nodes (15, 2411) are in the global frame: a local system that a 2420/18 defines
-  off it is refused, an undefined system label is taken as global;
+  off it is refused, and so is a label the file does not define, except 0 and 1 (the global
+  frame by the I-DEAS convention test software follows);
 - modes: one 55 per mode, in file order; normal modes (analysis type 2) give the frequency and
   the modal viscous damping ratio, complex ones (3, 7) the eigenvalue in rad/s (f = |lambda| /
   2 pi, zeta = -Re lambda / |lambda|) and shapes made real by the best common phase rotation
@@ -257,7 +258,9 @@ def _nodes(sets: _Sets, length: float) -> Nodes:
 
 
 def _check_frames(sets: _Sets, used: set[float]) -> None:
-    """Refuse nodes in a local coordinate system that a 2420 or 18 defines off the global one."""
+    """Refuse nodes in a local coordinate system that a 2420 or 18 defines off the global one,
+    or in one the file does not define."""
+    defined: set[float] = set()
     for index, d in sets:
         if d["type"] == 2420:
             frames = [(label, kind == 0 and np.array_equal(m, np.eye(4, 3)))
@@ -273,6 +276,14 @@ def _check_frames(sets: _Sets, used: set[float]) -> None:
             if label in used and not is_global:
                 raise UffError(f"dataset {index} ({d['type']}): nodes use local coordinate "
                                f"system {label:g}, not the global frame (not supported)")
+            defined.add(label)
+    # a label no 2420/18 defines: 0 and 1 are the global frame by the I-DEAS convention
+    # (test software writes its nodes in system 1); any other is a local system of unknown
+    # orientation, and the directions read would be wrong
+    unknown = sorted(used - defined - {1.0})
+    if unknown:
+        raise UffError(f"nodes use coordinate system {unknown[0]:g}, which the file does not "
+                       "define (dataset 2420 or 18); give the nodes in the global frame")
 
 
 def _modes(sets: _Sets, known: set[int]) -> Modes | None:
