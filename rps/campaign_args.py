@@ -16,7 +16,7 @@ from .args import cache_dir, cache_option, run_choice, zone_cache
 def campaign_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--campaign", metavar="TOML", type=path_argument, required=True,
                    help="test campaign file: the scene, the poses and their UFF files, "
-                   "[identify] keys (docs/campaigns.md; required)")
+                   "[identify] keys (docs/campaigns.md; required, no default)")
     p.add_argument("--from-results", metavar="JSON", type=path_argument,
                    help="use the model the validated run chose for the campaign's scene, read "
                    "from its results.json (default: the scene's own settings)")

@@ -10,11 +10,11 @@ import re
 
 import pytest
 
+from reports.campaign_charts import platform_ring
 from reports.campaign_pages import (
     CampaignDataError,
     correlation_page,
     identification_page,
-    platform_ring,
     write_page,
 )
 

@@ -19,7 +19,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="the model correlated: the analytical model (the scene's settings, or "
                    "the run's choice with --from-results) or the scene's solid FEM at each pose")
     p.add_argument("--out", metavar="DIR", type=path_argument, required=True,
-                   help="directory of correlation.json, its tables and page (replaced whole)")
+                   help="directory of correlation.json, its tables and page, replaced whole "
+                   "(required, no default)")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -17,7 +17,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     campaign_options(p)
     p.add_argument("--out", metavar="DIR", type=path_argument, required=True,
                    help="directory of identification.json, identified.toml, tables and page "
-                   "(replaced whole)")
+                   "(replaced whole; required, no default)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -48,4 +48,4 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMAND = Command("identify", "fit scene keys (springs, masses, moduli) to a modal test "
-                  "campaign, with 95 % intervals", add_arguments, run)
+                  "campaign, with 95 %% intervals", add_arguments, run)

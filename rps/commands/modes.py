@@ -23,7 +23,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     scene_args(p)
     p.add_argument("--out", metavar="FILE", type=path_argument, required=True,
                    help="the Universal File written (.unv or .uff); with --suggest also "
-                   "FILE's name with .sensors.csv")
+                   "FILE's name with .sensors.csv (required, no default)")
     p.add_argument("--points", metavar="CSV", type=path_argument,
                    help="points x_mm, y_mm, z_mm in the base frame at the pose, each on the "
                    "platform or a leg (default: candidate points on the platform's top face and "
@@ -32,7 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                     help="number of modes (default: the scene's)")
     p.add_argument("--suggest", metavar="N", type=int,
                    help="also choose N sensor directions by effective independence (at least "
-                   "the number of modes)")
+                   "the number of modes; default: none)")
 
 
 def run(args: argparse.Namespace) -> int:
