@@ -29,3 +29,10 @@ def test_every_key_of_the_paper_scene_is_documented():
         else:
             used.add(key)
     assert used <= documented, sorted(used - documented)
+
+
+def test_committed_campaign_docs_are_current():
+    from modaltest.docs import DOC as CAMPAIGN_DOC
+    from modaltest.docs import render as render_campaigns
+    assert CAMPAIGN_DOC.read_text(encoding="utf-8") == render_campaigns(), (
+        "docs/campaigns.md is stale: run `.venv/bin/python -m rps scene-docs`")
