@@ -86,7 +86,12 @@ def run_identification(campaign: Campaign, options: ModelOptions,
     macs = dict(zip(problem.fitted, likeness))
     values = {p.address: math.exp(x) for p, x in zip(campaign.parameters, fit.x)}
     text = Path(campaign.scene_path).read_text(encoding="utf-8")
-    identified = edited_text(text, values)
+    notes = {p.address: (f"identified from {Path(campaign.path).name}: 95 % "
+                         f"[{r['ci95'][0]:.4g}, {r['ci95'][1]:.4g}]" if r["identifiable"] else
+                         f"NOT IDENTIFIABLE from {Path(campaign.path).name}, fitted jointly "
+                         f"with the other keys: {r['reason']}")
+             for p, r in zip(campaign.parameters, records)}
+    identified = edited_text(text, values, notes)
     try:  # the identified machine as a whole (plausibility: parse_scene's checks)
         scene = campaign.scene_with(values)
         check = "accepted" + "".join(f"; warning: {w}" for w in scene.warnings)

@@ -96,15 +96,18 @@ def _toml_number(value: float) -> str:
     return text if ("." in text or "e" in text or "inf" in text or "nan" in text) else text + ".0"
 
 
-def edited_text(text: str, values: Mapping[Address, float]) -> str:
-    """The scene file's text with the addressed keys set (edge units), every comment and line
-    kept: a key given in its table is rewritten in place (its comment kept), a key left out
-    is added under its table's header, a table left out is added at the end."""
+def edited_text(text: str, values: Mapping[Address, float],
+                notes: Mapping[Address, str] | None = None) -> str:
+    """The scene file's text with the addressed keys set (edge units), every other line kept:
+    a key given in its table is rewritten in place (its comment kept, or replaced by its
+    `notes` entry: one line saying where the value came from), a key left out is added under
+    its table's header, a table left out is added at the end."""
     import re
 
     lines = text.splitlines()
     for address, value in values.items():
-        number = _toml_number(value)
+        note = (notes or {}).get(address)
+        number = _toml_number(value) + (f"  # {' '.join(note.split())}" if note else "")
         table = None
         header_at = None
         done = False
@@ -120,7 +123,7 @@ def edited_text(text: str, values: Mapping[Address, float]) -> str:
                 continue
             found = re.match(rf"^(\s*{re.escape(address.key)}\s*=\s*)([^#]*?)(\s*#.*)?$", line)
             if table == address.table and found:
-                lines[k] = found.group(1) + number + (found.group(3) or "")
+                lines[k] = found.group(1) + number + ("" if note else (found.group(3) or ""))
                 done = True
                 break
         if done:
