@@ -78,12 +78,14 @@ def scores(test_shapes: np.ndarray, model_shapes: np.ndarray, model_hz: np.ndarr
 
 
 def _assign(score: np.ndarray, ok: np.ndarray, ratio: np.ndarray, rows: list[int],
-            cols: list[int]) -> dict[int, int]:
-    """The admissible assignment of `rows` to `cols` maximising score - |ln ratio|."""
+            cols: list[int], mac: np.ndarray) -> dict[int, int]:
+    """The admissible assignment of `rows` to `cols` maximising score - |ln ratio| (a tie
+    inside a repeated group, where every member scores its subspace share, broken by the
+    plain MAC)."""
     if not rows or not cols:
         return {}
     sub = np.ix_(rows, cols)
-    cost = np.where(ok[sub], -(score[sub] - np.abs(ratio[sub])), 1e6)
+    cost = np.where(ok[sub], -(score[sub] - np.abs(ratio[sub]) + 1e-6 * mac[sub]), 1e6)
     r, c = linear_sum_assignment(cost)
     return {rows[i]: cols[j] for i, j in zip(r, c) if ok[rows[i], cols[j]]}
 
@@ -109,7 +111,7 @@ def pair(s: Scores, test_hz: np.ndarray, model_hz: np.ndarray,
     near = np.abs(model_hz[None, :] / test_hz[:, None] - 1.0) <= limit
     ok = (s.score >= settings.min_mac) & near
     every = list(range(len(test_hz)))
-    pairs = _assign(s.score, ok, ratio, every, list(range(len(model_hz))))
+    pairs = _assign(s.score, ok, ratio, every, list(range(len(model_hz))), s.mac)
     grouped = {i for i, j in pairs.items() if j in s.repeated}
     for group in s.model_groups:
         _in_order(pairs, [i for i, j in pairs.items() if j in group], test_hz, model_hz)
@@ -120,7 +122,7 @@ def pair(s: Scores, test_hz: np.ndarray, model_hz: np.ndarray,
             continue
         used = set(pairs.values())
         found = _assign(s.test_subspace, ok_group, ratio, left,
-                        [j for j in range(len(model_hz)) if j not in used])
+                        [j for j in range(len(model_hz)) if j not in used], s.mac)
         pairs.update(found)
         grouped |= set(found)
         _in_order(pairs, list(found), test_hz, model_hz)
