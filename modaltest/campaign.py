@@ -38,6 +38,8 @@ from .ema import EmaSettings, identify_modes
 from .placement import Placement, place
 
 MAX_POSES = 50  # a campaign's poses at most (each one model solve per evaluation)
+MAX_EMA_POINTS = 10_000_000  # FRF values in one pose's band: about a minute of LSCF at order 60
+# (1 s measured for 1.5e5 values, 36 FRFs x 4059 lines; linear in the values)
 
 
 def _pose_setting(name: str, doc: str, default: Any = MISSING) -> Any:
@@ -225,6 +227,14 @@ def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaSettings 
                            else axis[0] if axis[0] > 0 else axis[min(1, len(axis) - 1)]),
             upper_hz=float(ema.upper_hz if ema is not None and ema.upper_hz > 0 else axis[-1]),
             model_order=ema.model_order if ema is not None else 60)
+        band = (axis >= settings.lower_hz) & (axis <= settings.upper_hz)
+        points = int(band.sum()) * len(content.frfs.values)
+        if points > MAX_EMA_POINTS:  # LSCF's cost grows with FRFs x lines (x order^2)
+            raise SceneError(f"{where}.data {spec.data!r}: {len(content.frfs.values)} FRFs x "
+                             f"{int(band.sum())} lines in the band = {points:,} values; at most "
+                             f"{MAX_EMA_POINTS:,} are identified in one pose (measured 1 s "
+                             "for 1.5e5 at order 60): narrow [ema] lower_hz/upper_hz or "
+                             "give fewer FRFs")
         modes = identify_modes(content.frfs, settings)
         source = (f"FRFs (UFF 58), modes identified with sdypy-EMA in "
                   f"{settings.lower_hz:g}-{settings.upper_hz:g} Hz, LSCF order up to "

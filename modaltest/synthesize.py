@@ -26,7 +26,8 @@ from scene.load import parse_scene, read_toml
 
 from . import uff
 from .models import analytical_field, fem_field
-from .placement import ModeField, place, sample
+from .placement import ModeField
+from .pretest import prediction
 
 
 @dataclass(frozen=True)
@@ -74,19 +75,13 @@ def test_modes(field: ModeField, manipulator: Manipulator, geometry: PoseGeometr
                frequency_noise: float, shape_noise: float,
                rng: np.random.Generator) -> tuple[uff.Nodes, uff.Modes]:
     """The model's lowest `modes` modes at the sensors, with noise (fractions)."""
-    xyz = sensor_points(manipulator, geometry)
-    ids = np.arange(1, len(xyz) + 1)
-    placements = place(manipulator, geometry, ids, xyz, 1e-6, "synthetic sensors")
-    node = np.repeat(ids, 3)
-    direction = np.tile(np.eye(3), (len(ids), 1))
-    shapes = sample(field, geometry, placements, node, direction)[:, :modes]
-    shapes = shapes / np.abs(shapes).max(axis=0)
+    nodes, exact = prediction(field, manipulator, geometry, sensor_points(manipulator, geometry),
+                              modes, 1e-6, "synthetic sensors")
+    shapes = exact.shapes / np.abs(exact.shapes).max(axis=0)
     shapes = shapes + shape_noise * rng.standard_normal(shapes.shape)
-    hz = np.asarray(field.frequencies_hz[:modes], float)
-    hz = hz * (1.0 + frequency_noise * rng.standard_normal(modes))
+    hz = exact.frequencies_hz * (1.0 + frequency_noise * rng.standard_normal(len(shapes.T)))
     order = np.argsort(hz)
-    return (uff.Nodes(ids, xyz),
-            uff.Modes(hz[order], None, uff.Dofs(node, direction), shapes[:, order]))
+    return nodes, uff.Modes(hz[order], None, exact.dofs, shapes[:, order])
 
 
 def test_frfs(field: ModeField, manipulator: Manipulator, geometry: PoseGeometry, modes: int,
@@ -95,20 +90,17 @@ def test_frfs(field: ModeField, manipulator: Manipulator, geometry: PoseGeometry
     excitation dof (the one every mode moves most evenly), by modal superposition of the
     mass-normalised modes with a modal damping ratio: H_jk = sum_r phi_jr phi_kr /
     (w_r^2 - w^2 + 2 i zeta w_r w), on 0 Hz to 1.25 times the highest mode."""
-    xyz = sensor_points(manipulator, geometry)
-    ids = np.arange(1, len(xyz) + 1)
-    placements = place(manipulator, geometry, ids, xyz, 1e-6, "synthetic sensors")
-    node = np.repeat(ids, 3)
-    direction = np.tile(np.eye(3), (len(ids), 1))
-    phi = sample(field, geometry, placements, node, direction)[:, :modes]
-    hz = np.asarray(field.frequencies_hz[:modes], float)
+    nodes, exact = prediction(field, manipulator, geometry, sensor_points(manipulator, geometry),
+                              modes, 1e-6, "synthetic sensors")
+    phi, hz, dofs = exact.shapes, exact.frequencies_hz, exact.dofs
     ref = int(np.argmax(np.min(np.abs(phi) / np.abs(phi).max(axis=0), axis=1)))
     f = np.arange(0.0, 1.25 * hz[-1], resolution_hz)
     w, wr = 2 * np.pi * f, 2 * np.pi * hz
     h = (phi[:, None, :] * phi[ref, None, None, :]
          / (wr**2 - w[:, None] ** 2 + 2j * damping_ratio * wr * w[:, None])[None]).sum(axis=2)
-    reference = uff.Dofs(np.full(len(node), node[ref]), np.tile(direction[ref], (len(node), 1)))
-    return uff.Nodes(ids, xyz), uff.Frfs(f, uff.Dofs(node, direction), reference, h)
+    count = len(dofs.node)
+    reference = uff.Dofs(np.full(count, dofs.node[ref]), np.tile(dofs.direction[ref], (count, 1)))
+    return nodes, uff.Frfs(f, dofs, reference, h)
 
 
 def hidden_scene(raw: dict, scene_path: str, hidden: dict[str, float]) -> Scene:

@@ -56,6 +56,9 @@ __all__ = ["ComplexArray", "Dofs", "FloatArray", "Frfs", "IntArray", "Modes", "N
            "UffContent", "UffError", "complex_to_real_shape", "read_uff", "write_uff"]
 
 MM_PER_M = 1000.0
+# a modal test's file per pose: some thousand FRFs of some thousand lines is tens of MB in
+# binary 58, an ASCII one a few times that; beyond, pyuff's whole-file read is the wrong tool
+MAX_FILE_BYTES = 500e6
 _WRITE_UNITS = {"type": 164, "units_code": 5, "units_description": "mm (milli-newton)",
                 "temp_mode": 2, "length": 1000.0, "force": 1000.0, "temp": 1.0,
                 "temp_offset": 273.15}
@@ -70,6 +73,10 @@ def read_uff(path: str | os.PathLike[str]) -> UffContent:
     """Nodes, modes (55) and FRFs (58) of a UFF file, in SI (module docstring for the rules)."""
     name = os.fspath(path)
     try:
+        size = os.path.getsize(name) if os.path.isfile(name) else 0
+        if size > MAX_FILE_BYTES:
+            raise UffError(f"{size / 1e6:.0f} MB; at most {MAX_FILE_BYTES / 1e6:.0f} MB are read "
+                           "(pyuff holds a whole file in memory): split it per pose or band")
         sets = _read_sets(name)
         length, force = _units(sets)
         nodes = _nodes(sets, length)

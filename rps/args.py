@@ -125,6 +125,18 @@ def run_choice(args: argparse.Namespace, scene) -> Mapping[str, Any] | None:
     return results["fidelity"]
 
 
+CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "legs", "elements", "platform_inertia")
+
+
+def with_choice(options, chosen: Mapping[str, Any] | None, args: argparse.Namespace):
+    """(options, where they came from): `options` with the run's chosen analytical settings
+    (the fidelity block `run_choice` read), or as they are and None without a choice."""
+    if chosen is None:
+        return options, None
+    return (replace(options, **{k: chosen["analytical"][k] for k in CHOSEN_ANALYTICAL}),
+            f"the run's choice, {chosen['analytical']['setting']} ({args.from_results})")
+
+
 def pose_payload(pose) -> dict:
     return {"height_mm": round(pose.height * 1e3, 9),
             "azimuth_deg": round(math.degrees(pose.azimuth), 9),

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 from common.locations import DISTRIBUTION
 from runtime.places import path_argument
 
-from .args import cache_dir, cache_option, run_choice, zone_cache
+from .args import cache_dir, cache_option, run_choice, with_choice, zone_cache
 
 
 def campaign_options(p: argparse.ArgumentParser) -> None:
@@ -25,16 +24,10 @@ def campaign_options(p: argparse.ArgumentParser) -> None:
 
 
 def model_source(args: argparse.Namespace, campaign, chosen) -> tuple[object, str]:
-    from .commands.analytical import CHOSEN_ANALYTICAL
-
-    scene = campaign.scene
-    opts = campaign.analytical
-    if chosen is not None:
-        opts = replace(opts, **{k: chosen["analytical"][k] for k in CHOSEN_ANALYTICAL})
-        return opts, f"the run's choice, {chosen['analytical']['setting']} ({args.from_results})"
-    return opts, ("the campaign's [analytical]" if campaign.analytical_given else
-                  "the scene's [analytical]" if scene.analytical_given else
-                  "the scene's default settings")
+    opts, source = with_choice(campaign.analytical, chosen, args)
+    return opts, source or ("the campaign's [analytical]" if campaign.analytical_given else
+                            "the scene's [analytical]" if campaign.scene.analytical_given else
+                            "the scene's default settings")
 
 
 def prepared(args: argparse.Namespace, fem: bool, need_keys: bool = False):

@@ -293,7 +293,7 @@ def test_scene_addresses_are_refused_in_one_line():
         assert words in str(exc.value) and "\n" not in str(exc.value)
 
 
-def test_a_campaign_of_frfs_gives_its_modes_through_sdypy_ema(tmp_path):
+def test_a_campaign_of_frfs_gives_its_modes_through_sdypy_ema(tmp_path, monkeypatch):
     """Receptances (UFF 58) made by the model with 2 % modal damping: the modes identified
     from them (LSCF and LSFD) pair with the model's own within 0.1 % and MAC 0.99, and their
     damping within 5 %."""
@@ -306,6 +306,10 @@ def test_a_campaign_of_frfs_gives_its_modes_through_sdypy_ema(tmp_path):
     assert len(pose["pairs"]) == len(tp.modes.frequencies_hz) == 6
     for p in pose["pairs"]:
         assert abs(p["error_percent"]) < 0.1 and p["mac"] > 0.99, p
+    # an identification too big to finish in reasonable time is refused before it starts
+    import modaltest.campaign
+    monkeypatch.setattr(modaltest.campaign, "MAX_EMA_POINTS", 1000)
+    _refused(path, "FRFs x", "at most 1,000")
 
 
 def test_the_way_back_writes_the_prediction_and_suggests_sensors(tmp_path, capsys):

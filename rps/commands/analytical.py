@@ -26,12 +26,11 @@ from ..args import (
     pose_payload,
     run_choice,
     scene_args,
+    with_choice,
     zone_cache,
 )
 from ..options import declared_option, typed
 from .registry import Command
-
-CHOSEN_ANALYTICAL = ("beam", "shear", "joint_ends", "legs", "elements", "platform_inertia")
 
 
 def cmd_analytical(args: argparse.Namespace) -> dict:
@@ -40,12 +39,8 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
 
     scene = load(args)
     case, _ = pose_case(scene, args)
-    opts = scene.analytical
-    chosen = run_choice(args, scene)
-    if chosen is not None:
-        opts = replace(opts, **{k: chosen["analytical"][k] for k in CHOSEN_ANALYTICAL})
-        source = f"the run's choice, {chosen['analytical']['setting']} ({args.from_results})"
-    else:
+    opts, source = with_choice(scene.analytical, run_choice(args, scene), args)
+    if source is None:
         source = ("the scene's [analytical]" if scene.analytical_given else
                   "the scene's defaults, not the model a validated run chooses (that one: "
                   "--from-results out/results.json)")

@@ -6,13 +6,21 @@ from __future__ import annotations
 
 import argparse
 import json
-from dataclasses import replace
 
 from common.errors import InputError
 from runtime.places import path_argument
 from scene import FidelitySettings
 
-from ..args import load, pose_case, pose_payload, run_choice, scene_args, warn, zone_cache
+from ..args import (
+    load,
+    pose_case,
+    pose_payload,
+    run_choice,
+    scene_args,
+    warn,
+    with_choice,
+    zone_cache,
+)
 from ..options import declared_option
 from .registry import Command
 
@@ -48,18 +56,13 @@ def run(args: argparse.Namespace) -> int:
     )
     from results.declare import csv_text
 
-    from .analytical import CHOSEN_ANALYTICAL
-
     if args.out.suffix.lower() not in (".unv", ".uff"):
         raise InputError(f"--out {args.out}: expected a file name ending .unv or .uff")
     if not args.out.absolute().parent.is_dir():
         raise InputError(f"--out {args.out}: its directory does not exist")
     scene = load(args)
     case, geometry = pose_case(scene, args)
-    options = scene.analytical
-    chosen = run_choice(args, scene)
-    if chosen is not None:
-        options = replace(options, **{k: chosen["analytical"][k] for k in CHOSEN_ANALYTICAL})
+    options, _ = with_choice(scene.analytical, run_choice(args, scene), args)
     options = zone_cache(args, options)
     modes = args.modes if args.modes is not None else scene.fidelity.modes
     modes = min(modes, model_coordinates(scene.manipulator, options))
