@@ -35,6 +35,8 @@ UNITS = {
     "kg m2": ("_kg_m2", 1.0, "kg m2"),
     "N/um": ("_n_per_um", 1e6, "N/m"),
     "N m/urad": ("_nm_per_urad", 1e6, "N m/rad"),
+    "1/s": ("_per_s", 1.0, "1/s"),
+    "s": ("_s", 1.0, "s"),
 }
 
 

@@ -178,4 +178,4 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
         min_quality=min(mesh_quality(p.leg.basis.mesh) for p in legs),
         harmonics=tuple(harmonics), excluded_above_hz=math.nan, geometry=geometry,
         modes_q=v, modes_raw=t_map @ v, columns=columns,
-        legs=[(p, off) for p, off in zip(legs, offsets)], plate=plate)
+        legs=[(p, off) for p, off in zip(legs, offsets)], plate=plate, system=(kq, mq))

@@ -45,6 +45,7 @@ class HarmonicResult:
     legs: list = field(repr=False)  # per leg part: (meridian.PartHarmonics, raw offset)
     plate: object = field(default=None, repr=False)
     cache_hit: bool = False
+    system: tuple | None = field(default=None, repr=False)  # (K_q, M_q): the direct response
 
     @property
     def platform_motion(self) -> np.ndarray:

@@ -70,6 +70,7 @@ class FemResult:
     modes_raw: np.ndarray = field(repr=False)  # (raw_dofs, modes) = T modes_q
     mass_matrix: sp.csr_matrix | None = field(default=None, repr=False)  # raw consistent mass
     plate: Plate | None = field(default=None, repr=False)  # the platform (meshed or rigid)
+    system: tuple | None = field(default=None, repr=False)  # (K_q, M_q): the direct response
 
     def _stations(self, leg: int, t: np.ndarray):
         """Per station fraction t of a leg: (part, its point on the leg axis); the part that
@@ -271,6 +272,7 @@ def solve_pose_tetrahedra(manipulator, geometry, assembly: Assembly, options: Fe
         modes_raw=v_raw,
         mass_matrix=m,
         plate=plate,
+        system=(kq, mq),
     )
     return result
 

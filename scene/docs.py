@@ -13,6 +13,7 @@ from pathlib import Path
 from analytical.architecture import ARCHITECTURE_REQUIRED
 from analytical.params import Manipulator, Material, ModelOptions
 from analytical.plausibility import RULES
+from common.frf import Damping, Tool
 from common.leg_profile import LegProfile
 from common.paths import MAX_LENGTH
 from common.payload import Payload
@@ -51,6 +52,14 @@ TABLES = (
      "models (common/stiffness.py): a joint spring joins the body to the leg end's reference "
      "point, the drive spring joins the housing's end face to the rod's (a 3-PRS: the slider to "
      "its rail, along the rail). 0 (the default) is rigid.", (Stiffness,)),
+    ("[damping]", "How the modes are damped, for the dynamic compliance at the tool (`rps frf`, "
+     "the run's tool-point studies; common/frf.py): proportional viscous damping, a ratio per "
+     "mode or Rayleigh's C = alpha M + beta K. modal_ratio may be one number (every mode) or a "
+     "list. With [damping] or [tool] in the scene, a validation also maps the least dynamic "
+     "stiffness at the tool over the workspace and checks both models' receptance against the "
+     "solid's direct frequency response at every case.", (Damping,)),
+    ("[tool]", "Where the force acts and the response is read: a point fixed to the rigid "
+     "platform.", (Tool,)),
     ("[fidelity]", "What accuracy the scene needs, on which modes. Where the scene leaves "
      "[analytical] out, and mesh_size_mm out of [fem], the run chooses the cheapest models that "
      "meet it, by measurement (studies/choice.py).", (FidelitySettings,)),

@@ -23,6 +23,7 @@ from analytical.params import (
     check_manipulator,
 )
 from common.errors import InputError
+from common.frf import Damping, Tool
 from common.leg_profile import LegProfile
 from common.paths import UnsafeName, distinct_stems
 from common.payload import Payload
@@ -135,6 +136,10 @@ class Scene:
     fem_size_given: bool = False  # [fem] mesh_size_mm in the file: an explicit override
     warnings: tuple[str, ...] = ()  # a machine that strains a shared idealisation
                                     # (analytical.plausibility): the output and report say so
+    damping: Damping = Damping()  # [damping]: the tool's receptance (common.frf)
+    tool: Tool = Tool()  # [tool]: where the force acts and the response is read
+    dynamics_given: bool = False  # [damping] or [tool] in the file: the scene asks for the
+                                  # dynamic compliance at the tool (its studies run)
 
     def case(self, name: str) -> Case:
         if name not in self.cases:
@@ -333,6 +338,15 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     except ValueError as exc:
         raise SceneError(f"{where}: {exc}") from None
 
+    damp = top.table("damping", {})
+    if isinstance(damp.data, dict) and isinstance(damp.data.get("modal_ratio"), (int, float)):
+        damp.data = {**damp.data, "modal_ratio": [damp.data["modal_ratio"]]}  # one for all
+    damping = damp.settings(Damping)
+    damp.done()
+    tool_t = top.table("tool", {})
+    tool = tool_t.settings(Tool)
+    tool_t.done()
+
     fid = top.table("fidelity", {})
     fidelity = fid.settings(FidelitySettings)
     fid.done()
@@ -422,4 +436,4 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         raise SceneError(f"{where}: {exc}") from None
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
                  reason, shape_reason, raw, tuple(ci_cases), fidelity, analytical_given,
-                 fem_size_given, warnings)
+                 fem_size_given, warnings, damping, tool, "damping" in raw or "tool" in raw)

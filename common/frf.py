@@ -1,0 +1,345 @@
+"""Dynamic compliance at the tool: damping and the tool point declared once, and the receptance
+of a structure from its modes, shared by both models and the FEM (the formulas are textbook
+structural dynamics, checked against closed forms in tests/test_frf.py; each model brings its
+own modes and its own static solve).
+
+The tool point t is fixed to the rigid platform at `point` (platform frame, from o). A force F
+at t and its displacement u_t, in base coordinates: u_t = Delta + Phi x r = A q_p with
+r = R point, A = [I, -[r x]] on the platform's six coordinates q_p = (Delta, Phi) of o, and the
+generalised force of F is A^T F. With mass-normalised modes x_j (omega_j, zeta_j) the tool's
+modal vector is phi_j = A x_j (3,), and its receptance (m/N), viscously damped mode by mode,
+
+    H(w) = sum_j phi_j phi_j^T / (omega_j^2 - w^2 + 2 i zeta_j omega_j w)  +  R,
+
+    R = G0 - sum_j phi_j phi_j^T / omega_j^2,    G0 = A K^-1 A^T  (the static compliance),
+
+so the modes left out of the sum enter by their static flexibility (the residual flexibility,
+"mode acceleration") and H(0) = G0 exactly. Per mode and direction d: the modal stiffness at
+the tool k_dj = omega_j^2 / phi_dj^2 and the effective (modal) mass m_dj = 1 / phi_dj^2, the
+single-degree-of-freedom system the mode is along d at t (a chatter model's input); a mode
+that does not move t along d has them infinite (reported as None).
+
+Damping is proportional (the modes stay real): a ratio per mode (`modal_ratio`), or Rayleigh's
+C = alpha M + beta K, for which zeta_j = alpha / (2 omega_j) + beta omega_j / 2 exactly.
+The least dynamic stiffness along d is 1 / max_w |H_dd(w)| over the band, at the peak's
+frequency, with the mode whose term is largest there (the dominant mode).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+from .rigid_body import skew
+from .settings import MAX_LENGTH, check_settings, setting
+
+DEFAULT_RATIO = 0.02  # measured on PKM and robot structures: about 2-4 % (the low end)
+MIN_RATIO, MAX_RATIO = 1e-4, 0.5  # below, a peak no line resolves; above, no peak worth one
+DIRECTIONS = ("x", "y", "z")
+LINES = 2000  # frequency lines of a band, default
+BAND_ABOVE = 1.25  # the band's top: this times the highest compared mode
+REFINE = 20  # the best line's neighbourhood re-sampled this many times finer
+
+
+@dataclass(frozen=True)
+class Damping:
+    """[damping]: viscous, proportional (real modes). Give modal_ratio, or the Rayleigh pair,
+    not both; with neither, every mode has 2 %."""
+
+    modal_ratio: tuple[float, ...] = setting(
+        (), kind=tuple, minimum=MIN_RATIO, maximum=MAX_RATIO,
+        doc="damping ratio zeta of every mode (a number), or one per mode from the first (a "
+        "list; modes beyond the list take its last value). Neither this nor the Rayleigh pair: "
+        f"{DEFAULT_RATIO:g} for every mode, the low end of the 2-4 % measured on parallel "
+        "machines and robots")
+    rayleigh_alpha: float = setting(
+        0.0, unit="1/s", minimum=0.0, maximum=1e4,
+        doc="Rayleigh damping C = alpha M + beta K, mass part: zeta_j = alpha / (2 omega_j) + "
+        "beta omega_j / 2")
+    rayleigh_beta: float = setting(
+        0.0, unit="s", minimum=0.0, maximum=1e-2, doc="Rayleigh damping, stiffness part")
+
+    def __post_init__(self) -> None:
+        check_settings(self)
+        if self.modal_ratio and self.rayleigh:
+            raise InputError(f"damping.modal_ratio = {list(self.modal_ratio)} with "
+                             "rayleigh_alpha_per_s / rayleigh_beta_s: give one damping, not both")
+
+    @property
+    def rayleigh(self) -> bool:
+        return self.rayleigh_alpha > 0.0 or self.rayleigh_beta > 0.0
+
+    @property
+    def declared(self) -> bool:
+        return bool(self.modal_ratio) or self.rayleigh
+
+    def ratios(self, omega) -> np.ndarray:
+        """zeta of modes with circular frequencies `omega` (..., m), lowest first."""
+        omega = np.asarray(omega, float)
+        if self.rayleigh:
+            return self.rayleigh_alpha / (2.0 * omega) + 0.5 * self.rayleigh_beta * omega
+        listed = np.asarray(self.modal_ratio or (DEFAULT_RATIO,), float)
+        index = np.minimum(np.arange(omega.shape[-1]), len(listed) - 1)
+        return np.broadcast_to(listed[index], omega.shape).copy()
+
+    def describe(self) -> str:
+        if self.rayleigh:
+            return (f"Rayleigh, alpha = {self.rayleigh_alpha:g} 1/s, beta = "
+                    f"{self.rayleigh_beta:g} s")
+        if not self.modal_ratio:
+            return f"modal ratio {DEFAULT_RATIO:g} for every mode (no [damping]: the default)"
+        if len(self.modal_ratio) == 1:
+            return f"modal ratio {self.modal_ratio[0]:g} for every mode"
+        return "modal ratios " + ", ".join(f"{z:g}" for z in self.modal_ratio) + " (last repeats)"
+
+
+def rayleigh_through(omega_low: float, omega_high: float, zeta: float) -> tuple[float, float]:
+    """(alpha, beta) of the Rayleigh damping with ratio `zeta` at both circular frequencies
+    (equal to it there, below it between them): the damping matrix C = alpha M + beta K
+    a direct (non-modal) solve needs for a modal ratio."""
+    if not 0.0 < omega_low <= omega_high:
+        raise InputError(f"rayleigh_through: need 0 < {omega_low:g} <= {omega_high:g} rad/s")
+    if omega_high <= omega_low * (1.0 + 1e-9):
+        return 0.0, 2.0 * zeta / omega_low  # one frequency: stiffness-proportional alone
+    total = omega_low + omega_high
+    return 2.0 * zeta * omega_low * omega_high / total, 2.0 * zeta / total
+
+
+@dataclass(frozen=True)
+class Tool:
+    """[tool]: where the force acts and the response is read."""
+
+    point: tuple[float, float, float] = setting(
+        (0.0, 0.0, 0.0), kind=tuple, unit="mm", length=3, minimum=-MAX_LENGTH,
+        maximum=MAX_LENGTH, doc="the tool point in the platform frame, from the platform centre "
+        "o (z along the platform normal): where the force acts and the receptance is read "
+        "(default: o)")
+
+    def __post_init__(self) -> None:
+        check_settings(self)
+
+
+def tool_rows(point, rotation) -> np.ndarray:
+    """A (3, 6) (or (..., 3, 6) for a stack of rotations): the tool point's displacement in base
+    coordinates from the platform's (Delta, Phi) of o, u_t = Delta - [r x] Phi, r = R point."""
+    rotation = np.asarray(rotation, float)
+    arm = rotation @ np.asarray(point, float)
+    out = np.zeros(arm.shape[:-1] + (3, 6))
+    out[..., :, :3] = np.eye(3)
+    out[..., :, 3:] = -skew(arm)
+    return out
+
+
+def residual_flexibility(static, omega, phi) -> np.ndarray:
+    """R = G0 - sum_j phi_j phi_j^T / omega_j^2: what the modes left out add at low frequency.
+    static (..., 3, 3), omega (..., m), phi (..., 3, m)."""
+    phi = np.asarray(phi, float)
+    return np.asarray(static, float) - np.einsum("...dj,...ej,...j->...de", phi, phi,
+                                                 1.0 / np.asarray(omega, float) ** 2)
+
+
+def modal_terms(lines_hz, omega, zeta) -> np.ndarray:
+    """1 / (omega_j^2 - w^2 + 2 i zeta_j omega_j w): (..., nf, m) for lines (..., nf) Hz and
+    modes (..., m)."""
+    w = 2.0 * math.pi * np.asarray(lines_hz, float)[..., :, None]
+    omega, zeta = np.asarray(omega, float)[..., None, :], np.asarray(zeta, float)[..., None, :]
+    return 1.0 / (omega**2 - w**2 + 2j * zeta * omega * w)
+
+
+def receptance(lines_hz, omega, zeta, phi, residual) -> np.ndarray:
+    """H (nf, 3, 3) complex, m/N, at the lines (Hz): the module docstring's sum plus R."""
+    terms = modal_terms(lines_hz, omega, zeta)  # (nf, m)
+    phi = np.asarray(phi, float)
+    return np.einsum("fj,dj,ej->fde", terms, phi, phi) + np.asarray(residual, float)[None]
+
+
+def modal_table(omega, zeta, phi) -> list[dict]:
+    """Per mode: frequency (Hz), damping ratio, and along x, y, z at the tool the modal
+    stiffness omega^2 / phi_d^2 (N/m) and effective mass 1 / phi_d^2 (kg); None where the mode
+    does not move the tool along d (phi_d^2 below 1e-12 of the mode's largest)."""
+    omega, zeta, phi = (np.asarray(a, float) for a in (omega, zeta, phi))
+    out = []
+    for j in range(len(omega)):
+        sq = phi[:, j] ** 2
+        floor = 1e-12 * max(float(sq.max()), 1e-300)
+        stiff, mass = {}, {}
+        for d, name in enumerate(DIRECTIONS):
+            moves = sq[d] > floor
+            stiff[name] = float(omega[j] ** 2 / sq[d]) if moves else None
+            mass[name] = float(1.0 / sq[d]) if moves else None
+        out.append({"frequency_hz": float(omega[j] / (2.0 * math.pi)),
+                    "damping_ratio": float(zeta[j]), "modal_stiffness_n_per_m": stiff,
+                    "effective_mass_kg": mass})
+    return out
+
+
+def band_lines(top_hz, count: int = LINES) -> np.ndarray:
+    """`count` lines from 0 to `top_hz` (..., broadcast): (..., count)."""
+    if count < 3:
+        raise InputError(f"lines = {count}: need at least 3 frequency lines")
+    return np.asarray(top_hz, float)[..., None] * np.linspace(0.0, 1.0, count)
+
+
+@dataclass(frozen=True)
+class LeastStiffness:
+    """Per pose and direction (N, 3): 1 / max |H_dd| over the band (N/m), the peak's
+    frequency (Hz) and the dominant mode there (0-based)."""
+
+    stiffness_n_per_m: np.ndarray
+    peak_hz: np.ndarray
+    mode: np.ndarray
+
+
+def least_dynamic_stiffness(lines_hz, omega, zeta, phi, residual_diag,
+                            chunk: int = 256) -> LeastStiffness:
+    """The least dynamic stiffness along x, y, z of N poses: |H_dd| on every line (lines
+    (N, nf) Hz; modes omega, zeta (N, m); phi (N, 3, m); the residual's diagonal (N, 3)), the
+    largest line then re-sampled REFINE times finer between its neighbours (a peak between
+    lines is found to (spacing / REFINE)^2 of its height). Batched in chunks of poses so the
+    (chunk, nf, m) terms stay small."""
+    lines_hz, omega, zeta, phi, residual_diag = (
+        np.asarray(a, float) for a in (lines_hz, omega, zeta, phi, residual_diag))
+    n, nf = lines_hz.shape
+    stiffness, peak, mode = (np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3), int))
+    sq = phi**2  # (N, 3, m)
+    for start in range(0, n, chunk):
+        s = slice(start, min(n, start + chunk))
+        terms = modal_terms(lines_hz[s], omega[s], zeta[s])  # (c, nf, m)
+        h = np.abs(np.einsum("cfj,cdj->cfd", terms, sq) + residual_diag[s, None, :])
+        best = np.argmax(h, axis=1)  # (c, 3)
+        rows = np.arange(best.shape[0])[:, None]
+        lo = lines_hz[s][rows, np.maximum(best - 1, 0)]
+        hi = lines_hz[s][rows, np.minimum(best + 1, nf - 1)]
+        fine = lo[..., None] + (hi - lo)[..., None] * np.linspace(0.0, 1.0, 2 * REFINE + 1)
+        fterms = modal_terms(fine, omega[s][:, None, :], zeta[s][:, None, :])  # (c, 3, k, m)
+        contrib = fterms * sq[s][:, :, None, :]  # (c, 3, k, m)
+        hf = np.abs(contrib.sum(axis=-1) + residual_diag[s][:, :, None])  # (c, 3, k)
+        k = np.argmax(hf, axis=-1)  # (c, 3)
+        top = np.take_along_axis(hf, k[..., None], axis=-1)[..., 0]
+        with np.errstate(divide="ignore"):  # a direction nothing moves: infinitely stiff
+            stiffness[s] = 1.0 / top
+        peak[s] = np.take_along_axis(fine, k[..., None], axis=-1)[..., 0]
+        at = np.take_along_axis(contrib, k[..., None, None], axis=2)[:, :, 0]  # (c, 3, m)
+        mode[s] = np.argmax(np.abs(at), axis=-1)
+    return LeastStiffness(stiffness, peak, mode)
+
+
+def peaks(lines_hz, magnitude, floor: float = 0.05) -> list[int]:
+    """Indices of the local maxima of a sampled |H| at least `floor` times its largest."""
+    mag = np.asarray(magnitude, float)
+    inner = np.flatnonzero((mag[1:-1] > mag[:-2]) & (mag[1:-1] >= mag[2:])) + 1
+    return [int(i) for i in inner if mag[i] >= floor * mag.max()]
+
+
+@dataclass(frozen=True)
+class Peak:
+    """A resonance peak of |H_dd|: its frequency (Hz), height (m/N) and the mode it is near."""
+
+    frequency_hz: float
+    magnitude_m_per_n: float
+    mode: int
+
+
+PEAK_FLOOR = 0.05  # a mode's peak is looked for if its one-mode height is this share of the top
+DIRECT_FLOOR = 0.25  # the direct check's: the peaks that set the dynamic stiffness (a weaker
+                     # one is a shoulder on a neighbour's flank, which a local fit misplaces)
+PEAK_XTOL = 1e-6  # the peak's frequency found to this fraction of it
+
+
+def peak_windows(omega, zeta, phi, direction: int, floor: float = PEAK_FLOOR
+                 ) -> list[tuple[int, float, float]]:
+    """(mode, low Hz, high Hz) where each mode that stands out along `direction` peaks: its
+    one-mode height phi_d^2 / (2 zeta omega^2) at least `floor` of the largest, searched within
+    3 half-power bandwidths (zeta f) of its frequency and no closer to a neighbour than half
+    way."""
+    omega, zeta, phi = (np.asarray(a, float) for a in (omega, zeta, phi))
+    f = omega / (2.0 * math.pi)
+    height = phi[direction] ** 2 / (2.0 * zeta * omega**2)
+    out = []
+    for j in np.flatnonzero(height >= floor * height.max()):
+        lo, hi = f[j] * (1.0 - 3.0 * zeta[j]), f[j] * (1.0 + 3.0 * zeta[j])
+        if j > 0:
+            lo = max(lo, 0.5 * (f[j - 1] + f[j]))
+        if j + 1 < len(f):
+            hi = min(hi, 0.5 * (f[j] + f[j + 1]))
+        if hi > lo:
+            out.append((int(j), float(lo), float(hi)))
+    return out
+
+
+def find_peaks(magnitude, windows, xtol: float = PEAK_XTOL) -> list[Peak]:
+    """The maximum of `magnitude(f_hz)` in each window (bounded Brent), kept where it is a
+    peak inside the window (not at its edge: a neighbour's flank there)."""
+    import scipy.optimize
+
+    out = []
+    for mode, lo, hi in windows:
+        found = scipy.optimize.minimize_scalar(lambda f: -magnitude(f), bounds=(lo, hi),
+                                               method="bounded",
+                                               options={"xatol": xtol * hi})
+        f = float(found.x)
+        if min(f - lo, hi - f) > 10.0 * xtol * hi:
+            out.append(Peak(f, float(-found.fun), mode))
+    return out
+
+
+FIT_POINTS = (-1.0, -0.5, 0.0, 0.5, 1.0)  # a direct solve's samples across a peak, in zeta f
+FIT_GRID = 2001  # the fitted response searched on this many points across the window
+
+
+def rational_fit(f_hz, h) -> tuple[np.ndarray, np.ndarray]:
+    """(numerator, denominator) complex coefficients, ascending in w = 2 pi f, of the rational
+    (n0 + n1 w) / (1 + d1 w + d2 w^2) through complex samples h by linearised least squares
+    (Levy's method): one resonance (a pole pair) on a linear background, exact for one
+    viscously damped mode, r / (w_j^2 - w^2 + 2 i zeta w_j w) (d1 = 2 i zeta / w_j)."""
+    w = 2.0 * math.pi * np.asarray(f_hz, float)
+    scale = w.mean()
+    x = w / scale
+    h = np.asarray(h, complex)
+    a = np.column_stack([np.ones_like(x), x, -h * x, -h * x**2]).astype(complex)
+    n0, n1, d1, d2 = np.linalg.lstsq(a, h, rcond=None)[0]  # complex: the damping is i w
+    return (np.array([n0, n1 / scale]), np.array([1.0, d1 / scale, d2 / scale**2]))
+
+
+def direct_peaks(solve, windows: dict[int, list[tuple[int, float, float]]], omega, zeta
+                 ) -> dict[int, list[Peak]]:
+    """The peaks of a response known only by solving the damped system at a frequency
+    (`solve(f_hz) -> (3, 3)` complex, one factorisation a call: the solid's direct response):
+    at each window (mode j) five solves across f_j (+-zeta_j f_j, shared by every direction),
+    per direction the rational fit of H_dd through them (`rational_fit`: a resonance on a
+    linear background), its maximum on a fine grid of the window, and one more solve there,
+    whose |H_dd| is the peak reported (flat to second order in the error of its frequency)."""
+    omega, zeta = np.asarray(omega, float), np.asarray(zeta, float)
+    memo: dict[float, np.ndarray] = {}
+
+    def at(f: float) -> np.ndarray:
+        for known, h in memo.items():
+            if abs(known - f) <= 1e-9 * max(f, 1e-300):
+                return h
+        memo[f] = np.asarray(solve(f))
+        return memo[f]
+
+    out: dict[int, list[Peak]] = {}
+    for d, found in windows.items():
+        out[d] = []
+        for mode, lo, hi in found:
+            f0 = omega[mode] / (2.0 * math.pi)
+            fs = sorted({min(hi, max(lo, f0 * (1.0 + zeta[mode] * s))) for s in FIT_POINTS})
+            samples = np.array([at(f)[d, d] for f in fs])
+            best = fs[int(np.argmax(np.abs(samples)))]
+            if len(fs) >= 4:
+                num, den = rational_fit(fs, samples)
+                grid = np.linspace(lo, hi, FIT_GRID)
+                w = 2.0 * math.pi * grid
+                fitted = np.abs(np.polyval(num[::-1], w) / np.polyval(den[::-1], w))
+                k = int(np.argmax(fitted))
+                if 0 < k < FIT_GRID - 1:
+                    best = float(grid[k])
+            magnitude = abs(at(best)[d, d])
+            sampled = int(np.argmax(np.abs(samples)))
+            if magnitude < abs(samples[sampled]):  # the fit missed: the best sample stands
+                best, magnitude = fs[sampled], abs(samples[sampled])
+            out[d].append(Peak(float(best), float(magnitude), int(mode)))
+    return out

@@ -1,0 +1,60 @@
+"""The solid's direct frequency response at the tool point: the damped system
+(K_q - w^2 M_q + i w C) x = A^T F solved at each frequency (sparse LU, no modal truncation),
+C = alpha M_q + beta K_q (Rayleigh: the one damping a direct solve and a modal sum share
+exactly), the tool point's rows A on the rigid platform's six coordinates (`common.frf`); and
+its static compliance A K_q^-1 A^T. What the models' modal superposition is checked against.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg
+
+from common.frf import tool_rows
+
+from .options import FemError
+
+
+def tool_operator(result, point) -> sp.csr_matrix:
+    """A (3, n_q): the tool point's displacement from a solve's coordinates (base frame)."""
+    columns = getattr(result, "columns", None)
+    if columns is None:
+        constraints = getattr(result, "constraints", None)
+        columns = getattr(constraints, "columns", {})
+    platform = columns.get("platform") if isinstance(columns, dict) else None
+    if platform is None or result.system is None:
+        raise FemError("the tool point's response needs the rigid platform's coordinates "
+                       "(platform = 'rigid')")
+    rows = tool_rows(point, np.asarray(result.geometry.rotation, float))
+    n = result.system[0].shape[0]
+    a = sp.lil_matrix((3, n))
+    a[:, np.asarray(platform, int)] = rows
+    return a.tocsr()
+
+
+def static_compliance(result, a: sp.csr_matrix) -> np.ndarray:
+    """(3, 3) m/N: A K_q^-1 A^T by one sparse factorisation."""
+    k = result.system[0].tocsc()
+    x = scipy.sparse.linalg.splu(k, permc_spec="MMD_AT_PLUS_A").solve(a.T.toarray())
+    g = a @ x
+    return 0.5 * (g + g.T)
+
+
+def direct_receptance(result, a: sp.csr_matrix, lines_hz, alpha: float, beta: float
+                      ) -> np.ndarray:
+    """(nf, 3, 3) complex m/N at each line: one complex factorisation of the damped dynamic
+    stiffness a line, three right-hand sides."""
+    k, m = (mat.tocsc() for mat in result.system)
+    rhs = a.T.toarray().astype(complex)
+    out = np.empty((len(np.atleast_1d(lines_hz)), 3, 3), complex)
+    for i, f in enumerate(np.atleast_1d(np.asarray(lines_hz, float))):
+        w = 2.0 * math.pi * f
+        dynamic = (k * (1.0 + 1j * w * beta) + m * (1j * w * alpha - w * w)).tocsc()
+        try:
+            x = scipy.sparse.linalg.splu(dynamic, permc_spec="MMD_AT_PLUS_A").solve(rhs)
+        except RuntimeError as exc:  # exactly at an undamped resonance
+            raise FemError(f"direct response at {f:g} Hz: singular system ({exc})") from None
+        out[i] = a @ x
+    return out

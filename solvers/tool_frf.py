@@ -1,0 +1,175 @@
+"""The dynamic compliance at the tool of one pose: each model's modes at the tool point with
+its static compliance (`ToolModel`: receptance, modal table, peaks, least dynamic stiffness,
+by `common.frf`), the frf.json record, and the solid's direct frequency response that checks
+both models (`direct_check`).
+
+The band: 0 to BAND_ABOVE times the model's highest compared mode (the scene's
+fidelity.modes), LINES lines. The sum: every mode the model solved (the analytical model the
+compared ones and SUPERPOSED_EXTRA more; the FEM its solved modes), the rest by their residual
+flexibility from the model's own static solve, so the 0 Hz line is the static compliance.
+
+The direct check damps all three alike: C = alpha M + beta K, the scene's Rayleigh pair, or
+for a modal ratio the pair through it at the FEM's first and highest compared mode
+(`common.frf.rayleigh_through`); each model's zeta_j follow from its own omega_j, so a
+difference is the models', not the damping's.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from analytical.kinematics import PoseGeometry
+from analytical.params import Manipulator, ModelOptions
+from analytical.substructure import assemble, model_coordinates
+from analytical.tool_response import SUPERPOSED_EXTRA, ToolModes, tool_modes
+from common.frf import (
+    BAND_ABOVE,
+    DIRECT_FLOOR,
+    DIRECTIONS,
+    LINES,
+    PEAK_FLOOR,
+    Damping,
+    Peak,
+    band_lines,
+    direct_peaks,
+    find_peaks,
+    least_dynamic_stiffness,
+    modal_table,
+    peak_windows,
+    rayleigh_through,
+    receptance,
+    residual_flexibility,
+)
+
+PAIRS = ("xx", "yy", "zz", "xy", "xz", "yz")
+
+
+@dataclass(frozen=True)
+class ToolModel:
+    """One model's dynamic compliance at the tool of one pose."""
+
+    label: str
+    modes: ToolModes
+    zeta: np.ndarray  # (m,)
+    compared: int  # the scene's compared modes: the band's top is BAND_ABOVE x f_compared
+
+    @property
+    def residual(self) -> np.ndarray:
+        return residual_flexibility(self.modes.static, self.modes.omega, self.modes.phi)
+
+    @property
+    def band_top_hz(self) -> float:
+        f = self.modes.frequencies_hz
+        return BAND_ABOVE * float(f[min(self.compared, len(f)) - 1])
+
+    def lines(self, count: int = LINES, top_hz: float | None = None) -> np.ndarray:
+        return band_lines(self.band_top_hz if top_hz is None else top_hz, count)
+
+    def receptance(self, lines_hz) -> np.ndarray:
+        return receptance(lines_hz, self.modes.omega, self.zeta, self.modes.phi, self.residual)
+
+    def table(self) -> list[dict]:
+        return modal_table(self.modes.omega, self.zeta, self.modes.phi)
+
+    def windows(self, direction: int, floor: float = PEAK_FLOOR
+                ) -> list[tuple[int, float, float]]:
+        return peak_windows(self.modes.omega, self.zeta, self.modes.phi, direction, floor)
+
+    def peaks(self, direction: int, floor: float = PEAK_FLOOR) -> list[Peak]:
+        """The peaks of |H_dd| (Brent on the modal sum, cheap)."""
+        return find_peaks(lambda f: abs(self.receptance([f])[0, direction, direction]),
+                          self.windows(direction, floor))
+
+    def least(self, count: int = LINES):
+        """The least dynamic stiffness along x, y, z over the band (`common.frf`)."""
+        m = self.modes
+        return least_dynamic_stiffness(self.lines(count)[None], m.omega[None],
+                                       self.zeta[None], m.phi[None],
+                                       np.diagonal(self.residual)[None])
+
+
+def analytical_tool(manipulator: Manipulator, geometry: PoseGeometry, options: ModelOptions,
+                    damping: Damping, point, compared: int, label: str = "analytical"
+                    ) -> ToolModel:
+    """The analytical model's: its compared modes and SUPERPOSED_EXTRA more (at most every
+    coordinate's)."""
+    model = assemble(manipulator, geometry, options)
+    count = min(compared + SUPERPOSED_EXTRA, model_coordinates(manipulator, options))
+    modes = tool_modes(model, geometry.rotation, point, count)
+    return ToolModel(label, modes, damping.ratios(modes.omega), compared)
+
+
+def fem_tool(result, damping: Damping, point, compared: int, label: str = "FEM") -> ToolModel:
+    """The solid's modal sum: its solved modes (M-orthonormal) at the tool and its static
+    compliance (one sparse factorisation)."""
+    from fem_reference.response import static_compliance, tool_operator
+
+    a = tool_operator(result, point)
+    omega = 2.0 * math.pi * np.asarray(result.frequencies_hz, float)
+    modes = ToolModes(omega, np.asarray(a @ result.modes_q), static_compliance(result, a))
+    return ToolModel(label, modes, damping.ratios(omega), compared)
+
+
+def check_damping(damping: Damping, fem: ToolModel) -> Damping:
+    """The Rayleigh damping all three share in the direct check (module docstring)."""
+    if damping.rayleigh:
+        return damping
+    f = fem.modes.omega
+    top = min(fem.compared, len(f)) - 1
+    zeta = damping.ratios(f)
+    alpha, beta = rayleigh_through(float(f[0]), float(f[top]), float(np.mean(zeta[:top + 1])))
+    return Damping(rayleigh_alpha=alpha, rayleigh_beta=beta)
+
+
+def with_damping(model: ToolModel, damping: Damping) -> ToolModel:
+    return replace(model, zeta=damping.ratios(model.modes.omega))
+
+
+def direct_check(result, fem: ToolModel, damping: Damping, point) -> dict[int, list[Peak]]:
+    """The solid's direct response at its peaks (`common.frf.direct_peaks`), damped by the
+    Rayleigh `damping`, in the windows of its own modal sum."""
+    from fem_reference.response import direct_receptance, tool_operator
+
+    a = tool_operator(result, point)
+    fem = with_damping(fem, damping)
+    windows = {d: fem.windows(d, DIRECT_FLOOR) for d in range(3)}
+
+    def solve(f: float) -> np.ndarray:
+        return direct_receptance(result, a, [f], damping.rayleigh_alpha,
+                                 damping.rayleigh_beta)[0]
+
+    return direct_peaks(solve, windows, fem.modes.omega, fem.zeta)
+
+
+def _pair_values(h: np.ndarray) -> dict:
+    index = {"x": 0, "y": 1, "z": 2}
+    return {p: {"re": h[:, index[p[0]], index[p[1]]].real.tolist(),
+                "im": h[:, index[p[0]], index[p[1]]].imag.tolist()} for p in PAIRS}
+
+
+def frf_record(tool: ToolModel, point_mm, damping: Damping, lines_hz) -> dict:
+    """frf.json's physics (the command adds the scene, case and pose)."""
+    h = tool.receptance(lines_hz)
+    least = tool.least()
+    static = tool.modes.static
+    return {
+        "model": tool.label,
+        "point_mm": [float(v) for v in point_mm],
+        "damping": damping.describe(),
+        "frequency_hz": [float(f) for f in lines_hz],
+        "receptance_m_per_n": _pair_values(h),
+        "static_compliance_m_per_n": static.tolist(),
+        "modes_superposed": int(len(tool.modes.omega)),
+        "residual_flexibility_m_per_n": tool.residual.tolist(),
+        "modes": tool.table(),
+        "peaks": {DIRECTIONS[d]: [{"frequency_hz": p.frequency_hz,
+                                   "magnitude_m_per_n": p.magnitude_m_per_n,
+                                   "mode": p.mode + 1} for p in tool.peaks(d)]
+                  for d in range(3)},
+        "least_dynamic_stiffness": {
+            DIRECTIONS[d]: {"stiffness_n_per_m": float(least.stiffness_n_per_m[0, d]),
+                            "frequency_hz": float(least.peak_hz[0, d]),
+                            "mode": int(least.mode[0, d]) + 1} for d in range(3)},
+    }
