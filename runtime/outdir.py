@@ -50,7 +50,7 @@ from common.errors import RpsError
 
 # An existing directory holding one of these may be replaced (outputs of earlier runs).
 OUTPUT_MARKERS = ("results.json", "report.html", "bench.json", "design.json",
-                  "correlation.json", "identification.json")
+                  "correlation.json", "identification.json", "frf.json")
 
 _AT_FDCWD = -100
 _RENAME_EXCHANGE = 2  # linux/fs.h

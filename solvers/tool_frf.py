@@ -143,6 +143,11 @@ def direct_check(result, fem: ToolModel, damping: Damping, point) -> dict[int, l
     return direct_peaks(solve, windows, fem.modes.omega, fem.zeta)
 
 
+def _finite(value) -> float | None:
+    """A number for JSON: None where nothing moves the tool that way (infinitely stiff)."""
+    return float(value) if math.isfinite(value) else None
+
+
 def _pair_values(h: np.ndarray) -> dict:
     index = {"x": 0, "y": 1, "z": 2}
     return {p: {"re": h[:, index[p[0]], index[p[1]]].real.tolist(),
@@ -169,7 +174,7 @@ def frf_record(tool: ToolModel, point_mm, damping: Damping, lines_hz) -> dict:
                                    "mode": p.mode + 1} for p in tool.peaks(d)]
                   for d in range(3)},
         "least_dynamic_stiffness": {
-            DIRECTIONS[d]: {"stiffness_n_per_m": float(least.stiffness_n_per_m[0, d]),
+            DIRECTIONS[d]: {"stiffness_n_per_m": _finite(least.stiffness_n_per_m[0, d]),
                             "frequency_hz": float(least.peak_hz[0, d]),
                             "mode": int(least.mode[0, d]) + 1} for d in range(3)},
     }

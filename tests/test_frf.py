@@ -222,3 +222,39 @@ def test_damping_and_tool_keys_are_read_and_refused_in_one_line(tmp_path):
     with pytest.raises(InputError):
         Damping(rayleigh_alpha=-1.0)
     assert Tool().point == (0.0, 0.0, 0.0)
+
+
+def test_rps_frf_writes_the_record_and_the_universal_file(tmp_path, capsys):
+    """`rps frf`: frf.json with the issue's keys (base-frame directions, the 0 Hz line the
+    static compliance), the modes' modal stiffness, and the nine receptances as UFF 58 read
+    back by pyuff; bad options refused in one line, exit 2, nothing written."""
+    import json
+
+    from modaltest import uff
+    from rps.app import main
+
+    out = tmp_path / "frf"
+    assert main(["frf", "--scene", str(ACTUATOR), "--case", "tilted", "--out", str(out),
+                 "--lines", "500"]) == 0
+    capsys.readouterr()
+    data = json.loads((out / "frf.json").read_text())
+    assert len(data["frequency_hz"]) == 500 and data["frequency_hz"][0] == 0.0
+    assert data["point_mm"] == [0.0, 0.0, -150.0]
+    for pair in ("xx", "yy", "zz"):
+        h = data["receptance_m_per_n"][pair]
+        assert len(h["re"]) == len(h["im"]) == 500
+    static = np.array(data["static_compliance_m_per_n"])
+    assert data["receptance_m_per_n"]["xx"]["re"][0] == pytest.approx(static[0, 0], rel=1e-12)
+    for mode in data["modes"]:
+        assert {"frequency_hz", "damping_ratio", "modal_stiffness_n_per_m"} <= set(mode)
+        assert mode["damping_ratio"] == 0.03
+    content = uff.read_uff(out / "frf.unv")
+    assert content.frfs is not None and content.frfs.values.shape == (9, 499)
+    xx = np.array(data["receptance_m_per_n"]["xx"]["re"][1:]) + 1j * np.array(
+        data["receptance_m_per_n"]["xx"]["im"][1:])
+    assert np.allclose(content.frfs.values[0], xx, rtol=1e-12)
+    for bad, words in ((["--lines", "2"], "--lines 2"), (["--top-hz", "-5"], "--top-hz")):
+        gone = tmp_path / "never"
+        code = main(["frf", "--scene", str(ACTUATOR), "--out", str(gone), *bad])
+        err = capsys.readouterr().err.strip()
+        assert code == 2 and words in err and "\n" not in err and not gone.exists(), err

@@ -1,0 +1,153 @@
+"""`rps frf`: the dynamic compliance at the tool of one pose: the tool point's 3x3 receptance
+over a band by modal superposition with the residual flexibility of the modes left out, each
+mode's frequency, damping ratio, modal stiffness and effective mass along x, y, z at the tool,
+the peaks and the least dynamic stiffness (common/frf.py, solvers/tool_frf.py). Writes
+DIR/frf.json and DIR/frf.unv (UFF 58, one FRF per response and force direction, for test
+software), the directory replaced whole."""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+import numpy as np
+
+from common.errors import InputError
+from common.frf import DIRECTIONS, LINES
+from runtime.places import path_argument
+
+from ..args import (
+    cache_dir,
+    cache_option,
+    load,
+    pose_case,
+    pose_payload,
+    run_choice,
+    scene_args,
+    warn,
+    with_choice,
+    zone_cache,
+)
+from .registry import Command
+
+MAX_LINES = 100_000  # a band's lines: 2,000 resolve a 1 % damped peak; more is a typo
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    scene_args(p)
+    p.add_argument("--model", choices=("analytical", "fem"), default="analytical",
+                   help="the model: the analytical model (the scene's settings, or the run's "
+                   "choice with --from-results) or the scene's solid FEM (its modes and its "
+                   "static solve, at the scene's mesh size or the run's)")
+    p.add_argument("--lines", metavar="N", type=int, default=LINES,
+                   help=f"frequency lines from 0 Hz to the band's top (default {LINES})")
+    p.add_argument("--top-hz", metavar="HZ", type=float,
+                   help="the band's top, Hz (default: 1.25 times the highest compared mode)")
+    p.add_argument("--out", metavar="DIR", type=path_argument, required=True,
+                   help="directory of frf.json and frf.unv, replaced whole (required, no "
+                   "default)")
+    cache_option(p)
+
+
+def _checked(args: argparse.Namespace) -> None:
+    if not 3 <= args.lines <= MAX_LINES:
+        raise InputError(f"--lines {args.lines}: expected 3 to {MAX_LINES:,} lines")
+    if args.top_hz is not None and not (math.isfinite(args.top_hz) and 0 < args.top_hz <= 1e6):
+        raise InputError(f"--top-hz {args.top_hz:g}: expected a frequency above 0 and at most "
+                         "1e6 Hz")
+
+
+def write_uff(path, record: dict, point_base_m) -> None:
+    """The nine receptances as UFF 58 on one node, the tool point (base frame)."""
+    from modaltest.measured import Dofs, Frfs, Nodes
+    from modaltest.uff import write_uff as write
+
+    f = np.asarray(record["frequency_hz"], float)
+    h = record["receptance_m_per_n"]
+    values, response, reference = [], [], []
+    for i, a in enumerate(DIRECTIONS):
+        for j, b in enumerate(DIRECTIONS):
+            key = a + b if a + b in h else b + a  # the matrix is symmetric
+            values.append(np.asarray(h[key]["re"]) + 1j * np.asarray(h[key]["im"]))
+            response.append(i + 1)
+            reference.append(j + 1)
+    lines = f if f[0] > 0.0 else f[1:]  # UFF 58 here: lines above 0 Hz only when it starts
+    keep = slice(len(f) - len(lines), None)  # at 0 (some readers divide by f)
+    frfs = Frfs(lines, Dofs.from_codes(np.ones(9, int), response),
+                Dofs.from_codes(np.ones(9, int), reference),
+                np.array([v[keep] for v in values]))
+    write(path, Nodes(np.array([1]), np.asarray(point_base_m, float)[None]), frfs=frfs,
+          description=f"rps frf: tool point receptance, {record['model']}")
+
+
+def run(args: argparse.Namespace) -> int:
+    import time
+
+    from runtime.outdir import check_output_dir, staged_output
+    from solvers.tool_frf import analytical_tool, fem_tool, frf_record
+
+    _checked(args)
+    check_output_dir(args.out, "--out")
+    scene = load(args)
+    case, geometry = pose_case(scene, args)
+    chosen = run_choice(args, scene)
+    compared = scene.fidelity.modes
+    start = time.perf_counter()
+    if args.model == "analytical":
+        options, source = with_choice(scene.analytical, chosen, args)
+        options = zone_cache(args, options)
+        tool = analytical_tool(scene.manipulator, geometry, options, scene.damping,
+                               scene.tool.point, compared,
+                               label=f"analytical ({options.describe()})")
+        settings = {"model": "analytical", "settings": options.describe(),
+                    "settings_from": source or "the scene's"}
+    else:
+        from fem_reference import solve_pose
+        from solvers.compare import fem_options, fem_runtime
+
+        from .fem import fem_size
+
+        args.size = None
+        size, source = fem_size(args, scene)
+        options = fem_options(scene, size, modes=compared + 6)
+        from runtime.cache import ResultCache
+        result = solve_pose(scene.manipulator, geometry, options,
+                            fem_runtime(scene, ResultCache(cache_dir(args))))
+        tool = fem_tool(result, scene.damping, scene.tool.point, compared,
+                        label=f"FEM ({size * 1e3:g} mm, {options.legs} legs)")
+        settings = {"model": "fem", "mesh_size_mm": size * 1e3, "mesh_size_from": source,
+                    "dofs": int(result.dofs)}
+    lines = tool.lines(args.lines, args.top_hz)
+    record = frf_record(tool, np.asarray(scene.tool.point) * 1e3, scene.damping, lines)
+    point_base = (np.asarray(geometry.platform_centre, float)
+                  + np.asarray(geometry.rotation, float) @ np.asarray(scene.tool.point))
+    payload = {"scene": scene.name, "case": case.name, "pose": pose_payload(case.pose),
+               **settings, **record, "point_base_mm": (point_base * 1e3).tolist(),
+               "seconds": time.perf_counter() - start, "warnings": list(scene.warnings)}
+    with staged_output(args.out) as stage:
+        from common.atomic import write_text_atomic
+        write_text_atomic(stage / "frf.json", json.dumps(payload, indent=1))
+        write_uff(stage / "frf.unv", payload, point_base)
+    if args.json:
+        print(json.dumps(payload))
+    else:
+        print(f"{scene.name}, case {case.name}: {record['model']}, {record['damping']}")
+        print(f"tool point {record['point_mm']} mm (platform frame), static compliance "
+              + ", ".join(f"{d}{d} {record['static_compliance_m_per_n'][i][i]:.4g}"
+                          for i, d in enumerate(DIRECTIONS)) + " m/N")
+        for k, m in enumerate(record["modes"][:compared]):
+            stiff = m["modal_stiffness_n_per_m"]
+            print(f"  mode {k + 1}: {m['frequency_hz']:9.3f} Hz  zeta {m['damping_ratio']:.4f}"
+                  "  k " + "  ".join(f"{d} {stiff[d]:.4g}" if stiff[d] is not None else
+                                     f"{d} -" for d in DIRECTIONS) + " N/m")
+        for d, least in record["least_dynamic_stiffness"].items():
+            print(f"least dynamic stiffness {d}: {least['stiffness_n_per_m']:.4g} N/m at "
+                  f"{least['frequency_hz']:.3f} Hz (mode {least['mode']})")
+        print(f"wrote {args.out}/frf.json and frf.unv ({len(lines)} lines, "
+              f"{payload['seconds']:.2f} s)")
+    warn(scene.warnings)
+    return 0
+
+
+COMMAND = Command("frf", "the dynamic compliance at the tool of one pose: receptance, modal "
+                  "stiffness per mode, least dynamic stiffness", add_arguments, run)
