@@ -263,23 +263,30 @@ def batch_frequencies(form: StandardForm, count: int) -> np.ndarray:
     return np.sqrt(values) / (2.0 * math.pi)
 
 
+def standard_modes(form: StandardForm, k: int, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """mu (count,) descending and the standard form's orthonormal eigenvectors y (18s, count)
+    of pose `k`, the largest mu only (LAPACK ?syevr), checked."""
+    matrix = form.matrices[k]
+    n = len(matrix)
+    if count > n:
+        raise ModalError(f"modes = {count}: the model has only {n} coordinates")
+    mu, y, found, _, info = _lapack("syevr")(matrix, compute_v=1, range="I", il=n - count + 1,
+                                             iu=n, lower=0)
+    mu, y = mu[:count][::-1], y[:, :count][:, ::-1]
+    _eigenvalues(int(k), info if found == count else -1, mu)
+    return mu, y
+
+
 def batch_modes(form: StandardForm, index, count: int) -> tuple[np.ndarray, np.ndarray]:
     """Frequencies (n, count) and mass-normalised shapes (n, 18s, count) of the poses `index`
-    (the largest mu only: LAPACK ?syevr, then x = U^-1 y / sqrt(mu))."""
-    syevr, trtrs = _lapack("syevr"), _lapack("trtrs")
+    (the largest mu only: `standard_modes`, then x = U^-1 y / sqrt(mu))."""
+    trtrs = _lapack("trtrs")
     index = np.asarray(index, int)
     values, vectors = [], []
     for k in index:
-        matrix = form.matrices[k]
-        n = len(matrix)
-        if count > n:
-            raise ModalError(f"modes = {count}: the model has only {n} coordinates")
-        mu, y, found, _, info = syevr(matrix, compute_v=1, range="I", il=n - count + 1, iu=n,
-                                      lower=0)
-        mu, y = mu[:count][::-1], y[:, :count][:, ::-1]
-        eigenvalues = _eigenvalues(int(k), info if found == count else -1, mu)
+        mu, y = standard_modes(form, int(k), count)
         x, info = trtrs(form.factors[k], y, lower=0)
-        values.append(eigenvalues)
+        values.append(1.0 / mu)
         vectors.append(x / np.sqrt(mu))
     n_q = len(form.matrices[0]) if form.matrices else 0
     return (np.sqrt(np.reshape(values, (len(index), count))) / (2.0 * math.pi),

@@ -17,11 +17,11 @@ import scipy.linalg
 
 from common.frf import tool_rows
 
-from .batch_model import BatchModel, StandardForm, batch_modes
+from .batch_model import BatchModel, StandardForm, standard_modes
 from .modal import solve_modes
 from .substructure import SubstructureModel
 
-SUPERPOSED_EXTRA = 6  # modes summed beyond the compared ones (the rest: residual flexibility)
+SUPERPOSED_EXTRA = 2  # modes summed beyond the compared ones (the rest: residual flexibility)
 
 
 @dataclass(frozen=True)
@@ -58,15 +58,63 @@ def tool_modes(model: SubstructureModel, rotation, point, count: int) -> ToolMod
 def batch_tool_modes(model: BatchModel, form: StandardForm, rotations, point, count: int,
                      index=None) -> ToolModes:
     """The same for the poses `index` of a batch (default all), from its standard form
-    (`batch_model.standard_form`, which has overwritten K and M)."""
+    (`batch_model.standard_form`, which has overwritten K and M). With K = U^T U and
+    Y = U^-T A^T (one triangular solve of three right-hand sides): G0 = Y^T Y, and a mode
+    x = U^-1 y / sqrt(mu) moves the tool by A x = Y^T y / sqrt(mu), so the modes' full
+    shapes are never formed."""
     index = np.arange(len(form.matrices)) if index is None else np.asarray(index, int)
     n_q = len(form.matrices[0])
-    hz, shapes = batch_modes(form, index, min(count, n_q))
+    count = min(count, n_q)
     rows = _platform_rows(n_q, model.platform_slice,
                           tool_rows(point, np.asarray(rotations, float)[index]))  # (n, 3, n_q)
-    static = np.empty((len(index), 3, 3))
-    for k, pose in enumerate(index):  # U^T Y = A^T, G0 = Y^T Y
-        y = scipy.linalg.solve_triangular(form.factors[pose], rows[k].T, trans="T",
-                                          check_finite=False)
-        static[k] = y.T @ y
-    return ToolModes(2.0 * math.pi * hz, rows @ shapes, static)
+    omega, phi, static = (np.empty((len(index), count)), np.empty((len(index), 3, count)),
+                          np.empty((len(index), 3, 3)))
+    for k, pose in enumerate(index):
+        mu, y = standard_modes(form, int(pose), count)
+        w = scipy.linalg.solve_triangular(form.factors[pose], rows[k].T, trans="T",
+                                          check_finite=False)  # (n_q, 3)
+        static[k] = w.T @ w
+        phi[k] = (w.T @ y) / np.sqrt(mu)
+        omega[k] = 1.0 / np.sqrt(mu)
+    return ToolModes(omega, phi, static)
+
+
+MAP_CHUNK = 500  # poses assembled at once: K and M of 500 poses of 126 coordinates, 127 MB
+
+
+def least_stiffness_map(manipulator, options, poses, damping, point, compared: int,
+                        lines: int):
+    """The least dynamic stiffness at the tool along x, y, z of every pose of the batch
+    `poses` (feasible poses: `PoseBatch.take`), each pose's band from 0 to
+    common.frf.BAND_ABOVE times its highest compared mode on `lines` lines: the compared modes
+    and SUPERPOSED_EXTRA more summed, the rest by their residual flexibility. Returns
+    (common.frf.LeastStiffness (N, 3), frequencies (N, compared) Hz)."""
+    from common.frf import (
+        LeastStiffness,
+        band_top,
+        band_lines,
+        least_dynamic_stiffness,
+        residual_flexibility,
+    )
+
+    from .batch_model import assemble_batch, assembly_plan, standard_form
+    from .substructure import leg_layout, model_coordinates
+
+    n = len(poses)
+    count = min(compared + SUPERPOSED_EXTRA, model_coordinates(manipulator, options))
+    stiffness, peak, mode = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3), int)
+    hz = np.empty((n, min(compared, count)))
+    plan = assembly_plan(leg_layout(manipulator, options, poses.base_joint, poses.platform_joint))
+    for start in range(0, n, MAP_CHUNK):
+        chunk = poses.take(np.arange(start, min(n, start + MAP_CHUNK)))
+        model = assemble_batch(manipulator, chunk, options, plan)
+        modes = batch_tool_modes(model, standard_form(model), chunk.rotation, point, count)
+        residual = residual_flexibility(modes.static, modes.omega, modes.phi)
+        f = modes.omega / (2.0 * math.pi)
+        band = band_lines(band_top(f, hz.shape[1]), lines)
+        least = least_dynamic_stiffness(band, modes.omega, damping.ratios(modes.omega),
+                                        modes.phi, np.diagonal(residual, axis1=1, axis2=2))
+        s = slice(start, start + len(chunk))
+        stiffness[s], peak[s], mode[s] = least.stiffness_n_per_m, least.peak_hz, least.mode
+        hz[s] = f[:, :hz.shape[1]]
+    return LeastStiffness(stiffness, peak, mode), hz

@@ -175,6 +175,15 @@ def modal_table(omega, zeta, phi) -> list[dict]:
     return out
 
 
+def band_top(frequencies_hz, compared: int) -> np.ndarray:
+    """The band's top (Hz) for modes (..., m) summed of which the first `compared` are
+    compared: BAND_ABOVE times the highest compared, at most the highest summed, so every
+    mode whose resonance lies in the band is in the sum (those above enter by their static
+    flexibility, which is what they are below their resonance)."""
+    f = np.asarray(frequencies_hz, float)
+    return np.minimum(BAND_ABOVE * f[..., min(compared, f.shape[-1]) - 1], f[..., -1])
+
+
 def band_lines(top_hz, count: int = LINES) -> np.ndarray:
     """`count` lines from 0 to `top_hz` (..., broadcast): (..., count)."""
     if count < 3:
@@ -193,7 +202,7 @@ class LeastStiffness:
 
 
 def least_dynamic_stiffness(lines_hz, omega, zeta, phi, residual_diag,
-                            chunk: int = 256) -> LeastStiffness:
+                            chunk: int = 32) -> LeastStiffness:
     """The least dynamic stiffness along x, y, z of N poses: |H_dd| on every line (lines
     (N, nf) Hz; modes omega, zeta (N, m); phi (N, 3, m); the residual's diagonal (N, 3)), the
     largest line then re-sampled REFINE times finer between its neighbours (a peak between
@@ -206,8 +215,20 @@ def least_dynamic_stiffness(lines_hz, omega, zeta, phi, residual_diag,
     sq = phi**2  # (N, 3, m)
     for start in range(0, n, chunk):
         s = slice(start, min(n, start + chunk))
-        terms = modal_terms(lines_hz[s], omega[s], zeta[s])  # (c, nf, m)
-        h = np.abs(np.einsum("cfj,cdj->cfd", terms, sq) + residual_diag[s, None, :])
+        # 1 / (a + i b) = (a - i b) / (a^2 + b^2): real arrays and two real products
+        w = 2.0 * math.pi * lines_hz[s][:, :, None]  # (c, nf, 1)
+        om = omega[s][:, None, :]  # (c, 1, m)
+        a = om * om - w * w
+        b = (2.0 * zeta[s][:, None, :] * om) * w
+        inv = a * a
+        inv += b * b
+        np.reciprocal(inv, out=inv)
+        a *= inv
+        b *= inv
+        sq_t = np.swapaxes(sq[s], 1, 2)  # (c, m, 3)
+        re = np.matmul(a, sq_t)
+        re += residual_diag[s, None, :]
+        h = np.hypot(re, np.matmul(b, sq_t), out=re)  # (c, nf, 3)
         best = np.argmax(h, axis=1)  # (c, 3)
         rows = np.arange(best.shape[0])[:, None]
         lo = lines_hz[s][rows, np.maximum(best - 1, 0)]

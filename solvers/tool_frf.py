@@ -25,7 +25,6 @@ from analytical.params import Manipulator, ModelOptions
 from analytical.substructure import assemble, model_coordinates
 from analytical.tool_response import SUPERPOSED_EXTRA, ToolModes, tool_modes
 from common.frf import (
-    BAND_ABOVE,
     DIRECT_FLOOR,
     DIRECTIONS,
     LINES,
@@ -33,6 +32,7 @@ from common.frf import (
     Damping,
     Peak,
     band_lines,
+    band_top,
     direct_peaks,
     find_peaks,
     least_dynamic_stiffness,
@@ -61,8 +61,7 @@ class ToolModel:
 
     @property
     def band_top_hz(self) -> float:
-        f = self.modes.frequencies_hz
-        return BAND_ABOVE * float(f[min(self.compared, len(f)) - 1])
+        return float(band_top(self.modes.frequencies_hz, self.compared))
 
     def lines(self, count: int = LINES, top_hz: float | None = None) -> np.ndarray:
         return band_lines(self.band_top_hz if top_hz is None else top_hz, count)
