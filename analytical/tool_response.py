@@ -91,8 +91,8 @@ def least_stiffness_map(manipulator, options, poses, damping, point, compared: i
     (common.frf.LeastStiffness (N, 3), frequencies (N, compared) Hz)."""
     from common.frf import (
         LeastStiffness,
-        band_top,
         band_lines,
+        band_top,
         least_dynamic_stiffness,
         residual_flexibility,
     )
