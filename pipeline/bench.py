@@ -8,6 +8,9 @@
   same size on one core, timed alternately in the same run: `map_vs_plain_eigh` (the map the
   run draws, 3 modes; issue 12 asks for <= 1.0) and `map_scene_modes_vs_plain_eigh` (the
   scene's modes);
+- issue 38's: `dynamic_map_vs_frequency_map`, the least dynamic stiffness at the tool over the
+  10,000-pose map's reachable poses with 2,000 lines against the frequency map of the same grid
+  (the scene's modes), both on one core;
 - issue 26's two figures: `best_model_pose_seconds`, the most accurate analytical setting
   (Timoshenko middles between solid end zones at the largest s offered) per pose over the
   10,000-pose map's reachable poses, batched (assembly, standard form, eigenvalues only, in
@@ -45,6 +48,7 @@ from studies.workspace_map import workspace_heights
 
 from .bench_records import (
     BestModel,
+    DynamicMapBench,
     EstimatedErrors,
     FemTiming,
     FemTimings,
@@ -189,6 +193,61 @@ def bench_map(scene, runs: int, modes: int, workers: int | None = None) -> MapBe
         runs=runs)
 
 
+def bench_dynamic_map(scene, runs: int) -> DynamicMapBench:
+    """The least dynamic stiffness at the tool over the 10,000-pose map's reachable poses
+    (issue 38: 2,000 lines; the scene's [damping] and [tool], or their defaults) against the
+    frequency map the run draws on the same grid with the scene's modes, one core each, and
+    against the same poses' frequencies alone; timed alternately, medians."""
+    from analytical.batch_model import (
+        CHUNK,
+        assemble_batch,
+        assembly_plan,
+        batch_frequencies,
+        standard_form,
+    )
+    from analytical.substructure import leg_layout, model_coordinates
+    from analytical.tool_response import SUPERPOSED_EXTRA, least_stiffness_map
+    from common.frf import LINES
+
+    layers, rings, azimuths = MAP_GRID
+    options, modes = scene.analytical, scene.analytical.modes
+    heights = workspace_heights(scene, layers)
+    poses = map_poses(scene)
+    plan = assembly_plan(leg_layout(scene.manipulator, options, poses.base_joint,
+                                    poses.platform_joint))
+
+    def dynamic():
+        least_stiffness_map(scene.manipulator, options, poses, scene.damping,
+                            scene.tool.point, modes, LINES)
+
+    def frequencies():
+        for start in range(0, len(poses), CHUNK):
+            model = assemble_batch(scene.manipulator, poses.take(slice(start, start + CHUNK)),
+                                   options, plan)
+            batch_frequencies(standard_form(model), modes)
+
+    def fmap():
+        frequency_map(scene.manipulator, options, heights, rings, azimuths, 1)
+
+    dynamic(), frequencies(), fmap()  # warm-up
+    times: dict[str, list[float]] = {"dynamic": [], "frequencies": [], "map": []}
+    for _ in range(runs):
+        for name, fn in (("dynamic", dynamic), ("frequencies", frequencies), ("map", fmap)):
+            start = time.perf_counter()
+            fn()
+            times[name].append(time.perf_counter() - start)
+    median = {k: statistics.median(v) for k, v in times.items()}
+    return DynamicMapBench(
+        poses=len(poses), lines=LINES, modes=modes,
+        modes_summed=min(modes + SUPERPOSED_EXTRA, model_coordinates(scene.manipulator, options)),
+        runs=runs, dynamic_median_seconds=median["dynamic"], dynamic_seconds=times["dynamic"],
+        frequency_map_median_seconds=median["map"], frequency_map_seconds=times["map"],
+        frequencies_only_median_seconds=median["frequencies"],
+        frequencies_only_seconds=times["frequencies"],
+        vs_frequency_map=median["dynamic"] / median["map"],
+        vs_frequencies_only=median["dynamic"] / median["frequencies"])
+
+
 def bench_fem(scene, case_name: str, runs: int, sizes: list[float],
               legs: str | None = None) -> FemTimings:
     from fem_reference import solve_pose
@@ -289,6 +348,8 @@ def main(argv: list[str] | None = None) -> int:
         result["map_one_core_vs_plain_eigh"] = result["map_one_core"]["ratio"]
         result["best_model"] = bench_best_model(scene, args.map_runs)
         result["best_model_pose_seconds"] = result["best_model"]["pose_seconds"]
+        result["dynamic_map"] = bench_dynamic_map(scene, args.map_runs)
+        result["dynamic_map_vs_frequency_map"] = result["dynamic_map"]["vs_frequency_map"]
         if not args.skip_fem:
             sizes = sorted(set(scene.fem_study.refinement) | {scene.fem.mesh_size}, reverse=True)
             fem = bench_fem(scene, args.case, args.fem_runs, sizes)
@@ -313,7 +374,7 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, RuntimeError, OSError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    headline = ("median", "plain_eigh", "speedup", "pose_seconds")
+    headline = ("median", "plain_eigh", "speedup", "pose_seconds", "frequency_map")
     print(json.dumps({k: v for k, v in result.items() if k.endswith(headline)}, indent=1))
     return 0
 

@@ -25,6 +25,26 @@ class BestModel(TypedDict):
     assembly_pose_seconds: float
 
 
+class DynamicMapBench(TypedDict):
+    """The least dynamic stiffness at the tool over the 10,000-pose map's reachable poses (the
+    scene's modes, LINES lines) against the frequency map of the same grid, both on one core,
+    and against the poses' frequencies alone (assembly, standard form, eigenvalues), timed
+    alternately; medians."""
+    poses: int
+    lines: int
+    modes: int
+    modes_summed: int
+    runs: int
+    dynamic_median_seconds: float
+    dynamic_seconds: list[float]
+    frequency_map_median_seconds: float
+    frequency_map_seconds: list[float]
+    frequencies_only_median_seconds: float
+    frequencies_only_seconds: list[float]
+    vs_frequency_map: float
+    vs_frequencies_only: float
+
+
 class Grid(TypedDict):
     heights: int
     rings: int

@@ -35,12 +35,14 @@ from typing import Any
 
 from analytical.params import ModelOptions
 from analytical.substructure import model_coordinates
+from common.errors import InputError
 from common.settings import MAX_MODES, Setting, setting, text_problem
 
 from .address import resolve
 from .load import Scene, SceneError, _short, _Table, parse_scene, read_toml
 
-OBJECTIVES = ("moving_mass", "lowest_frequency")
+OBJECTIVES = ("moving_mass", "lowest_frequency", "dynamic_stiffness")
+DIRECTIONS = ("x", "y", "z")
 MAX_DESIGNS = 2000  # a study's designs at most (each one workspace minimum, about a second)
 
 
@@ -56,6 +58,20 @@ class Constraints:
     min_level_band: float = setting(0.0, unit="mm", minimum=0.0, maximum=100.0,
                                     doc="the heights at which the level platform is reachable "
                                     "must span at least this")
+    min_dynamic_stiffness: float = setting(
+        0.0, unit="N/um", minimum=0.0, maximum=1e6,
+        doc="the least dynamic stiffness at the scene's [tool] (1 / max |H_dd| with its "
+        "[damping]) over the regular workspace, in the weakest of `directions`, must reach "
+        "this (0: no constraint)")
+    directions: tuple[str, ...] = setting(
+        DIRECTIONS, kind=tuple, item=str, min_length=1,
+        doc="the tool directions (base frame x, y, z) the dynamic stiffness is taken along")
+
+    def __post_init__(self) -> None:
+        bad = [d for d in self.directions if d not in DIRECTIONS]
+        if bad or len(set(self.directions)) != len(self.directions):
+            raise InputError(f"constraints.directions = {list(self.directions)}: expected "
+                             "distinct names among x, y, z")
 
 
 @dataclass(frozen=True)
@@ -63,8 +79,9 @@ class Objective:
     """[objective] of a design file."""
 
     minimise: str = setting("moving_mass", kind=str, choices=OBJECTIVES,
-                            doc="moving_mass (legs, plate and payload) or lowest_frequency "
-                            "(the least f_mode, maximised)")
+                            doc="moving_mass (legs, plate and payload), lowest_frequency "
+                            "(the least f_mode, maximised) or dynamic_stiffness (the least "
+                            "dynamic stiffness at the tool, maximised)")
 
 
 @dataclass(frozen=True)
@@ -151,8 +168,10 @@ def load_design(path: str | Path) -> DesignSpec:
                              modes=parts["constraints"].mode)
     model_t.done()
     top.done()
-    if parts["objective"].minimise == "moving_mass" and not parts["constraints"].min_frequency_hz:
-        raise SceneError(f"{where}.constraints.min_frequency_hz: missing: the lightest machine "
+    if parts["objective"].minimise == "moving_mass" and not (
+            parts["constraints"].min_frequency_hz or parts["constraints"].min_dynamic_stiffness):
+        raise SceneError(f"{where}.constraints.min_frequency_hz: missing (or "
+                         "min_dynamic_stiffness_n_per_um): the lightest machine "
                          "without a frequency target is the smallest one the bounds allow")
     spec = DesignSpec(str(name), where, str(scene_path), raw_scene, variables,
                       parts["constraints"], parts["objective"], parts["search"], model)

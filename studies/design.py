@@ -58,6 +58,8 @@ class DesignPoint(TypedDict):
     level_band_mm: NotRequired[float]
     min_frequency_hz: NotRequired[float]  # least f_mode over the workspace
     worst_pose: NotRequired[PoseAt]  # where
+    min_dynamic_stiffness_n_per_m: NotRequired[float]  # least over the regular workspace and
+    dynamic_worst: NotRequired[dict[str, Any]]  # the constraint's directions; where, which way
     on_boundary: NotRequired[bool]
 
 
@@ -126,6 +128,9 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> DesignPoint:
     m = scene.manipulator
     payload = {"manipulator": as_dict(m), "model": as_dict(spec.model),
                "mode": spec.constraints.mode}
+    if needs_dynamic(spec):
+        payload.update(damping=as_dict(scene.damping), tool=as_dict(scene.tool),
+                       directions=list(spec.constraints.directions), grid=list(DYNAMIC_GRID))
 
     def compute() -> tuple[dict, dict]:
         out: dict = {"moving_mass_kg": moving_mass(m)}
@@ -134,12 +139,15 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> DesignPoint:
             band = found.band
         except RpsError as exc:  # no workspace, or a model that cannot solve it: refused
             return {**out, "refused": str(exc)}, {}
-        return {**out, "refused": None, "level_band_mm": (band.high - band.low) * 1e3,
-                "min_frequency_hz": found.frequency_hz,
-                "worst_pose": {"height_mm": found.pose.height * 1e3,
+        out.update(refused=None, level_band_mm=(band.high - band.low) * 1e3,
+                   min_frequency_hz=found.frequency_hz,
+                   worst_pose={"height_mm": found.pose.height * 1e3,
                                "azimuth_deg": math.degrees(found.pose.azimuth),
                                "tilt_deg": math.degrees(found.pose.tilt)},
-                "on_boundary": found.boundary}, {}
+                   on_boundary=found.boundary)
+        if needs_dynamic(spec):
+            out.update(least_dynamic(spec, scene))
+        return out, {}
 
     value, _, _ = cache.get_or_compute("design-point", payload, compute,
                                        required=("moving_mass_kg",),
@@ -148,13 +156,48 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> DesignPoint:
     return record
 
 
+DYNAMIC_GRID = (5, 4, 24, 500)  # layers, rings, azimuths, lines of a design's dynamic map
+
+
+def needs_dynamic(spec: DesignSpec) -> bool:
+    return (spec.constraints.min_dynamic_stiffness > 0.0
+            or spec.objective.minimise == "dynamic_stiffness")
+
+
+def least_dynamic(spec: DesignSpec, scene) -> dict:
+    """The least dynamic stiffness at the scene's tool over a coarse map of the regular
+    workspace (DYNAMIC_GRID; studies.dynamic_stiffness), in the weakest of the constraint's
+    directions, and where."""
+    from dataclasses import replace
+
+    from .dynamic_stiffness import dynamic_stiffness_map
+
+    layers, rings, azimuths, lines = DYNAMIC_GRID
+    found = dynamic_stiffness_map(replace(scene, analytical=spec.model), layers, rings,
+                                  azimuths, lines)
+    rows = [r for r in found["least"] if r["direction"] in spec.constraints.directions]
+    if not rows:  # the tool never moves along these directions
+        return {"refused": "the tool point does not move along "
+                           f"{', '.join(spec.constraints.directions)} in any mode summed: no "
+                           "dynamic stiffness to take there"}
+    worst = min(rows, key=lambda r: r["stiffness_n_per_m"])
+    return {"min_dynamic_stiffness_n_per_m": worst["stiffness_n_per_m"],
+            "dynamic_worst": dict(worst)}
+
+
 def meets(spec: DesignSpec, record: DesignPoint, frequency: bool = True) -> bool:
-    """The design meets the band constraint and (with `frequency`) the frequency target."""
+    """The design meets the band constraint and (with `frequency`) the frequency and dynamic
+    stiffness targets."""
     if record.get("refused"):
         return False
     c = spec.constraints
     ok = record["level_band_mm"] >= c.min_level_band * 1e3 - 1e-9
-    return ok and (not frequency or record["min_frequency_hz"] >= c.min_frequency_hz)
+    if not frequency:
+        return ok
+    ok = ok and record["min_frequency_hz"] >= c.min_frequency_hz
+    if c.min_dynamic_stiffness > 0.0:
+        ok = ok and record["min_dynamic_stiffness_n_per_m"] >= c.min_dynamic_stiffness
+    return ok
 
 
 def objective(spec: DesignSpec, record: DesignPoint) -> float:
@@ -170,9 +213,14 @@ def objective(spec: DesignSpec, record: DesignPoint) -> float:
         if c.min_level_band:
             short += max(0.0, c.min_level_band * 1e3 - record["level_band_mm"]) / (
                 c.min_level_band * 1e3)
+        if c.min_dynamic_stiffness:
+            short += max(0.0, c.min_dynamic_stiffness
+                         - record["min_dynamic_stiffness_n_per_m"]) / c.min_dynamic_stiffness
         return PENALTY * (1.0 + min(short, 5.0))
     if spec.objective.minimise == "moving_mass":
         return record["moving_mass_kg"]
+    if spec.objective.minimise == "dynamic_stiffness":
+        return -record["min_dynamic_stiffness_n_per_m"]
     return -record["min_frequency_hz"]
 
 
@@ -274,7 +322,9 @@ def run_design(spec: DesignSpec, cache: ResultCache,
         variables=[{"name": v.name, "low": v.low, "high": v.high} for v in spec.variables],
         constraints={"min_frequency_hz": spec.constraints.min_frequency_hz,
                      "mode": spec.constraints.mode,
-                     "min_level_band_mm": spec.constraints.min_level_band * 1e3},
+                     "min_level_band_mm": spec.constraints.min_level_band * 1e3,
+                     "min_dynamic_stiffness_n_per_m": spec.constraints.min_dynamic_stiffness,
+                     "directions": list(spec.constraints.directions)},
         objective=spec.objective.minimise, model=spec.model.describe(),
         designs_solved=len(records), feasible=len(feasible), optimum=optimum,
         front=pareto_front(spec, records), designs=records, fem_check=None, optimum_map=None)

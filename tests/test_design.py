@@ -174,3 +174,48 @@ def test_a_report_folder_of_an_earlier_study_may_be_replaced(tmp_path):
     for name in ("design.json", "design.html", "design.pdf", "front.png", "map.png"):
         (earlier / name).write_text("x")
     assert check_output_dir(earlier, "--report") == earlier.resolve()
+
+
+DYNAMIC = """
+name = "stiffest tool for its legs"
+[variables]
+"manipulator.leg_diameter_mm" = [60.0, 140.0]
+[constraints]
+min_dynamic_stiffness_n_per_um = 0.05
+directions = ["x", "y"]
+[objective]
+minimise = "dynamic_stiffness"
+[model]
+beam = "euler-bernoulli"
+elements = 1
+"""
+
+
+def test_the_least_dynamic_stiffness_is_an_objective_and_a_constraint(tmp_path, monkeypatch):
+    """A design's least dynamic stiffness at the tool over its regular workspace is the
+    dynamic map's (studies.dynamic_stiffness) weakest of the asked directions; thicker legs
+    stiffen the tool; the objective maximises it and the constraint ranks a design short of
+    it behind every one that meets it. (The workspace's least frequency, which every design
+    also solves and other tests check, is replaced by its level band alone: seconds.)"""
+    from types import SimpleNamespace
+
+    from analytical.params import Pose
+    from analytical.reach import level_band
+
+    monkeypatch.setattr(design, "workspace_minimum", lambda m, model, mode: SimpleNamespace(
+        band=level_band(m), frequency_hz=1.0, pose=Pose(level_band(m).low), boundary=False))
+    spec = load_design(write(tmp_path, DYNAMIC))
+    assert spec.constraints.min_dynamic_stiffness == pytest.approx(5e4)
+    cache = ResultCache(tmp_path / "cache")
+    thin, thick = (design.evaluate(spec, [d], cache) for d in (70.0, 130.0))
+    for r in (thin, thick):
+        assert r["refused"] is None and r["dynamic_worst"]["direction"] in ("x", "y")
+        assert r["min_dynamic_stiffness_n_per_m"] == r["dynamic_worst"]["stiffness_n_per_m"]
+    assert thick["min_dynamic_stiffness_n_per_m"] > thin["min_dynamic_stiffness_n_per_m"]
+    assert design.objective(spec, thick) < design.objective(spec, thin)
+    short = dict(thick, min_dynamic_stiffness_n_per_m=4e4)
+    assert not design.meets(spec, short)
+    assert design.objective(spec, short) > max(design.objective(spec, r) for r in (thin, thick))
+    with pytest.raises(SceneError, match="directions") as info:
+        load_design(write(tmp_path, DYNAMIC.replace('["x", "y"]', '["x", "w"]')))
+    assert "\n" not in str(info.value)
