@@ -201,49 +201,63 @@ class LeastStiffness:
     mode: np.ndarray
 
 
+def _squared(lines_hz, omega, zeta, sq_t, residual, dtype) -> np.ndarray:
+    """|H_dd|^2 (c, k, 3) on lines (c, k) Hz of modes omega, zeta (c, m) with squared tool
+    components sq_t (c, m, 3) and the residual's diagonal (c, 3), in `dtype`: the terms
+    1 / (a + i b) = (a - i b) / (a^2 + b^2) in real arrays, two batched products."""
+    w = (2.0 * math.pi * lines_hz[:, :, None]).astype(dtype)  # (c, k, 1)
+    om = omega[:, None, :].astype(dtype)  # (c, 1, m)
+    a = om * om - w * w
+    b = (2.0 * zeta[:, None, :].astype(dtype) * om) * w
+    inv = a * a
+    inv += b * b
+    np.reciprocal(inv, out=inv)
+    a *= inv
+    b *= inv
+    sq_t = sq_t.astype(dtype)
+    re = np.matmul(a, sq_t)
+    re += residual[:, None, :].astype(dtype)
+    im = np.matmul(b, sq_t)
+    re *= re
+    im *= im
+    re += im
+    return re
+
+
 def least_dynamic_stiffness(lines_hz, omega, zeta, phi, residual_diag,
                             chunk: int = 32) -> LeastStiffness:
     """The least dynamic stiffness along x, y, z of N poses: |H_dd| on every line (lines
     (N, nf) Hz; modes omega, zeta (N, m); phi (N, 3, m); the residual's diagonal (N, 3)), the
     largest line then re-sampled REFINE times finer between its neighbours (a peak between
-    lines is found to (spacing / REFINE)^2 of its height). Batched in chunks of poses so the
-    (chunk, nf, m) terms stay small."""
+    lines is found to (spacing / REFINE)^2 of its height). The scan of the lines picks the
+    largest in single precision (twice the speed; a line within 1e-6 of the largest may be
+    picked, and the refinement around it, in double precision, finds the same peak), the
+    refinement and the values returned are double. Batched in chunks of poses so the
+    (chunk, nf, m) terms stay in cache."""
     lines_hz, omega, zeta, phi, residual_diag = (
         np.asarray(a, float) for a in (lines_hz, omega, zeta, phi, residual_diag))
     n, nf = lines_hz.shape
     stiffness, peak, mode = (np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3), int))
-    sq = phi**2  # (N, 3, m)
+    sq_t = np.swapaxes(phi**2, 1, 2)  # (N, m, 3)
+    steps = np.linspace(0.0, 1.0, 2 * REFINE + 1)
     for start in range(0, n, chunk):
         s = slice(start, min(n, start + chunk))
-        # 1 / (a + i b) = (a - i b) / (a^2 + b^2): real arrays and two real products
-        w = 2.0 * math.pi * lines_hz[s][:, :, None]  # (c, nf, 1)
-        om = omega[s][:, None, :]  # (c, 1, m)
-        a = om * om - w * w
-        b = (2.0 * zeta[s][:, None, :] * om) * w
-        inv = a * a
-        inv += b * b
-        np.reciprocal(inv, out=inv)
-        a *= inv
-        b *= inv
-        sq_t = np.swapaxes(sq[s], 1, 2)  # (c, m, 3)
-        re = np.matmul(a, sq_t)
-        re += residual_diag[s, None, :]
-        h = np.hypot(re, np.matmul(b, sq_t), out=re)  # (c, nf, 3)
-        best = np.argmax(h, axis=1)  # (c, 3)
-        rows = np.arange(best.shape[0])[:, None]
+        c = s.stop - s.start
+        best = np.argmax(_squared(lines_hz[s], omega[s], zeta[s], sq_t[s], residual_diag[s],
+                                  np.float32), axis=1)  # (c, 3)
+        rows = np.arange(c)[:, None]
         lo = lines_hz[s][rows, np.maximum(best - 1, 0)]
         hi = lines_hz[s][rows, np.minimum(best + 1, nf - 1)]
-        fine = lo[..., None] + (hi - lo)[..., None] * np.linspace(0.0, 1.0, 2 * REFINE + 1)
-        fterms = modal_terms(fine, omega[s][:, None, :], zeta[s][:, None, :])  # (c, 3, k, m)
-        contrib = fterms * sq[s][:, :, None, :]  # (c, 3, k, m)
-        hf = np.abs(contrib.sum(axis=-1) + residual_diag[s][:, :, None])  # (c, 3, k)
-        k = np.argmax(hf, axis=-1)  # (c, 3)
-        top = np.take_along_axis(hf, k[..., None], axis=-1)[..., 0]
-        with np.errstate(divide="ignore"):  # a direction nothing moves: infinitely stiff
-            stiffness[s] = 1.0 / top
-        peak[s] = np.take_along_axis(fine, k[..., None], axis=-1)[..., 0]
-        at = np.take_along_axis(contrib, k[..., None, None], axis=2)[:, :, 0]  # (c, 3, m)
-        mode[s] = np.argmax(np.abs(at), axis=-1)
+        for d in range(3):
+            fine = lo[:, d, None] + (hi - lo)[:, d, None] * steps  # (c, k)
+            h2 = _squared(fine, omega[s], zeta[s], sq_t[s], residual_diag[s], np.float64)[..., d]
+            k = np.argmax(h2, axis=1)
+            with np.errstate(divide="ignore"):  # a direction nothing moves: infinitely stiff
+                stiffness[s, d] = 1.0 / np.sqrt(h2[np.arange(c), k])
+            peak[s, d] = fine[np.arange(c), k]
+        terms = modal_terms(peak[s][:, :, None], omega[s][:, None, :], zeta[s][:, None, :])
+        contrib = np.abs(terms[:, :, 0, :] * np.swapaxes(sq_t[s], 1, 2))  # (c, 3, m)
+        mode[s] = np.argmax(contrib, axis=-1)
     return LeastStiffness(stiffness, peak, mode)
 
 
