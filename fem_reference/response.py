@@ -34,12 +34,27 @@ def tool_operator(result, point) -> sp.csr_matrix:
     return a.tocsr()
 
 
-def static_compliance(result, a: sp.csr_matrix) -> np.ndarray:
-    """(3, 3) m/N: A K_q^-1 A^T by one sparse factorisation."""
-    k = result.system[0].tocsc()
-    x = scipy.sparse.linalg.splu(k, permc_spec="MMD_AT_PLUS_A").solve(a.T.toarray())
-    g = a @ x
-    return 0.5 * (g + g.T)
+def static_compliance(result, a: sp.csr_matrix) -> tuple[np.ndarray, int]:
+    """(3, 3) m/N: A K_q^-1 A^T by one sparse factorisation, and the factor's entries (what
+    `check_direct_memory` reads)."""
+    lu = scipy.sparse.linalg.splu(result.system[0].tocsc(), permc_spec="MMD_AT_PLUS_A")
+    g = a @ lu.solve(a.T.toarray())
+    return 0.5 * (g + g.T), int(lu.L.nnz + lu.U.nnz)
+
+
+def check_direct_memory(result, factor_entries: int) -> None:
+    """Before any complex factorisation: one of the same pattern as the real factor of K_q
+    (`factor_entries`) holds twice its bytes, and pivoting adds fill (taken as three times
+    in all); MemoryLimitError naming it if that exceeds the share a solve may take
+    (resources.MEMORY_FRACTION of the memory available now)."""
+    from .resources import MEMORY_FRACTION, MemoryLimitError, available_bytes
+
+    need = 3.0 * 16.0 * factor_entries
+    free = available_bytes()
+    if free is not None and need > MEMORY_FRACTION * free:
+        raise MemoryLimitError(f"the direct frequency response at {result.dofs} dofs needs "
+                               f"about {need / 1e9:.3g} GB for its complex factor, above "
+                               f"{MEMORY_FRACTION:g} of the {free / 1e9:.3g} GB available")
 
 
 def direct_receptance(result, a: sp.csr_matrix, lines_hz, alpha: float, beta: float

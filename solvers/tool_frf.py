@@ -54,6 +54,7 @@ class ToolModel:
     modes: ToolModes
     zeta: np.ndarray  # (m,)
     compared: int  # the scene's compared modes: the band's top is BAND_ABOVE x f_compared
+    factor_entries: int = 0  # the FEM's: its static factor's entries (the direct check's memory)
 
     @property
     def residual(self) -> np.ndarray:
@@ -107,8 +108,9 @@ def fem_tool(result, damping: Damping, point, compared: int, label: str = "FEM")
 
     a = tool_operator(result, point)
     omega = 2.0 * math.pi * np.asarray(result.frequencies_hz, float)
-    modes = ToolModes(omega, np.asarray(a @ result.modes_q), static_compliance(result, a))
-    return ToolModel(label, modes, damping.ratios(omega), compared)
+    static, entries = static_compliance(result, a)
+    modes = ToolModes(omega, np.asarray(a @ result.modes_q), static)
+    return ToolModel(label, modes, damping.ratios(omega), compared, entries)
 
 
 def check_damping(damping: Damping, fem: ToolModel) -> Damping:
@@ -128,9 +130,11 @@ def with_damping(model: ToolModel, damping: Damping) -> ToolModel:
 
 def direct_check(result, fem: ToolModel, damping: Damping, point) -> dict[int, list[Peak]]:
     """The solid's direct response at its peaks (`common.frf.direct_peaks`), damped by the
-    Rayleigh `damping`, in the windows of its own modal sum."""
-    from fem_reference.response import direct_receptance, tool_operator
+    Rayleigh `damping`, in the windows of its own modal sum; its memory checked first
+    (MemoryLimitError)."""
+    from fem_reference.response import check_direct_memory, direct_receptance, tool_operator
 
+    check_direct_memory(result, fem.factor_entries)
     a = tool_operator(result, point)
     fem = with_damping(fem, damping)
     windows = {d: fem.windows(d, DIRECT_FLOOR) for d in range(3)}
