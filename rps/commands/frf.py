@@ -38,7 +38,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", choices=("analytical", "fem"), default="analytical",
                    help="the model: the analytical model (the scene's settings, or the run's "
                    "choice with --from-results) or the scene's solid FEM (its modes and its "
-                   "static solve, at the scene's mesh size or the run's)")
+                   "static solve, at the scene's mesh size or the run's; default: analytical)")
     p.add_argument("--lines", metavar="N", type=int, default=LINES,
                    help=f"frequency lines from 0 Hz to the band's top (default {LINES})")
     p.add_argument("--top-hz", metavar="HZ", type=float,
