@@ -31,6 +31,7 @@ class ToolModes:
     omega: np.ndarray  # (m,) rad/s, ascending
     phi: np.ndarray  # (3, m) tool displacement of each mass-normalised mode, base frame
     static: np.ndarray  # (3, 3) m/N, the static compliance at the tool, A K^-1 A^T
+    next_omega: np.ndarray | float = np.inf  # the first mode left out of the sum (inf: none)
 
     @property
     def frequencies_hz(self) -> np.ndarray:
@@ -48,11 +49,13 @@ def tool_modes(model: SubstructureModel, rotation, point, count: int) -> ToolMod
     """The lowest `count` modes (at most every coordinate's) of one assembled pose at the
     tool point `point` (platform frame, m), the platform turned by `rotation`."""
     n_q = model.stiffness.shape[0]
-    modal = solve_modes(model, min(count, n_q))
+    count = min(count, n_q)
+    modal = solve_modes(model, min(count + 1, n_q))  # one more: where the band must stop
     rows = _platform_rows(n_q, model.platform_slice, tool_rows(point, rotation))
     static = rows @ scipy.linalg.solve(model.stiffness, rows.T, assume_a="pos")
     omega = 2.0 * math.pi * modal.frequencies_hz
-    return ToolModes(omega, rows @ modal.shapes, 0.5 * (static + static.T))
+    return ToolModes(omega[:count], rows @ modal.shapes[:, :count], 0.5 * (static + static.T),
+                     omega[count] if count < n_q else np.inf)
 
 
 def batch_tool_modes(model: BatchModel, form: StandardForm, rotations, point, count: int,
@@ -69,14 +72,17 @@ def batch_tool_modes(model: BatchModel, form: StandardForm, rotations, point, co
                           tool_rows(point, np.asarray(rotations, float)[index]))  # (n, 3, n_q)
     omega, phi, static = (np.empty((len(index), count)), np.empty((len(index), 3, count)),
                           np.empty((len(index), 3, 3)))
+    after = np.full(len(index), np.inf)  # the first mode left out of the sum
     for k, pose in enumerate(index):
-        mu, y = standard_modes(form, int(pose), count)
+        mu, y = standard_modes(form, int(pose), min(count + 1, n_q))
         w = scipy.linalg.solve_triangular(form.factors[pose], rows[k].T, trans="T",
                                           check_finite=False)  # (n_q, 3)
         static[k] = w.T @ w
-        phi[k] = (w.T @ y) / np.sqrt(mu)
-        omega[k] = 1.0 / np.sqrt(mu)
-    return ToolModes(omega, phi, static)
+        phi[k] = (w.T @ y[:, :count]) / np.sqrt(mu[:count])
+        omega[k] = 1.0 / np.sqrt(mu[:count])
+        if count < n_q:
+            after[k] = 1.0 / math.sqrt(mu[count])
+    return ToolModes(omega, phi, static, after)
 
 
 MAP_CHUNK = 500  # poses assembled at once: K and M of 500 poses of 126 coordinates, 127 MB
@@ -111,7 +117,10 @@ def least_stiffness_map(manipulator, options, poses, damping, point, compared: i
         modes = batch_tool_modes(model, standard_form(model), chunk.rotation, point, count)
         residual = residual_flexibility(modes.static, modes.omega, modes.phi)
         f = modes.omega / (2.0 * math.pi)
-        band = band_lines(band_top(f, hz.shape[1]), lines)
+        after = np.asarray(modes.next_omega)
+        band = band_lines(band_top(f, hz.shape[1], after / (2.0 * math.pi),
+                                   damping.ratios(np.column_stack([modes.omega, after]))[:, -1]),
+                          lines)
         least = least_dynamic_stiffness(band, modes.omega, damping.ratios(modes.omega),
                                         modes.phi, np.diagonal(residual, axis1=1, axis2=2))
         s = slice(start, start + len(chunk))

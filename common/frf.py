@@ -175,13 +175,20 @@ def modal_table(omega, zeta, phi) -> list[dict]:
     return out
 
 
-def band_top(frequencies_hz, compared: int) -> np.ndarray:
+def band_top(frequencies_hz, compared: int, next_hz=np.inf, next_zeta=0.0) -> np.ndarray:
     """The band's top (Hz) for modes (..., m) summed of which the first `compared` are
-    compared: BAND_ABOVE times the highest compared, at most the highest summed, so every
-    mode whose resonance lies in the band is in the sum (those above enter by their static
-    flexibility, which is what they are below their resonance)."""
+    compared: BAND_ABOVE times the highest compared, and below the resonance of the first
+    mode left out (`next_hz`, by its half-power band and two more: next_hz / (1 + 3 zeta);
+    inf: none left out), so every
+    mode that resonates in the band is in the sum and those left out enter by their static
+    flexibility, what they are below their resonance (a repeated pair split by the cut is
+    left out whole)."""
     f = np.asarray(frequencies_hz, float)
-    return np.minimum(BAND_ABOVE * f[..., min(compared, f.shape[-1]) - 1], f[..., -1])
+    after = np.asarray(next_hz, float)
+    with np.errstate(invalid="ignore"):  # inf / inf where nothing is left out
+        cut = np.where(np.isfinite(after), after / (1.0 + 3.0 * np.asarray(next_zeta, float)),
+                       np.inf)
+    return np.minimum(BAND_ABOVE * f[..., min(compared, f.shape[-1]) - 1], cut)
 
 
 def band_lines(top_hz, count: int = LINES) -> np.ndarray:
@@ -285,22 +292,33 @@ PEAK_XTOL = 1e-6  # the peak's frequency found to this fraction of it
 
 def peak_windows(omega, zeta, phi, direction: int, floor: float = PEAK_FLOOR
                  ) -> list[tuple[int, float, float]]:
-    """(mode, low Hz, high Hz) where each mode that stands out along `direction` peaks: its
-    one-mode height phi_d^2 / (2 zeta omega^2) at least `floor` of the largest, searched within
-    3 half-power bandwidths (zeta f) of its frequency and no closer to a neighbour than half
-    way."""
+    """(mode, low Hz, high Hz) where the modes that stand out along `direction` peak. Modes
+    closer than their half-power bandwidth (zeta f: a repeated pair of a symmetric pose, split
+    by round-off) make one visible peak and are one group; a group whose one-mode heights
+    phi_d^2 / (2 zeta omega^2) sum to at least `floor` of the largest group's is searched
+    within 3 half-power bandwidths of its frequencies and no closer to a neighbouring group
+    than half way; its mode is the member standing out most."""
     omega, zeta, phi = (np.asarray(a, float) for a in (omega, zeta, phi))
     f = omega / (2.0 * math.pi)
     height = phi[direction] ** 2 / (2.0 * zeta * omega**2)
+    groups: list[list[int]] = []
+    for j in range(len(f)):
+        if groups and f[j] - f[groups[-1][-1]] <= max(zeta[j], zeta[groups[-1][-1]]) * f[j]:
+            groups[-1].append(j)
+        else:
+            groups.append([j])
+    tall = np.array([height[g].sum() for g in groups])
     out = []
-    for j in np.flatnonzero(height >= floor * height.max()):
-        lo, hi = f[j] * (1.0 - 3.0 * zeta[j]), f[j] * (1.0 + 3.0 * zeta[j])
-        if j > 0:
-            lo = max(lo, 0.5 * (f[j - 1] + f[j]))
-        if j + 1 < len(f):
-            hi = min(hi, 0.5 * (f[j] + f[j + 1]))
+    for k, g in enumerate(groups):
+        if not tall[k] >= floor * tall.max():
+            continue
+        lo, hi = f[g[0]] * (1.0 - 3.0 * zeta[g[0]]), f[g[-1]] * (1.0 + 3.0 * zeta[g[-1]])
+        if k > 0:
+            lo = max(lo, 0.5 * (f[groups[k - 1][-1]] + f[g[0]]))
+        if k + 1 < len(groups):
+            hi = min(hi, 0.5 * (f[g[-1]] + f[groups[k + 1][0]]))
         if hi > lo:
-            out.append((int(j), float(lo), float(hi)))
+            out.append((int(g[int(np.argmax(height[g]))]), float(lo), float(hi)))
     return out
 
 

@@ -3,13 +3,17 @@ and the pictures left static embedded, so the page is one self-contained file th
 offline (plotly.js inlined once; no request to any network).
 
 report.pdf is rendered from the same context without any of this (the static pictures), so the
-two show the same records of results.json: every chart here has its static twin there.
+two show the same records of results.json: every chart here has its static twin there, but
+the charts of a study drawn as its tables (no template of its own: the tool's receptance, the
+least dynamic stiffness over the map), which the page draws under that section's tables and
+report.pdf leaves out (its section there is the tables).
 """
 from __future__ import annotations
 
 import base64
 import json
 from pathlib import Path
+from typing import Any, Mapping, cast
 
 import plotly.io
 
@@ -40,12 +44,16 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
     in `notes`."""
     out: dict = {}
 
-    def add(key: str, make, *args) -> None:
+    def add(key: str, make, *args, section: str | None = None, caption: str = "") -> None:
+        """`section`: the anchor of a study drawn as its tables, under which the page draws
+        the chart with `caption` (no static twin: report.pdf shows those tables only)."""
         try:
             value = make(*args)
         except Exception as exc:  # noqa: BLE001  (a chart never sinks the report)
             notes.append(f"interactive {key}: {type(exc).__name__}: "
-                         f"{' '.join(str(exc).split())}; the static picture is shown")
+                         f"{' '.join(str(exc).split())}; " + (
+                             "the static picture is shown" if section is None else
+                             "not drawn (its tables are shown)"))
             return
         if value is None:
             return
@@ -53,6 +61,8 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
             out[key] = dict(value, figure=_figure_json(value["figure"]))
         else:
             out[key] = {"figure": _figure_json(value)}
+        if section is not None:
+            out[key].update(section=section, caption=caption)
 
     main = {c["name"] for c in main_cases(results)}
     m = results["scene"]["manipulator"]
@@ -84,7 +94,49 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
     for study in results["studies"]["lowest_modes"]:
         if study["sweep"]:
             add(chart_key("sweep", study["case"]), charts.stiffness_sweep, study)
+    for case in results["cases"]:  # every case: the study's tables hold every case
+        tool = _record(case, "tool_response")
+        if tool:
+            add(chart_key("tool_response", case["name"]), charts.tool_response, tool,
+                case["name"], section="tool-response", caption=tool_caption(case, tool))
+    stiffness = _record(results["studies"], "dynamic_stiffness")
+    if stiffness:
+        add(chart_key("dynamic_stiffness"), maps.dynamic_stiffness_map, stiffness,
+            section="dynamic-stiffness", caption=stiffness_caption(stiffness))
     return out
+
+
+def _record(holder, key: str) -> dict | None:
+    """A study's record that the results' own types do not name (a study declared in the
+    registry only), None where absent or not computed."""
+    return cast(Mapping[str, Any], holder).get(key)
+
+
+def _point(record: dict) -> str:
+    return "(" + ", ".join(f"{v:g}" for v in record["point_mm"]) + ") mm"
+
+
+def tool_caption(case, record: dict) -> str:
+    """The caption of a case's tool-response chart."""
+    return (f"{case['description']} ({case['name']}): the receptance of the tool point "
+            f"{_point(record)} from the platform centre, |H_xx|, |H_yy|, |H_zz| (m/N, log "
+            f"scale) against frequency: lines the analytical model ({record['analytical']}), "
+            f"dashed the FEM's modal sum (h = {record['fem_mesh_size_mm']:g} mm), both at the "
+            f"scene's damping ({record['damping']}); circles the solid's direct frequency "
+            "response at each of its peaks, where the three models are compared at one "
+            f"damping: {record['check_damping']}. A circle sits off the curves where the two "
+            "dampings differ.")
+
+
+def stiffness_caption(record: dict) -> str:
+    """The caption of the least-dynamic-stiffness map."""
+    return (f"The least dynamic stiffness at the tool point {_point(record)}, 1 / max |H_dd| "
+            "(N/m), along x, y, z (buttons) over every layer of the workspace map: angle = "
+            "azimuth φ (deg), radius = tilt θ (deg), colour = stiffness on a log scale shared "
+            "by the direction's panels (each panel's range in its title); star: the least over "
+            f"the map. The analytical model ({record['analytical']}, {record['modes_summed']} "
+            f"modes summed, {record['lines']} lines), damping {record['damping']}; a pose "
+            "unreached, or where the tool does not move along the direction, has no point.")
 
 
 def page_data(charts_by_key: dict) -> str:

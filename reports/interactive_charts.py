@@ -30,6 +30,12 @@ LAYOUT = dict(template="plotly_white", font=dict(size=12), margin=dict(l=60, r=2
               hoverlabel=dict(align="left"))
 
 
+def significant(value: float | None, digits: int = 6) -> float | None:
+    """A value to `digits` significant digits (None kept): more than hover shows, and the
+    page's JSON block the shorter for a chart of many points."""
+    return None if value is None else float(f"{value:.{digits}g}")
+
+
 def _axis(n: int) -> str:
     """The suffix of subplot n's axes (1-based, row by row): "" for the first."""
     return "" if n == 1 else str(n)
@@ -232,4 +238,65 @@ def stiffness_sweep(study: dict) -> go.Figure:
     fig.update_layout(**LAYOUT, height=440, title=dict(
         text=f"{study['case']}: lines the analytical model, circles the FEM, dashed the rigid "
              "drive, crosses the knees", font=dict(size=12)))
+    return fig
+
+
+def tool_response(record: dict, case: str) -> go.Figure | None:
+    """|H_xx|, |H_yy|, |H_zz| of the tool point (m/N, log) against frequency, one panel per
+    direction: the analytical model's (line) and the FEM's modal sum (dashed) at the scene's
+    damping, circles the solid's direct response at each of its peaks, at the study's check
+    damping (one Rayleigh damping for all three models: a circle may sit off the curves where
+    it differs from the scene's; hover: the three models there and the analytical model's
+    errors). No static twin: report.pdf shows the study as its tables. None when the record
+    has no curve."""
+    curves = record["curves"]
+    f = curves["frequency_hz"]
+    directions = [d for d in ("x", "y", "z")
+                  if d in curves["analytical_m_per_n"] or d in curves["fem_m_per_n"]]
+    if not f or not directions:
+        return None
+    fig = make_subplots(rows=1, cols=len(directions), horizontal_spacing=0.07,
+                        subplot_titles=[f"|H_{d}{d}|" for d in directions])
+    models = (("analytical_m_per_n", "analytical model", "analytical",
+               dict(color=SETTING_COLOURS[0], width=1.5)),
+              ("fem_m_per_n", "FEM, modal sum", "fem", dict(color=FEM_COLOUR, width=1.5,
+                                                           dash="dash")))
+    first = next((d for d in directions if any(p["direction"] == d for p in record["peaks"])),
+                 None)  # the panel whose circles the legend names
+    for c, d in enumerate(directions, start=1):
+        for key, label, group, line in models:
+            if d not in curves[key]:
+                continue
+            fig.add_trace(go.Scatter(
+                x=[significant(v) for v in f], y=[significant(v) for v in curves[key][d]],
+                mode="lines", name=label, legendgroup=group,
+                showlegend=c == 1, line=line,
+                hovertemplate=(f"f = %{{x:.2f}} Hz<br>|H_{d}{d}| = %{{y:.4e}} m/N"
+                               f"<extra>{label}</extra>")), row=1, col=c)
+        peaks = [p for p in record["peaks"] if p["direction"] == d]
+        if not peaks:
+            continue
+        fig.add_trace(go.Scatter(
+            x=[p["fem_direct_hz"] for p in peaks], y=[p["fem_direct_m_per_n"] for p in peaks],
+            mode="markers", name="FEM, direct response (peaks)", legendgroup="direct",
+            showlegend=d == first,
+            marker=dict(symbol="circle-open", size=11, color="black", line=dict(width=2)),
+            customdata=[[p["fem_mode"], p["fem_modal_hz"], p["fem_modal_m_per_n"],
+                         p["fem_modal_magnitude_error_percent"], p["analytical_hz"],
+                         p["frequency_error_percent"], p["analytical_m_per_n"],
+                         p["magnitude_error_percent"]] for p in peaks],
+            hovertemplate=(f"FEM mode %{{customdata[0]}}, the check's Rayleigh damping:<br>"
+                           f"the solid's direct response: %{{x:.3f}} Hz, |H_{d}{d}| = "
+                           "%{y:.4e} m/N<br>"
+                           "FEM modal sum: %{customdata[1]:.3f} Hz, %{customdata[2]:.4e} m/N "
+                           "(%{customdata[3]:+.3f} %)<br>analytical: %{customdata[4]:.3f} Hz "
+                           "(%{customdata[5]:+.3f} %), %{customdata[6]:.4e} m/N "
+                           "(%{customdata[7]:+.3f} %)<extra>" + case + "</extra>")),
+            row=1, col=c)
+    fig.update_xaxes(title_text="frequency (Hz)")
+    fig.update_yaxes(type="log", exponentformat="power")
+    fig.update_yaxes(title_text="receptance |H_dd| (m/N)", col=1)
+    fig.update_layout(**LAYOUT, height=420, legend=dict(orientation="h", y=-0.2), title=dict(
+        text=f"{case}: the tool point's receptance at the scene's damping ({record['damping']})",
+        font=dict(size=12)))
     return fig

@@ -1,8 +1,11 @@
 """The report's interactive workspace charts (plotly), from results.json values only: the
 frequency map of every layer, frequency against height, and the model against the FEM over the
-validated poses; the twins of `workspace_figures` and `validation.error_maps`."""
+validated poses; the twins of `workspace_figures` and `validation.error_maps`. And the least
+dynamic stiffness at the tool over the same map (the dynamic_stiffness study), drawn the same
+way; it has no static twin (report.pdf shows that study as its table)."""
 from __future__ import annotations
 
+import math
 from typing import TypeVar
 
 import numpy as np
@@ -11,7 +14,7 @@ from plotly.subplots import make_subplots
 
 from results import Workspace
 
-from .interactive_charts import COLOURS, LAYOUT
+from .interactive_charts import COLOURS, LAYOUT, significant
 
 T = TypeVar("T")
 
@@ -34,11 +37,51 @@ def valid_layers(ws: Workspace) -> list[int]:
             if any(az is not None and az[0] is not None for ring in layer for az in ring)]
 
 
+def grid_points(layer: list[list[T]], held=lambda value: value is not None
+                ) -> list[tuple[int, int]]:
+    """(ring, azimuth) of every pose of a map layer ([ring][azimuth]) whose value is `held`,
+    the level pose (ring 0, the same pose at every azimuth) once."""
+    return [(r, a) for r, ring in enumerate(layer) for a, value in enumerate(ring)
+            if held(value) and (r > 0 or a == 0)]
+
+
 def map_points(ws: Workspace, iz: int) -> list[tuple[int, int]]:
     """(ring, azimuth) of every reachable pose of layer iz, the level pose (ring 0) once."""
-    layer = ws["frequencies_hz"][iz]
-    return [(r, a) for r, ring in enumerate(layer) for a, az in enumerate(ring)
-            if az is not None and az[0] is not None and (r > 0 or a == 0)]
+    return grid_points(ws["frequencies_hz"][iz], lambda az: az is not None and az[0] is not None)
+
+
+def polar_panels(titles: list[str]) -> tuple[go.Figure, int]:
+    """A figure of one polar panel per title (a map layer), four a row; and its rows."""
+    cols = min(4, len(titles))
+    rows = -(-len(titles) // cols)
+    fig = make_subplots(rows=rows, cols=cols, specs=[[{"type": "polar"}] * cols] * rows,
+                        subplot_titles=titles, horizontal_spacing=0.06, vertical_spacing=0.12)
+    return fig, rows
+
+
+def panel(n: int, titles: list[str]) -> dict:
+    """The row and column of polar panel n (0-based) of `polar_panels(titles)`."""
+    cols = min(4, len(titles))
+    return dict(row=n // cols + 1, col=n % cols + 1)
+
+
+def switched_panels(fig: go.Figure, rows: int, labels: list[str], owner: list[int],
+                    titles: list[list[str]]) -> None:
+    """Lay out a figure of `polar_panels` whose traces are shown one choice at a time: a
+    button per label, trace j shown under button owner[j], choice k's panel titles
+    titles[k] (the first choice shown)."""
+    for annotation, title in zip(fig.layout.annotations, titles[0]):
+        annotation.text = title
+    buttons = [dict(label=label, method="update", args=[
+        {"visible": [o == k for o in owner]},
+        {f"annotations[{n}].text": title for n, title in enumerate(titles[k])}])
+        for k, label in enumerate(labels)]
+    fig.update_layout(**LAYOUT, height=330 * rows + 60, updatemenus=[dict(
+        type="buttons", direction="right", buttons=buttons, x=0, y=1.0 + 0.12 / rows,
+        xanchor="left", yanchor="bottom", showactive=True)])
+    fig.update_annotations(font=dict(size=12))
+    fig.update_polars(radialaxis=dict(ticksuffix="°", tickfont=dict(size=9)),
+                      angularaxis=dict(tickfont=dict(size=9)))
 
 
 def workspace_map(ws: Workspace, model: str, actuator: str) -> go.Figure:
@@ -47,11 +90,8 @@ def workspace_map(ws: Workspace, model: str, actuator: str) -> go.Figure:
     angles, and every mode's frequency there."""
     layers = valid_layers(ws)
     modes = len(next(az for ring in ws["frequencies_hz"][layers[0]] for az in ring if az))
-    cols = min(4, len(layers))
-    rows = -(-len(layers) // cols)
-    fig = make_subplots(rows=rows, cols=cols, specs=[[{"type": "polar"}] * cols] * rows,
-                        subplot_titles=[f"z = {ws['heights_mm'][iz]:.0f} mm" for iz in layers],
-                        horizontal_spacing=0.06, vertical_spacing=0.12)
+    heights = [f"z = {ws['heights_mm'][iz]:.0f} mm" for iz in layers]
+    fig, rows = polar_panels(heights)
     unit = "leg lengths" if actuator == "leg length" else "slider travels"
     lines = [f"f{k + 1} = %{{customdata[{3 + k}]:.2f}} Hz" for k in range(modes)]
     titles: list[list[str]] = [[] for _ in range(modes)]
@@ -85,20 +125,9 @@ def workspace_map(ws: Workspace, model: str, actuator: str) -> go.Figure:
                 name=f"f{k + 1}, z = {ws['heights_mm'][iz]:.0f} mm", showlegend=False,
                 marker=dict(color=values, colorscale="Viridis", cmin=lo,
                             cmax=max(hi, lo + 1e-6 * max(abs(lo), 1.0)), size=7,
-                            line=dict(width=0))), row=n // cols + 1, col=n % cols + 1)
-    for annotation, title in zip(fig.layout.annotations, titles[0]):
-        annotation.text = title
-    per_mode = len(layers)
-    buttons = [dict(label=f"f{k + 1}", method="update", args=[
-        {"visible": [j // per_mode == k for j in range(modes * per_mode)]},
-        {f"annotations[{n}].text": title for n, title in enumerate(titles[k])}])
-        for k in range(modes)]
-    fig.update_layout(**LAYOUT, height=330 * rows + 60, updatemenus=[dict(
-        type="buttons", direction="right", buttons=buttons, x=0, y=1.0 + 0.12 / rows,
-        xanchor="left", yanchor="bottom", showactive=True)])
-    fig.update_annotations(font=dict(size=12))
-    fig.update_polars(radialaxis=dict(ticksuffix="°", tickfont=dict(size=9)),
-                      angularaxis=dict(tickfont=dict(size=9)))
+                            line=dict(width=0))), **panel(n, heights))
+    switched_panels(fig, rows, [f"f{k + 1}" for k in range(modes)],
+                    [k for k in range(modes) for _ in layers], titles)
     return fig
 
 
@@ -189,3 +218,110 @@ def validation_map(wv: dict) -> go.Figure:
     return fig
 
 
+
+
+DIRECTIONS = ("x", "y", "z")  # the tool's directions, as the records key them
+LEAST_COLOUR = "#d62728"  # the least pose's star: outside Viridis
+
+
+def _compact(value: float) -> str:
+    """A value to three significant digits, its exponent short: 2e5, 1.79e5, 83.7."""
+    mantissa, _, exponent = f"{value:.3g}".partition("e")
+    return mantissa + (f"e{int(exponent)}" if exponent else "")
+
+
+def _log_ticks(lo: float, hi: float) -> tuple[list[float], list[str]]:
+    """Colour-bar ticks of a log10 colour between 10**lo and 10**hi, as log10 and labels: the
+    powers of ten (every few over many decades) where at least three fall inside, else
+    1, 2, 5 x 10^n, else every digit x 10^n; with fewer than three even then, the two ends
+    and the digits not crowding them."""
+    def labelled(values: list[float]) -> tuple[list[float], list[str]]:
+        return [math.log10(v) for v in values], [_compact(v) for v in values]
+
+    def inside(values) -> list[float]:
+        return [v for v in values if lo - 1e-9 <= math.log10(v) <= hi + 1e-9]
+
+    exponents = range(math.floor(lo), math.ceil(hi) + 1)
+    values = inside(10.0 ** e for e in exponents[::max(1, math.ceil((hi - lo) / 6))])
+    for digits in ((1, 2, 5), range(1, 10)):
+        if len(values) >= 3:
+            return labelled(values)
+        values = inside(m * 10.0 ** e for e in exponents for m in digits)
+    if len(values) >= 3:
+        return labelled(values)
+    gap = 0.15 * (hi - lo)
+    return labelled(sorted({10.0 ** lo, 10.0 ** hi,
+                            *(v for v in values if lo + gap < math.log10(v) < hi - gap)}))
+
+
+def stiffness_layers(ds: dict) -> list[int]:
+    """The dynamic-stiffness map's layers with a stiffness in at least one direction."""
+    return [i for i in range(len(ds["heights_mm"]))
+            if any(v is not None for d in DIRECTIONS if d in ds["stiffness_n_per_m"]
+                   for ring in ds["stiffness_n_per_m"][d][i] for v in ring)]
+
+
+def dynamic_stiffness_map(ds: dict) -> go.Figure | None:
+    """The least dynamic stiffness at the tool, 1 / max |H_dd|, over every layer of the map:
+    one polar panel per height (angle = azimuth, radius = tilt), a direction selector, colour
+    log10 of the stiffness on one scale per direction (N/m); the least pose of each direction
+    starred. Hover: the pose, the stiffness, the frequency of its peak and the mode dominating
+    it. A pose where the tool does not move along d (or not reached) has no point. None when
+    no layer has a stiffness."""
+    layers = stiffness_layers(ds)
+    directions = [d for d in DIRECTIONS if d in ds["stiffness_n_per_m"] and any(
+        v is not None for iz in layers for ring in ds["stiffness_n_per_m"][d][iz] for v in ring)]
+    if not directions:
+        return None
+    heights = [f"z = {ds['heights_mm'][iz]:.0f} mm" for iz in layers]
+    fig, rows = polar_panels(heights)
+    owner: list[int] = []
+    titles: list[list[str]] = []
+    template = ("z = %{customdata[0]:.1f} mm, θ = %{customdata[1]:.2f}°, φ = "
+                "%{customdata[2]:.1f}°<br><b>k_{d} = %{customdata[3]:.4g} N/m</b><br>"
+                "peak of |H_{d}{d}| at %{customdata[4]:.2f} Hz, mode %{customdata[5]}")
+    for k, d in enumerate(directions):
+        k_grid, f_grid, m_grid = (ds[key][d] for key in ("stiffness_n_per_m", "peak_hz", "mode"))
+        data = [[[*(significant(v) for v in (ds["heights_mm"][iz], ds["tilts_deg"][iz][r],
+                                              ds["azimuths_deg"][a], k_grid[iz][r][a],
+                                              f_grid[iz][r][a])), m_grid[iz][r][a]]
+                 for r, a in grid_points(k_grid[iz])] for iz in layers]
+        values = [np.round(np.log10(_finite([p[3] for p in points])), 4) for points in data]
+        lo = float(np.nanmin(np.concatenate(values)))
+        hi = float(np.nanmax(np.concatenate(values)))
+        ticks, labels = _log_ticks(lo, hi)
+        scale = next(n for n, points in enumerate(data) if points)  # the panel with the bar
+        titles.append([])
+        for n, (iz, points) in enumerate(zip(layers, data)):
+            shown = [v for v in values[n] if np.isfinite(v)]
+            titles[k].append(f"{heights[n]}: " + (  # the unit on the colour bar
+                f"{_compact(10 ** min(shown))}–{_compact(10 ** max(shown))}" if shown else "–"))
+            fig.add_trace(go.Scatterpolar(
+                r=[p[1] for p in points], theta=[p[2] for p in points], mode="markers",
+                customdata=points, hovertemplate=template.replace("{d}", d)
+                + "<extra>analytical</extra>", visible=k == 0,
+                name=f"k_{d}, {heights[n]}", showlegend=False,
+                marker=dict(color=values[n], colorscale="Viridis", cmin=lo,
+                            cmax=max(hi, lo + 1e-6), size=7, line=dict(width=0),
+                            showscale=n == scale, colorbar=dict(
+                                title=dict(text=f"k_{d} (N/m)", side="right"),
+                                tickvals=ticks, ticktext=labels, thickness=12))),
+                **panel(n, heights))
+            owner.append(k)
+        for row in ds["least"]:
+            if row["direction"] != d:
+                continue
+            n = min(range(len(layers)),
+                    key=lambda i: abs(ds["heights_mm"][layers[i]] - row["height_mm"]))
+            fig.add_trace(go.Scatterpolar(
+                r=[row["tilt_deg"]], theta=[row["azimuth_deg"]], mode="markers",
+                customdata=[[row["height_mm"], row["tilt_deg"], row["azimuth_deg"],
+                             row["stiffness_n_per_m"], row["frequency_hz"], row["mode"]]],
+                hovertemplate="<b>the least over the map</b><br>" + template.replace("{d}", d)
+                + "<extra>least</extra>", visible=k == 0, name=f"least k_{d}",
+                showlegend=False, marker=dict(symbol="star", size=16, color=LEAST_COLOUR,
+                                              line=dict(width=1, color="white"))),
+                **panel(n, heights))
+            owner.append(k)
+    switched_panels(fig, rows, [f"k_{d}" for d in directions], owner, titles)
+    return fig

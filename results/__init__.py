@@ -12,5 +12,6 @@ from .declare import Record, Section, Table, csv_text, stub, table_rows, unique 
 from .rules import best_error, mode_ranges, worst_by_mode_range, worst_in_mode_ranges  # noqa: F401
 from .schema import Results, dumps, nesting_depth, read, study_type, validated  # noqa: F401
 from .study_records import *  # noqa: F401,F403
+from .tool_records import *  # noqa: F401,F403
 from .types import *  # noqa: F401,F403
 from .types import LOW_MODES, MAX_DEPTH, MAX_FREQUENCY_HZ, SCHEMA_VERSION  # noqa: F401

@@ -7,6 +7,7 @@ from typing import Literal
 from pydantic import FiniteFloat, with_config
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
+from .tool_records import ToolResponse
 from .types import STRICT, CaseName, Frequencies, Frequency, Hz, Motion, RelativePath
 
 
@@ -288,3 +289,4 @@ class Case(CaseCore, total=False):
     element_convergence: ElementConvergences | None
     fem_variants: FemIdealisations | None
     speed_vs_error: list[SpeedPoint] | None
+    tool_response: ToolResponse | None  # None: the scene asks no dynamic compliance

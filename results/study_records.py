@@ -6,6 +6,7 @@ from typing import Any, Literal
 from pydantic import FiniteFloat, with_config
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
+from .tool_records import DynamicStiffnessMap
 from .types import STRICT, Frequencies, Frequency, Hz
 
 
@@ -312,6 +313,7 @@ class Studies(TypedDict, total=False):
     height_calibration: HeightCalibration | None
     angle_conventions: list[AngleConventions]
     workspace: Workspace | None
+    dynamic_stiffness: DynamicStiffnessMap | None  # None: the scene asks no dynamic compliance
     joint_orders: list[JointOrderCase]
     joint_couplings: list[CouplingCase]  # empty: not run (the CI profile)
     workspace_validation: WorkspaceValidation | None

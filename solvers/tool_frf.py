@@ -52,7 +52,7 @@ class ToolModel:
 
     label: str
     modes: ToolModes
-    zeta: np.ndarray  # (m,)
+    damping: Damping
     compared: int  # the scene's compared modes: the band's top is BAND_ABOVE x f_compared
     factor_entries: int = 0  # the FEM's: its static factor's entries (the direct check's memory)
 
@@ -61,8 +61,17 @@ class ToolModel:
         return residual_flexibility(self.modes.static, self.modes.omega, self.modes.phi)
 
     @property
+    def zeta(self) -> np.ndarray:
+        return self.damping.ratios(self.modes.omega)
+
+    @property
     def band_top_hz(self) -> float:
-        return float(band_top(self.modes.frequencies_hz, self.compared))
+        after = float(self.modes.next_omega)
+        if not math.isfinite(after):  # every mode summed
+            return float(band_top(self.modes.frequencies_hz, self.compared))
+        next_zeta = self.damping.ratios(np.append(self.modes.omega, after))[-1]
+        return float(band_top(self.modes.frequencies_hz, self.compared,
+                              after / (2.0 * math.pi), next_zeta))
 
     def lines(self, count: int = LINES, top_hz: float | None = None) -> np.ndarray:
         return band_lines(self.band_top_hz if top_hz is None else top_hz, count)
@@ -98,7 +107,7 @@ def analytical_tool(manipulator: Manipulator, geometry: PoseGeometry, options: M
     model = assemble(manipulator, geometry, options)
     count = min(compared + SUPERPOSED_EXTRA, model_coordinates(manipulator, options))
     modes = tool_modes(model, geometry.rotation, point, count)
-    return ToolModel(label, modes, damping.ratios(modes.omega), compared)
+    return ToolModel(label, modes, damping, compared)
 
 
 def fem_tool(result, damping: Damping, point, compared: int, label: str = "FEM") -> ToolModel:
@@ -109,8 +118,9 @@ def fem_tool(result, damping: Damping, point, compared: int, label: str = "FEM")
     a = tool_operator(result, point)
     omega = 2.0 * math.pi * np.asarray(result.frequencies_hz, float)
     static, entries = static_compliance(result, a)
-    modes = ToolModes(omega, np.asarray(a @ result.modes_q), static)
-    return ToolModel(label, modes, damping.ratios(omega), compared, entries)
+    phi = np.asarray(a @ result.modes_q)  # the last solved mode: where the band must stop
+    modes = ToolModes(omega[:-1], phi[:, :-1], static, float(omega[-1]))
+    return ToolModel(label, modes, damping, compared, entries)
 
 
 def check_damping(damping: Damping, fem: ToolModel) -> Damping:
@@ -125,7 +135,7 @@ def check_damping(damping: Damping, fem: ToolModel) -> Damping:
 
 
 def with_damping(model: ToolModel, damping: Damping) -> ToolModel:
-    return replace(model, zeta=damping.ratios(model.modes.omega))
+    return replace(model, damping=damping)
 
 
 def direct_check(result, fem: ToolModel, damping: Damping, point) -> dict[int, list[Peak]]:
@@ -181,3 +191,47 @@ def frf_record(tool: ToolModel, point_mm, damping: Damping, lines_hz) -> dict:
                             "frequency_hz": float(least.peak_hz[0, d]),
                             "mode": int(least.mode[0, d]) + 1} for d in range(3)},
     }
+
+
+@dataclass(frozen=True)
+class FemCheck:
+    """The solid at one pose for the direct check: its modal sum at the run's size and one
+    size coarser, the Rayleigh damping all three share, its direct response's peaks (empty,
+    with the reason, when its memory would not allow them)."""
+
+    fem: ToolModel
+    coarse: ToolModel
+    damping: Damping
+    direct: dict[int, list[Peak]]
+    not_solved: str | None
+    ratio: float  # coarse size / size
+
+    def two_mesh_percent(self, fine, coarse) -> np.ndarray:
+        """The FEM's estimated error (%) of positive quantities of the two meshes: the larger
+        of Richardson's step and the GCI at the rims' order, as for its frequencies."""
+        from fem_reference.convergence import two_mesh_error, two_mesh_gci
+
+        pair = (np.abs(fine), np.abs(coarse), self.ratio)
+        return np.maximum(two_mesh_error(*pair), two_mesh_gci(*pair))
+
+
+def fem_check(manipulator, geometry, damping: Damping, point, compared: int, fine_options,
+              coarse_options, runtime) -> FemCheck:
+    """The FEM's side of the direct check (module docstring): two solves, the direct response
+    at the fine one's peaks (its complex factors' memory checked first)."""
+    from fem_reference import solve_pose
+    from fem_reference.resources import MemoryLimitError
+
+    fine = solve_pose(manipulator, geometry, fine_options, runtime)
+    fem = fem_tool(fine, damping, point, compared)
+    shared = check_damping(damping, fem)
+    not_solved = None
+    try:
+        direct = direct_check(fine, fem, shared, point)
+    except MemoryLimitError as exc:  # a side study's budget: said, not fatal to the run
+        direct, not_solved = {}, f"the solid's direct response was not solved: {exc}"
+    del fine  # its matrices are large: the coarse solve need not hold both
+    coarse = fem_tool(solve_pose(manipulator, geometry, coarse_options, runtime), damping,
+                      point, compared)
+    return FemCheck(fem, coarse, shared, direct, not_solved,
+                    coarse_options.mesh.size / fine_options.mesh.size)

@@ -14,48 +14,15 @@ import math
 import time
 
 import numpy as np
-from pydantic import FiniteFloat, with_config
-from typing_extensions import TypedDict
 
+import results
 from common.frf import DIRECTIONS, LINES
-from results import STRICT, Record, Section, Table
+from results import Section, Table
 
-from .registry import Context, Study
+from .registry import Context, Study, own
 from .workspace_map import MAP_LAYERS, workspace_heights
 
 RINGS, AZIMUTHS = 6, 36  # the workspace map's
-
-
-@with_config(STRICT)
-class LeastPose(TypedDict):
-    direction: str
-    stiffness_n_per_m: FiniteFloat
-    frequency_hz: FiniteFloat
-    mode: int
-    height_mm: FiniteFloat
-    tilt_deg: FiniteFloat
-    azimuth_deg: FiniteFloat
-
-
-Grid = list[list[list[FiniteFloat | None]]]  # [layer][ring][azimuth], None: not reached
-
-
-@with_config(STRICT)
-class DynamicStiffnessMap(TypedDict):
-    point_mm: list[FiniteFloat]
-    damping: str
-    analytical: str
-    lines: int
-    modes_summed: int
-    heights_mm: list[FiniteFloat]
-    tilts_deg: list[list[FiniteFloat]]  # [layer][ring]
-    azimuths_deg: list[FiniteFloat]
-    stiffness_n_per_m: dict[str, Grid]  # per direction x, y, z (None: nothing moves the tool)
-    peak_hz: dict[str, Grid]
-    mode: dict[str, list[list[list[int | None]]]]  # 1-based, the dominant mode at the peak
-    least: list[LeastPose]
-    poses: int
-    seconds: FiniteFloat
 
 
 def map_grid(scene, layers: int = MAP_LAYERS, rings: int = RINGS, azimuths: int = AZIMUTHS):
@@ -69,7 +36,8 @@ def map_grid(scene, layers: int = MAP_LAYERS, rings: int = RINGS, azimuths: int 
 
 
 def dynamic_stiffness_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
-                          azimuths: int = AZIMUTHS, lines: int = LINES) -> DynamicStiffnessMap:
+                          azimuths: int = AZIMUTHS, lines: int = LINES
+                          ) -> results.DynamicStiffnessMap:
     from analytical.pose_batch import pose_batch
     from analytical.substructure import model_coordinates
     from analytical.tool_response import SUPERPOSED_EXTRA, least_stiffness_map
@@ -97,7 +65,7 @@ def dynamic_stiffness_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
         if not np.isfinite(least.stiffness_n_per_m[k, d]):
             continue  # the tool never moves along d (rows are for finite stiffness only)
         pose = reached[k]
-        rows.append(LeastPose(direction=name,
+        rows.append(results.LeastPose(direction=name,
                               stiffness_n_per_m=float(least.stiffness_n_per_m[k, d]),
                               frequency_hz=float(least.peak_hz[k, d]),
                               mode=int(least.mode[k, d]) + 1,
@@ -106,7 +74,7 @@ def dynamic_stiffness_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
                               azimuth_deg=math.degrees(float(phi.ravel()[pose]))))
     summed = min(compared + SUPERPOSED_EXTRA,
                  model_coordinates(scene.manipulator, scene.analytical))
-    return DynamicStiffnessMap(
+    return results.DynamicStiffnessMap(
         point_mm=[1e3 * v for v in scene.tool.point], damping=scene.damping.describe(),
         analytical=scene.analytical.describe(), lines=lines, modes_summed=summed,
         heights_mm=(heights * 1e3).tolist(), tilts_deg=np.degrees(tilts).tolist(),
@@ -118,16 +86,16 @@ def dynamic_stiffness_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
         least=rows, poses=int(len(reached)), seconds=time.perf_counter() - start)
 
 
-def run(ctx: Context) -> DynamicStiffnessMap | None:
+def run(ctx: Context) -> results.DynamicStiffnessMap | None:
     if not ctx.scene.dynamics_given:  # the scene does not ask: nothing computed
         return None
     return dynamic_stiffness_map(ctx.scene)
 
 
-STUDY = Study(Record(
-    "dynamic_stiffness", "scene", DynamicStiffnessMap | None, None,
-    Section("dynamic-stiffness", "Least dynamic stiffness at the tool over the workspace",
-            None),
-    (Table("least", ("direction", "stiffness_n_per_m", "frequency_hz", "mode", "height_mm",
-                     "tilt_deg", "azimuth_deg"), each="least"),)),
+STUDY = Study(own(
+    "dynamic_stiffness", "scene",
+    section=Section("dynamic-stiffness", "Least dynamic stiffness at the tool over the "
+                    "workspace", None),
+    tables=(Table("least", ("direction", "stiffness_n_per_m", "frequency_hz", "mode",
+                            "height_mm", "tilt_deg", "azimuth_deg"), each="least"),)),
     "scene", run)

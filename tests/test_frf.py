@@ -304,3 +304,76 @@ def test_both_models_meet_the_solids_direct_response(tmp_path):
         assert math.isfinite(p["fem_magnitude_error_percent"])
     for row in record["static"]:
         assert abs(row["error_percent"]) < 1.0 and math.isfinite(row["fem_error_percent"])
+
+
+@pytest.mark.fuzz
+def test_the_tool_receptance_on_random_machines():
+    """Machines drawn from the fuzz's plausible ranges (3-RPS and 3-PRS, both joint orders,
+    three metals; real legs with springs), a random tool point and damping, at both cases:
+    the static limit is the static solve; with Rayleigh damping the modal sum of every mode is
+    the damped model solved directly; the summed modes with the residual flexibility miss it
+    by exactly the dynamic part of the modes left out, every one of which resonates above the
+    band; the batched map's least dynamic stiffness is the one pose's."""
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    from tests.test_fuzz_machines import checked, machines, real_leg_machines
+
+    def check(raw: dict, point, zeta) -> None:
+        found = checked(raw)
+        if found is None:
+            return
+        scene = found[0]
+        damping = Damping((zeta,))
+        for case in scene.cases.values():
+            g = pose_geometry(scene.manipulator, case.pose)
+            model = assemble(scene.manipulator, g, scene.analytical)
+            n = model.stiffness.shape[0]
+            a = np.zeros((3, n))
+            a[:, model.platform_slice] = tool_rows(point, g.rotation)
+            tool = analytical_tool(scene.manipulator, g, scene.analytical, damping, point,
+                                   scene.fidelity.modes)
+            static = a @ np.linalg.solve(model.stiffness, a.T)
+            assert np.allclose(tool.receptance([0.0])[0].real, static, rtol=1e-8,
+                               atol=1e-9 * np.abs(static).max())
+            every = tool_modes(model, g.rotation, point, n)
+            alpha, beta = rayleigh_through(every.omega[0], every.omega[5], zeta)
+            ray = Damping(rayleigh_alpha=alpha, rayleigh_beta=beta)
+            c = alpha * model.mass + beta * model.stiffness
+            lines = tool.lines(25)
+            exact = np.array([a @ np.linalg.solve(
+                model.stiffness - (2 * np.pi * f) ** 2 * model.mass + 2j * np.pi * f * c, a.T)
+                for f in lines])
+            whole = receptance(lines, every.omega, ray.ratios(every.omega), every.phi,
+                               np.zeros((3, 3)))
+            diag = (slice(None), range(3), range(3))
+            scale = np.abs(exact[diag]).max(axis=0)
+            assert (np.abs(whole - exact)[diag] / scale).max() < 1e-7
+            summed = with_damping(tool, ray)
+            m = len(summed.modes.omega)
+            assert np.all(every.omega[m:] / (2 * np.pi) > summed.band_top_hz)
+            left = (receptance(lines, every.omega[m:], ray.ratios(every.omega)[m:],
+                               every.phi[:, m:], np.zeros((3, 3)))
+                    - residual_flexibility(np.zeros((3, 3)), every.omega[m:],
+                                           every.phi[:, m:]))  # their dynamic part
+            gap = summed.receptance(lines) + left - exact
+            assert (np.abs(gap)[diag] / scale).max() < 1e-7
+        batch = pose_batch(scene.manipulator, [c.pose.height for c in scene.cases.values()],
+                           [c.pose.azimuth for c in scene.cases.values()],
+                           [c.pose.tilt for c in scene.cases.values()])
+        from analytical.tool_response import least_stiffness_map
+        least, _ = least_stiffness_map(scene.manipulator, scene.analytical, batch, damping,
+                                       point, scene.fidelity.modes, 2000)
+        for i, case in enumerate(scene.cases.values()):
+            g = pose_geometry(scene.manipulator, case.pose)
+            one = analytical_tool(scene.manipulator, g, scene.analytical, damping, point,
+                                  scene.fidelity.modes).least()
+            assert np.allclose(least.stiffness_n_per_m[i], one.stiffness_n_per_m[0],
+                               rtol=1e-9)
+
+    points = st.tuples(*[st.floats(-0.3, 0.3, allow_nan=False)] * 3)
+    zetas = st.floats(0.005, 0.1, allow_nan=False)
+    once = settings(max_examples=12, deadline=None, derandomize=True, database=None,
+                    suppress_health_check=list(HealthCheck))
+    once(given(machines(), points, zetas)(check))()
+    once(given(real_leg_machines(True), points, zetas)(check))()

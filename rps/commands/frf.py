@@ -109,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
 
         args.size = None
         size, source = fem_size(args, scene)
-        options = fem_options(scene, size, modes=compared + 6)
+        options = fem_options(scene, size, modes=compared)
         from runtime.cache import ResultCache
         result = solve_pose(scene.manipulator, geometry, options,
                             fem_runtime(scene, ResultCache(cache_dir(args))))
