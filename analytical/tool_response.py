@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from common.frf import tool_rows
+from common.frf import canonical_groups, tool_rows, whole_groups
 
 from .batch_model import BatchModel, StandardForm, standard_modes
 from .modal import solve_modes
@@ -54,8 +54,16 @@ def tool_modes(model: SubstructureModel, rotation, point, count: int) -> ToolMod
     rows = _platform_rows(n_q, model.platform_slice, tool_rows(point, rotation))
     static = rows @ scipy.linalg.solve(model.stiffness, rows.T, assume_a="pos")
     omega = 2.0 * math.pi * modal.frequencies_hz
-    return ToolModes(omega[:count], rows @ modal.shapes[:, :count], 0.5 * (static + static.T),
-                     omega[count] if count < n_q else np.inf)
+    return _tidy(omega[:count], rows @ modal.shapes[:, :count], 0.5 * (static + static.T),
+                 omega[count] if count < n_q else np.inf)
+
+
+def _tidy(omega, phi, static, after) -> ToolModes:
+    """A repeated group split by the cut left out whole, every repeated group in its
+    principal basis at the tool (`common.frf.whole_groups`, `canonical_groups`)."""
+    phi, after = whole_groups(omega, phi, after)
+    phi, _ = canonical_groups(omega, phi)
+    return ToolModes(omega, phi, static, after)
 
 
 def batch_tool_modes(model: BatchModel, form: StandardForm, rotations, point, count: int,
@@ -78,10 +86,9 @@ def batch_tool_modes(model: BatchModel, form: StandardForm, rotations, point, co
         w = scipy.linalg.solve_triangular(form.factors[pose], rows[k].T, trans="T",
                                           check_finite=False)  # (n_q, 3)
         static[k] = w.T @ w
-        phi[k] = (w.T @ y[:, :count]) / np.sqrt(mu[:count])
-        omega[k] = 1.0 / np.sqrt(mu[:count])
-        if count < n_q:
-            after[k] = 1.0 / math.sqrt(mu[count])
+        one = _tidy(1.0 / np.sqrt(mu[:count]), (w.T @ y[:, :count]) / np.sqrt(mu[:count]),
+                    None, 1.0 / math.sqrt(mu[count]) if count < n_q else np.inf)
+        omega[k], phi[k], after[k] = one.omega, one.phi, one.next_omega
     return ToolModes(omega, phi, static, after)
 
 

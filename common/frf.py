@@ -95,6 +95,69 @@ class Damping:
         return "modal ratios " + ", ".join(f"{z:g}" for z in self.modal_ratio) + " (last repeats)"
 
 
+def rayleigh_damping(alpha: float, beta: float) -> Damping:
+    """A Rayleigh damping the pipeline derives (the direct check's): its alpha and beta are
+    not a scene's keys, so the keys' ranges do not bound them (a machine of high modes takes
+    a large alpha, one of low modes a large beta)."""
+    damping = object.__new__(Damping)
+    for name, value in (("modal_ratio", ()), ("rayleigh_alpha", float(alpha)),
+                        ("rayleigh_beta", float(beta))):
+        object.__setattr__(damping, name, value)
+    if not (damping.rayleigh and math.isfinite(alpha) and math.isfinite(beta)
+            and alpha >= 0.0 and beta >= 0.0):
+        raise InputError(f"rayleigh_damping({alpha!r}, {beta!r}): need finite alpha, beta >= 0, "
+                         "not both 0")
+    return damping
+
+
+REPEATED = 1e-6  # modes this close (relative) are one repeated group, any basis of it a mode
+
+
+def canonical_groups(omega, phi) -> tuple[np.ndarray, list[list[int]]]:
+    """The tool shapes phi (3, m) with every repeated group (frequencies within REPEATED)
+    turned to its principal basis at the tool (the right singular vectors of its 3 x k block:
+    the first member moves the tool most, the next least in its direction, and so on), signs
+    with the largest component positive: the per-mode table no longer depends on the basis
+    an eigen solver happened to return (the receptance never did). Returns (phi, groups)."""
+    omega, phi = np.asarray(omega, float), np.array(phi, float)
+    groups: list[list[int]] = []
+    for j in range(len(omega)):
+        if groups and omega[j] - omega[groups[-1][-1]] <= REPEATED * omega[j]:
+            groups[-1].append(j)
+        else:
+            groups.append([j])
+    for g in groups:
+        if len(g) > 1:
+            u, sv, _ = np.linalg.svd(phi[:, g], full_matrices=False)
+            block = u * sv  # (3, min(3, k)): principal tool motions of the group
+            out = np.zeros((3, len(g)))
+            out[:, :block.shape[1]] = block
+            phi[:, g] = out
+        for j in g:
+            big = int(np.argmax(np.abs(phi[:, j])))
+            if phi[big, j] < 0.0:
+                phi[:, j] = -phi[:, j]
+    return phi, groups
+
+
+def whole_groups(omega, phi, next_omega) -> tuple[np.ndarray, float]:
+    """The summed modes (omega (m,), phi (3, m)) with a repeated group that the cut splits
+    (its first left-out member `next_omega` within REPEATED of the last summed) left out
+    whole: the summed members' tool shapes zeroed (the residual flexibility then holds the
+    group statically, whatever basis the solver returned) and the band's stop moved to the
+    group. Returns (phi, the first frequency left out)."""
+    omega, phi = np.asarray(omega, float), np.array(phi, float)
+    after = float(next_omega)
+    if not math.isfinite(after):
+        return phi, after
+    j = len(omega)
+    while j > 0 and after - omega[j - 1] <= REPEATED * after:
+        j -= 1
+        after = float(omega[j])
+    phi[:, j:] = 0.0
+    return phi, after
+
+
 def rayleigh_through(omega_low: float, omega_high: float, zeta: float) -> tuple[float, float]:
     """(alpha, beta) of the Rayleigh damping with ratio `zeta` at both circular frequencies
     (equal to it there, below it between them): the damping matrix C = alpha M + beta K
@@ -155,23 +218,31 @@ def receptance(lines_hz, omega, zeta, phi, residual) -> np.ndarray:
     return np.einsum("fj,dj,ej->fde", terms, phi, phi) + np.asarray(residual, float)[None]
 
 
-def modal_table(omega, zeta, phi) -> list[dict]:
+def modal_table(omega, zeta, phi, static=None) -> list[dict]:
     """Per mode: frequency (Hz), damping ratio, and along x, y, z at the tool the modal
-    stiffness omega^2 / phi_d^2 (N/m) and effective mass 1 / phi_d^2 (kg); None where the mode
-    does not move the tool along d (phi_d^2 below 1e-12 of the mode's largest)."""
+    stiffness omega^2 / phi_d^2 (N/m) and effective mass 1 / phi_d^2 (kg), None where the mode
+    does not move the tool along d (phi_d^2 below 1e-12 of the mode's largest, or its static
+    share phi_d^2 / omega^2 below 1e-10 of the tool's static compliance `static` along d: the
+    round-off of a mode that leaves the tool still), and the mass-normalised mode's
+    displacement phi_d itself (1 / sqrt(kg): signed, so the cross receptances
+    phi_x phi_y / (...) follow too)."""
     omega, zeta, phi = (np.asarray(a, float) for a in (omega, zeta, phi))
+    share = None if static is None else np.diagonal(np.asarray(static, float))
     out = []
     for j in range(len(omega)):
         sq = phi[:, j] ** 2
         floor = 1e-12 * max(float(sq.max()), 1e-300)
         stiff, mass = {}, {}
         for d, name in enumerate(DIRECTIONS):
-            moves = sq[d] > floor
+            moves = sq[d] > floor and (share is None  # against the tool's static compliance:
+                                       or sq[d] / omega[j] ** 2 > 1e-10 * share[d])  # not noise
             stiff[name] = float(omega[j] ** 2 / sq[d]) if moves else None
             mass[name] = float(1.0 / sq[d]) if moves else None
         out.append({"frequency_hz": float(omega[j] / (2.0 * math.pi)),
                     "damping_ratio": float(zeta[j]), "modal_stiffness_n_per_m": stiff,
-                    "effective_mass_kg": mass})
+                    "effective_mass_kg": mass,
+                    "tool_shape_per_sqrt_kg": {name: float(phi[d, j])
+                                               for d, name in enumerate(DIRECTIONS)}})
     return out
 
 
@@ -233,35 +304,47 @@ def _squared(lines_hz, omega, zeta, sq_t, residual, dtype) -> np.ndarray:
 
 def least_dynamic_stiffness(lines_hz, omega, zeta, phi, residual_diag,
                             chunk: int = 32) -> LeastStiffness:
-    """The least dynamic stiffness along x, y, z of N poses: |H_dd| on every line (lines
-    (N, nf) Hz; modes omega, zeta (N, m); phi (N, 3, m); the residual's diagonal (N, 3)), the
-    largest line then re-sampled REFINE times finer between its neighbours (a peak between
-    lines is found to (spacing / REFINE)^2 of its height). The scan of the lines picks the
-    largest in single precision (twice the speed; a line within 1e-6 of the largest may be
-    picked, and the refinement around it, in double precision, finds the same peak), the
-    refinement and the values returned are double. Batched in chunks of poses so the
-    (chunk, nf, m) terms stay in cache."""
+    """The least dynamic stiffness along x, y, z of N poses (lines (N, nf) Hz; modes omega,
+    zeta (N, m); phi (N, 3, m); the residual's diagonal (N, 3)): |H_dd| on every line and at
+    every mode's damped peak w_j sqrt(1 - 2 zeta_j^2) inside the band (a peak narrower than
+    the lines' spacing is not missed between them), the largest taken, then its neighbourhood
+    (a line spacing, or three half-power half-widths zeta f if narrower, either side) searched
+    twice REFINE times finer, each search around the previous one's best: the peak's height
+    to (spacing / 20 REFINE)^2 of it. The scan picks the largest in single precision (twice
+    the speed; a candidate within 1e-6 of the largest may be picked, and the refinement, in
+    double precision, finds the same peak); the values returned are double. Batched in
+    chunks of poses so the (chunk, nf, m) terms stay in cache."""
     lines_hz, omega, zeta, phi, residual_diag = (
         np.asarray(a, float) for a in (lines_hz, omega, zeta, phi, residual_diag))
     n, nf = lines_hz.shape
     stiffness, peak, mode = (np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3), int))
     sq_t = np.swapaxes(phi**2, 1, 2)  # (N, m, 3)
-    steps = np.linspace(0.0, 1.0, 2 * REFINE + 1)
+    steps = np.linspace(-1.0, 1.0, 2 * REFINE + 1)
+    damped = omega * np.sqrt(np.clip(1.0 - 2.0 * zeta**2, 0.0, None)) / (2.0 * math.pi)
+    inside = np.where((damped > lines_hz[:, :1]) & (damped < lines_hz[:, -1:]), damped,
+                      lines_hz[:, -1:])  # a damped peak outside the band: its last line
+    spacing = (lines_hz[:, -1] - lines_hz[:, 0]) / max(nf - 1, 1)
     for start in range(0, n, chunk):
         s = slice(start, min(n, start + chunk))
         c = s.stop - s.start
-        best = np.argmax(_squared(lines_hz[s], omega[s], zeta[s], sq_t[s], residual_diag[s],
+        rows = np.arange(c)
+        candidates = np.concatenate([lines_hz[s], inside[s]], axis=1)  # (c, nf + m)
+        best = np.argmax(_squared(candidates, omega[s], zeta[s], sq_t[s], residual_diag[s],
                                   np.float32), axis=1)  # (c, 3)
-        rows = np.arange(c)[:, None]
-        lo = lines_hz[s][rows, np.maximum(best - 1, 0)]
-        hi = lines_hz[s][rows, np.minimum(best + 1, nf - 1)]
         for d in range(3):
-            fine = lo[:, d, None] + (hi - lo)[:, d, None] * steps  # (c, k)
-            h2 = _squared(fine, omega[s], zeta[s], sq_t[s], residual_diag[s], np.float64)[..., d]
-            k = np.argmax(h2, axis=1)
+            centre = candidates[rows, best[:, d]]
+            near = np.argmin(np.abs(omega[s] / (2.0 * math.pi) - centre[:, None]), axis=1)
+            width = np.minimum(spacing[s], 3.0 * zeta[s][rows, near] * centre)
+            for _ in range(2):
+                fine = np.clip(centre[:, None] + width[:, None] * steps, lines_hz[s][:, :1],
+                               lines_hz[s][:, -1:])
+                h2 = _squared(fine, omega[s], zeta[s], sq_t[s], residual_diag[s],
+                              np.float64)[..., d]
+                k = np.argmax(h2, axis=1)
+                centre, width = fine[rows, k], width / REFINE
             with np.errstate(divide="ignore"):  # a direction nothing moves: infinitely stiff
-                stiffness[s, d] = 1.0 / np.sqrt(h2[np.arange(c), k])
-            peak[s, d] = fine[np.arange(c), k]
+                stiffness[s, d] = 1.0 / np.sqrt(h2[rows, k])
+            peak[s, d] = centre
         terms = modal_terms(peak[s][:, :, None], omega[s][:, None, :], zeta[s][:, None, :])
         contrib = np.abs(terms[:, :, 0, :] * np.swapaxes(sq_t[s], 1, 2))  # (c, 3, m)
         mode[s] = np.argmax(contrib, axis=-1)
@@ -312,7 +395,8 @@ def peak_windows(omega, zeta, phi, direction: int, floor: float = PEAK_FLOOR
     for k, g in enumerate(groups):
         if not tall[k] >= floor * tall.max():
             continue
-        lo, hi = f[g[0]] * (1.0 - 3.0 * zeta[g[0]]), f[g[-1]] * (1.0 + 3.0 * zeta[g[-1]])
+        lo = max(f[g[0]] * (1.0 - 3.0 * zeta[g[0]]), 1e-3 * f[g[0]])  # above 0 Hz
+        hi = f[g[-1]] * (1.0 + 3.0 * zeta[g[-1]])
         if k > 0:
             lo = max(lo, 0.5 * (f[groups[k - 1][-1]] + f[g[0]]))
         if k + 1 < len(groups):

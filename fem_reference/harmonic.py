@@ -86,7 +86,8 @@ __all__ = ["HarmonicError", "HarmonicResult", "LOWEST_EXCLUDED_MARGIN", "clear_c
 LOWEST_EXCLUDED_MARGIN = 1.2  # harmonic n + 1 is left out if its lowest mode is this far above
 
 
-def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = None
+def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = None,
+                        keep_system: bool = False
                         ) -> HarmonicResult:
     """Natural frequencies and modes of the pose's solid model (rigid platform) with the legs
     by harmonics (module docstring). Harmonics 0 and 1 always; n = 2, 3, ... are added while
@@ -106,7 +107,7 @@ def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = N
     size = float(options.mesh.size)
     harmonics: tuple[int, ...] = (0, 1)
     while True:
-        result = _solve(manipulator, geometry, options, harmonics, t0, max_dofs)
+        result = _solve(manipulator, geometry, options, harmonics, t0, max_dofs, keep_system)
         nxt = harmonics[-1] + 1
         bound = LOWEST_EXCLUDED_MARGIN * float(result.frequencies_hz[-1])
         if section_modes_above(manipulator, geometry, size, options.coupling, nxt, bound):
@@ -121,7 +122,8 @@ def solve_pose_harmonic(manipulator, geometry, options, max_dofs: int | None = N
     return result
 
 
-def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicResult:
+def _solve(manipulator, geometry, options, harmonics, t0, max_dofs,
+           keep_system: bool = False) -> HarmonicResult:
     size, coupling = float(options.mesh.size), options.coupling
     for parts in pose_parts(manipulator, geometry):  # the meshes first: "mesh" times them alone
         for p in parts:
@@ -178,4 +180,5 @@ def _solve(manipulator, geometry, options, harmonics, t0, max_dofs) -> HarmonicR
         min_quality=min(mesh_quality(p.leg.basis.mesh) for p in legs),
         harmonics=tuple(harmonics), excluded_above_hz=math.nan, geometry=geometry,
         modes_q=v, modes_raw=t_map @ v, columns=columns,
-        legs=[(p, off) for p, off in zip(legs, offsets)], plate=plate, system=(kq, mq))
+        legs=[(p, off) for p, off in zip(legs, offsets)], plate=plate,
+        system=(kq, mq) if keep_system else None)

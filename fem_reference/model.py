@@ -43,8 +43,10 @@ ELASTIC_PAYLOAD = ("platform = 'elastic' with a payload: how the payload's mass 
 
 
 def solve_pose(manipulator, geometry, options: FemOptions,
-               runtime: FemRuntime = FemRuntime()) -> FemAnswer:
-    """Natural frequencies and modes of the 3D solid model of one pose."""
+               runtime: FemRuntime = FemRuntime(), keep_system: bool = False) -> FemAnswer:
+    """Natural frequencies and modes of the 3D solid model of one pose; with `keep_system`
+    the answer keeps its K_q and M_q (`system`, what the direct frequency response solves;
+    otherwise None: they are large)."""
     if not isinstance(options, FemOptions):
         raise FemError(f"options = {options!r}: expected FemOptions")
     if not isinstance(runtime, FemRuntime):
@@ -60,7 +62,9 @@ def solve_pose(manipulator, geometry, options: FemOptions,
     check_mesh_size(assembly, options, runtime)
     if options.legs == "harmonic":
         try:  # sub-second: in this process, so its per-leg caches serve the next pose
-            return solve_pose_harmonic(manipulator, geometry, options, runtime.max_dofs)
+            return solve_pose_harmonic(manipulator, geometry, options, runtime.max_dofs,
+                                       keep_system)
         except HarmonicError as exc:
             raise FemError(str(exc)) from None
-    return solve_pose_tetrahedra(manipulator, geometry, assembly, options, runtime, t0)
+    return solve_pose_tetrahedra(manipulator, geometry, assembly, options, runtime, t0,
+                                 keep_system)

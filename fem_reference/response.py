@@ -24,9 +24,12 @@ def tool_operator(result, point) -> sp.csr_matrix:
         constraints = getattr(result, "constraints", None)
         columns = getattr(constraints, "columns", {})
     platform = columns.get("platform") if isinstance(columns, dict) else None
-    if platform is None or result.system is None:
+    if platform is None:
         raise FemError("the tool point's response needs the rigid platform's coordinates "
                        "(platform = 'rigid')")
+    if result.system is None:
+        raise FemError("the tool point's response needs the solve's K_q and M_q: solve the "
+                       "pose with keep_system=True")
     rows = tool_rows(point, np.asarray(result.geometry.rotation, float))
     n = result.system[0].shape[0]
     a = sp.lil_matrix((3, n))

@@ -211,7 +211,8 @@ class FemResult:
 
 
 def solve_pose_tetrahedra(manipulator, geometry, assembly: Assembly, options: FemOptions,
-                          runtime: FemRuntime, t0: float | None = None) -> FemResult:
+                          runtime: FemRuntime, t0: float | None = None,
+                          keep_system: bool = False) -> FemResult:
     """Natural frequencies and modes of the pose's solid model, the legs (and an elastic
     plate) meshed in 3D; `assembly` is the pose's bodies (`meshing.bodies.pose_assembly`),
     checked by `guard.check_mesh_size`; `t0` the start of the solve, for the timings (default:
@@ -272,7 +273,7 @@ def solve_pose_tetrahedra(manipulator, geometry, assembly: Assembly, options: Fe
         modes_raw=v_raw,
         mass_matrix=m,
         plate=plate,
-        system=(kq, mq),
+        system=(kq, mq) if keep_system else None,
     )
     return result
 

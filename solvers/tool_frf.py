@@ -33,14 +33,17 @@ from common.frf import (
     Peak,
     band_lines,
     band_top,
+    canonical_groups,
     direct_peaks,
     find_peaks,
     least_dynamic_stiffness,
     modal_table,
     peak_windows,
+    rayleigh_damping,
     rayleigh_through,
     receptance,
     residual_flexibility,
+    whole_groups,
 )
 
 PAIRS = ("xx", "yy", "zz", "xy", "xz", "yz")
@@ -80,7 +83,7 @@ class ToolModel:
         return receptance(lines_hz, self.modes.omega, self.zeta, self.modes.phi, self.residual)
 
     def table(self) -> list[dict]:
-        return modal_table(self.modes.omega, self.zeta, self.modes.phi)
+        return modal_table(self.modes.omega, self.zeta, self.modes.phi, self.modes.static)
 
     def windows(self, direction: int, floor: float = PEAK_FLOOR
                 ) -> list[tuple[int, float, float]]:
@@ -91,10 +94,12 @@ class ToolModel:
         return find_peaks(lambda f: abs(self.receptance([f])[0, direction, direction]),
                           self.windows(direction, floor))
 
-    def least(self, count: int = LINES):
-        """The least dynamic stiffness along x, y, z over the band (`common.frf`)."""
+    def least(self, count: int = LINES, lines_hz=None):
+        """The least dynamic stiffness along x, y, z over the band, or over `lines_hz`
+        (`common.frf`)."""
         m = self.modes
-        return least_dynamic_stiffness(self.lines(count)[None], m.omega[None],
+        lines = self.lines(count) if lines_hz is None else np.asarray(lines_hz, float)
+        return least_dynamic_stiffness(lines[None], m.omega[None],
                                        self.zeta[None], m.phi[None],
                                        np.diagonal(self.residual)[None])
 
@@ -119,7 +124,9 @@ def fem_tool(result, damping: Damping, point, compared: int, label: str = "FEM")
     omega = 2.0 * math.pi * np.asarray(result.frequencies_hz, float)
     static, entries = static_compliance(result, a)
     phi = np.asarray(a @ result.modes_q)  # the last solved mode: where the band must stop
-    modes = ToolModes(omega[:-1], phi[:, :-1], static, float(omega[-1]))
+    phi, after = whole_groups(omega[:-1], phi[:, :-1], float(omega[-1]))
+    phi, _ = canonical_groups(omega[:-1], phi)
+    modes = ToolModes(omega[:-1], phi, static, after)
     return ToolModel(label, modes, damping, compared, entries)
 
 
@@ -131,7 +138,7 @@ def check_damping(damping: Damping, fem: ToolModel) -> Damping:
     top = min(fem.compared, len(f)) - 1
     zeta = damping.ratios(f)
     alpha, beta = rayleigh_through(float(f[0]), float(f[top]), float(np.mean(zeta[:top + 1])))
-    return Damping(rayleigh_alpha=alpha, rayleigh_beta=beta)
+    return rayleigh_damping(alpha, beta)
 
 
 def with_damping(model: ToolModel, damping: Damping) -> ToolModel:
@@ -170,10 +177,15 @@ def _pair_values(h: np.ndarray) -> dict:
 def frf_record(tool: ToolModel, point_mm, damping: Damping, lines_hz) -> dict:
     """frf.json's physics (the command adds the scene, case and pose)."""
     h = tool.receptance(lines_hz)
-    least = tool.least()
+    least = tool.least(lines_hz=lines_hz)
     static = tool.modes.static
     return {
         "model": tool.label,
+        "convention": "H(f) = sum over modes of phi phi^T / (w_j^2 - w^2 + 2 i zeta_j w_j w) "
+                      "+ residual_flexibility_m_per_n, w = 2 pi f, phi = tool_shape_per_sqrt_kg "
+                      "(base frame); the residual is the static compliance less the modes' "
+                      "sum of phi phi^T / w_j^2 (the modes not summed, quasi-static); modal "
+                      "stiffness w_j^2 / phi_d^2, effective mass 1 / phi_d^2",
         "point_mm": [float(v) for v in point_mm],
         "damping": damping.describe(),
         "frequency_hz": [float(f) for f in lines_hz],
@@ -222,7 +234,7 @@ def fem_check(manipulator, geometry, damping: Damping, point, compared: int, fin
     from fem_reference import solve_pose
     from fem_reference.resources import MemoryLimitError
 
-    fine = solve_pose(manipulator, geometry, fine_options, runtime)
+    fine = solve_pose(manipulator, geometry, fine_options, runtime, keep_system=True)
     fem = fem_tool(fine, damping, point, compared)
     shared = check_damping(damping, fem)
     not_solved = None
@@ -231,7 +243,8 @@ def fem_check(manipulator, geometry, damping: Damping, point, compared: int, fin
     except MemoryLimitError as exc:  # a side study's budget: said, not fatal to the run
         direct, not_solved = {}, f"the solid's direct response was not solved: {exc}"
     del fine  # its matrices are large: the coarse solve need not hold both
-    coarse = fem_tool(solve_pose(manipulator, geometry, coarse_options, runtime), damping,
+    coarse = fem_tool(solve_pose(manipulator, geometry, coarse_options, runtime,
+                                 keep_system=True), damping,
                       point, compared)
     return FemCheck(fem, coarse, shared, direct, not_solved,
                     coarse_options.mesh.size / fine_options.mesh.size)

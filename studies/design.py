@@ -146,12 +146,17 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> DesignPoint:
                                "tilt_deg": math.degrees(found.pose.tilt)},
                    on_boundary=found.boundary)
         if needs_dynamic(spec):
-            out.update(least_dynamic(spec, scene))
+            try:
+                out.update(least_dynamic(spec, scene))
+            except RpsError as exc:  # a model that cannot solve its map: refused, not fatal
+                return {**out, "refused": str(exc)}, {}
         return out, {}
 
     value, _, _ = cache.get_or_compute("design-point", payload, compute,
                                        required=("moving_mass_kg",),
-                                       modules=("studies.design", "scene"))
+                                       modules=("studies.design", "scene",
+                                                "studies.dynamic_stiffness",
+                                                "studies.workspace_map"))
     record.update(value)  # type: ignore[typeddict-item]  # the cached fields of a DesignPoint
     return record
 

@@ -16,6 +16,7 @@ import time
 import numpy as np
 
 import results
+from common.errors import ComputeError
 from common.frf import DIRECTIONS, LINES
 from results import Section, Table
 
@@ -59,6 +60,8 @@ def dynamic_stiffness_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
         full[reached] = [cast(v) if np.isfinite(v) else None for v in values]
         return full.reshape(shape).tolist()
 
+    if not len(reached):
+        raise ComputeError("the dynamic stiffness map: no pose of its grid is reachable")
     rows = []
     for d, name in enumerate(DIRECTIONS):
         k = int(np.argmin(least.stiffness_n_per_m[:, d]))

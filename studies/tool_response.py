@@ -112,7 +112,7 @@ def _compute(scene, geometry, fem_error, fine_options, coarse_options,
                 frequency_error_percent=_percent(an_peak.frequency_hz, p.frequency_hz),
                 magnitude_error_percent=_percent(an_peak.magnitude_m_per_n,
                                                  p.magnitude_m_per_n)))
-    lines = analytical.lines(CURVE_LINES)
+    lines = analytical.lines(CURVE_LINES, min(analytical.band_top_hz, fem.band_top_hz))
 
     def curve(model) -> dict[str, list[float]]:
         h = model.receptance(lines)

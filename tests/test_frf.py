@@ -253,6 +253,20 @@ def test_rps_frf_writes_the_record_and_the_universal_file(tmp_path, capsys):
     for mode in data["modes"]:
         assert {"frequency_hz", "damping_ratio", "modal_stiffness_n_per_m"} <= set(mode)
         assert mode["damping_ratio"] == 0.03
+    # what an independent code does with the record: its modes and residual summed again
+    w = 2 * np.pi * np.asarray(data["frequency_hz"])
+    rebuilt = np.array(data["residual_flexibility_m_per_n"], complex)[None] + sum(
+        np.einsum("d,e->de", *[np.array([m["tool_shape_per_sqrt_kg"][c] for c in "xyz"])] * 2)[None]
+        / ((2 * np.pi * m["frequency_hz"]) ** 2 - w[:, None, None] ** 2
+           + 2j * m["damping_ratio"] * 2 * np.pi * m["frequency_hz"] * w[:, None, None])
+        for m in data["modes"])
+    for pair, (i, j) in {"xx": (0, 0), "xy": (0, 1), "yz": (1, 2), "zz": (2, 2)}.items():
+        h = np.array(data["receptance_m_per_n"][pair]["re"]) + 1j * np.array(
+            data["receptance_m_per_n"][pair]["im"])
+        assert np.allclose(rebuilt[:, i, j], h, rtol=1e-9, atol=1e-12 * np.abs(h).max())
+    for m in data["modes"]:
+        k, shape = m["modal_stiffness_n_per_m"]["x"], m["tool_shape_per_sqrt_kg"]["x"]
+        assert k is None or k == pytest.approx((2 * np.pi * m["frequency_hz"]) ** 2 / shape**2)
     content = uff.read_uff(out / "frf.unv")
     assert content.frfs is not None and content.frfs.values.shape == (9, 499)
     xx = np.array(data["receptance_m_per_n"]["xx"]["re"][1:]) + 1j * np.array(
@@ -352,10 +366,14 @@ def test_the_tool_receptance_on_random_machines():
             summed = with_damping(tool, ray)
             m = len(summed.modes.omega)
             assert np.all(every.omega[m:] / (2 * np.pi) > summed.band_top_hz)
-            left = (receptance(lines, every.omega[m:], ray.ratios(every.omega)[m:],
-                               every.phi[:, m:], np.zeros((3, 3)))
-                    - residual_flexibility(np.zeros((3, 3)), every.omega[m:],
-                                           every.phi[:, m:]))  # their dynamic part
+            def dynamic(omega, phi):  # the modes' terms less their static part
+                return (receptance(lines, omega, ray.ratios(omega), phi, np.zeros((3, 3)))
+                        + residual_flexibility(np.zeros((3, 3)), omega, phi))  # - sum/w^2
+
+            # (of every mode less the summed ones: a repeated pair split by the cut has
+            # another basis in each solve)
+            left = dynamic(every.omega, every.phi) - dynamic(summed.modes.omega,
+                                                            summed.modes.phi)
             gap = summed.receptance(lines) + left - exact
             assert (np.abs(gap)[diag] / scale).max() < 1e-7
         batch = pose_batch(scene.manipulator, [c.pose.height for c in scene.cases.values()],

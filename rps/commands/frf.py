@@ -102,6 +102,10 @@ def run(args: argparse.Namespace) -> int:
         settings = {"model": "analytical", "settings": options.describe(),
                     "settings_from": source or "the scene's"}
     else:
+        if scene.fem.platform != "rigid":
+            raise InputError(f"--model fem with the scene's fem.platform = "
+                             f"{scene.fem.platform!r}: the tool point needs the rigid "
+                             "platform")
         from fem_reference import solve_pose
         from solvers.compare import fem_options, fem_runtime
 
@@ -112,11 +116,15 @@ def run(args: argparse.Namespace) -> int:
         options = fem_options(scene, size, modes=compared)
         from runtime.cache import ResultCache
         result = solve_pose(scene.manipulator, geometry, options,
-                            fem_runtime(scene, ResultCache(cache_dir(args))))
+                            fem_runtime(scene, ResultCache(cache_dir(args))), keep_system=True)
         tool = fem_tool(result, scene.damping, scene.tool.point, compared,
                         label=f"FEM ({size * 1e3:g} mm, {options.legs} legs)")
         settings = {"model": "fem", "mesh_size_mm": size * 1e3, "mesh_size_from": source,
                     "dofs": int(result.dofs)}
+    if args.top_hz is not None and args.top_hz > tool.band_top_hz * (1 + 1e-9):
+        raise InputError(f"--top-hz {args.top_hz:g}: above {tool.band_top_hz:.6g} Hz, where "
+                         "the first mode left out of the sum resonates (the band may not "
+                         "reach it: its resonance would be missing)")
     lines = tool.lines(args.lines, args.top_hz)
     record = frf_record(tool, np.asarray(scene.tool.point) * 1e3, scene.damping, lines)
     point_base = (np.asarray(geometry.platform_centre, float)
@@ -126,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
                "seconds": time.perf_counter() - start, "warnings": list(scene.warnings)}
     with staged_output(args.out) as stage:
         from common.atomic import write_text_atomic
-        write_text_atomic(stage / "frf.json", json.dumps(payload, indent=1))
+        write_text_atomic(stage / "frf.json", json.dumps(payload, indent=1, allow_nan=False))
         write_uff(stage / "frf.unv", payload, point_base)
     if args.json:
         print(json.dumps(payload))
