@@ -184,8 +184,11 @@ def frf_record(tool: ToolModel, point_mm, damping: Damping, lines_hz) -> dict:
         "convention": "H(f) = sum over modes of phi phi^T / (w_j^2 - w^2 + 2 i zeta_j w_j w) "
                       "+ residual_flexibility_m_per_n, w = 2 pi f, phi = tool_shape_per_sqrt_kg "
                       "(base frame); the residual is the static compliance less the modes' "
-                      "sum of phi phi^T / w_j^2 (the modes not summed, quasi-static); modal "
-                      "stiffness w_j^2 / phi_d^2, effective mass 1 / phi_d^2",
+                      "sum of phi phi^T / w_j^2 (the modes not summed, quasi-static: exact at "
+                      "0 Hz, short of their dynamic part near the band's top, which stops "
+                      "below the first one's resonance); modal stiffness w_j^2 / phi_d^2, "
+                      "effective mass 1 / phi_d^2 (null: the mode leaves the tool still "
+                      "that way); a repeated group in its principal basis at the tool",
         "point_mm": [float(v) for v in point_mm],
         "damping": damping.describe(),
         "frequency_hz": [float(f) for f in lines_hz],
