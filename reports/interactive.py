@@ -121,11 +121,10 @@ def tool_caption(case, record: dict) -> str:
     return (f"{case['description']} ({case['name']}): the receptance of the tool point "
             f"{_point(record)} from the platform centre, |H_xx|, |H_yy|, |H_zz| (m/N, log "
             f"scale) against frequency: lines the analytical model ({record['analytical']}), "
-            f"dashed the FEM's modal sum (h = {record['fem_mesh_size_mm']:g} mm), both at the "
-            f"scene's damping ({record['damping']}); circles the solid's direct frequency "
-            "response at each of its peaks, where the three models are compared at one "
-            f"damping: {record['check_damping']}. A circle sits off the curves where the two "
-            "dampings differ.")
+            f"dashed the FEM's modal sum (h = {record['fem_mesh_size_mm']:g} mm), circles the "
+            "solid's direct frequency response at each of its peaks, all three at one "
+            f"damping: {record['check_damping']} (the scene's own, {record['damping']}: "
+            "`rps frf`).")
 
 
 def stiffness_caption(record: dict) -> str:

@@ -243,12 +243,11 @@ def stiffness_sweep(study: dict) -> go.Figure:
 
 def tool_response(record: dict, case: str) -> go.Figure | None:
     """|H_xx|, |H_yy|, |H_zz| of the tool point (m/N, log) against frequency, one panel per
-    direction: the analytical model's (line) and the FEM's modal sum (dashed) at the scene's
-    damping, circles the solid's direct response at each of its peaks, at the study's check
-    damping (one Rayleigh damping for all three models: a circle may sit off the curves where
-    it differs from the scene's; hover: the three models there and the analytical model's
-    errors). No static twin: report.pdf shows the study as its tables. None when the record
-    has no curve."""
+    direction: the analytical model's (line) and the FEM's modal sum (dashed), circles the
+    solid's direct response at each of its peaks, all three at the study's check damping (one
+    Rayleigh damping; hover: the three models there and the analytical model's errors). No
+    static twin: report.pdf shows the study as its tables. None when the record has no
+    curve."""
     curves = record["curves"]
     f = curves["frequency_hz"]
     directions = [d for d in ("x", "y", "z")
@@ -297,6 +296,6 @@ def tool_response(record: dict, case: str) -> go.Figure | None:
     fig.update_yaxes(type="log", exponentformat="power")
     fig.update_yaxes(title_text="receptance |H_dd| (m/N)", col=1)
     fig.update_layout(**LAYOUT, height=420, legend=dict(orientation="h", y=-0.2), title=dict(
-        text=f"{case}: the tool point's receptance at the scene's damping ({record['damping']})",
+        text=f"{case}: the tool point's receptance ({record['check_damping'].split(' (')[0]})",
         font=dict(size=12)))
     return fig

@@ -10,7 +10,8 @@ analytical model's, all three damped by one Rayleigh damping (`solvers.tool_frf.
 The FEM's own error: a peak's frequency carries the run's estimated error of its mode; the
 static compliance and a peak's height the two-mesh estimate of the FEM's modal sum at the
 run's size and one size coarser (the larger of Richardson's step and the GCI, as for the
-frequencies). The curves drawn are both models' |H_dd| at the scene's own damping.
+frequencies). The curves drawn are both models' |H_dd| at that shared damping (the scene's
+own: `rps frf`).
 """
 from __future__ import annotations
 
@@ -112,9 +113,9 @@ def _compute(scene, geometry, fem_error, fine_options, coarse_options,
                 frequency_error_percent=_percent(an_peak.frequency_hz, p.frequency_hz),
                 magnitude_error_percent=_percent(an_peak.magnitude_m_per_n,
                                                  p.magnitude_m_per_n)))
-    lines = analytical.lines(CURVE_LINES, min(analytical.band_top_hz, fem.band_top_hz))
+    lines = an_d.lines(CURVE_LINES, min(an_d.band_top_hz, fem_d.band_top_hz))
 
-    def curve(model) -> dict[str, list[float]]:
+    def curve(model) -> dict[str, list[float]]:  # at the check's damping: the peaks on them
         h = model.receptance(lines)
         return {name: np.abs(h[:, d, d]).tolist() for d, name in enumerate(DIRECTIONS)}
 
@@ -127,7 +128,7 @@ def _compute(scene, geometry, fem_error, fine_options, coarse_options,
         coarse_mesh_size_mm=coarse_options.mesh.size * 1e3,
         static=static, peaks=peaks, unmatched=unmatched,
         curves=results.ToolCurves(frequency_hz=lines.tolist(),
-                                  analytical_m_per_n=curve(analytical), fem_m_per_n=curve(fem)),
+                                  analytical_m_per_n=curve(an_d), fem_m_per_n=curve(fem_d)),
         seconds=time.perf_counter() - start)
 
 
