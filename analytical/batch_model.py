@@ -24,6 +24,7 @@ the per-pose model.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -303,7 +304,10 @@ def _eigenvalues(pose: int, info: int, mu: np.ndarray) -> np.ndarray:
     return 1.0 / mu
 
 
+@functools.lru_cache(maxsize=None)
 def _lapack(name: str):
+    """The double-precision LAPACK routine (looked up once: a lookup costs as much as a small
+    pose's triangular solve)."""
     return scipy.linalg.get_lapack_funcs((name,), (np.zeros(1),))[0]
 
 
