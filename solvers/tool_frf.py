@@ -25,25 +25,27 @@ from analytical.params import Manipulator, ModelOptions
 from analytical.substructure import assemble, model_coordinates
 from analytical.tool_response import SUPERPOSED_EXTRA, ToolModes, tool_modes
 from common.frf import (
-    DIRECT_FLOOR,
     DIRECTIONS,
     LINES,
-    PEAK_FLOOR,
     Damping,
-    Peak,
     band_lines,
     band_top,
     canonical_groups,
-    direct_peaks,
-    find_peaks,
     least_dynamic_stiffness,
     modal_table,
-    peak_windows,
     rayleigh_damping,
     rayleigh_through,
     receptance,
     residual_flexibility,
     whole_groups,
+)
+from common.frf_peaks import (
+    DIRECT_FLOOR,
+    PEAK_FLOOR,
+    Peak,
+    direct_peaks,
+    find_peaks,
+    peak_windows,
 )
 
 PAIRS = ("xx", "yy", "zz", "xy", "xz", "yz")

@@ -21,14 +21,16 @@ from common.frf import (
     Damping,
     Tool,
     band_lines,
-    direct_peaks,
-    find_peaks,
     least_dynamic_stiffness,
     modal_table,
     rayleigh_through,
     receptance,
     residual_flexibility,
     tool_rows,
+)
+from common.frf_peaks import (
+    direct_peaks,
+    find_peaks,
 )
 from scene import load_scene
 from scene.load import SceneError, parse_scene, read_toml
