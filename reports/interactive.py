@@ -21,6 +21,7 @@ from results import Results
 
 from . import interactive_charts as charts
 from . import interactive_maps as maps
+from . import interactive_tool as tool_charts
 from .figure_set import has_paper, main_cases, reference, run_settings
 from .figures import PAPER_SECONDS
 from .interactive_modes import mode_viewer
@@ -97,11 +98,11 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
     for case in results["cases"]:  # every case: the study's tables hold every case
         tool = _record(case, "tool_response")
         if tool:
-            add(chart_key("tool_response", case["name"]), charts.tool_response, tool,
+            add(chart_key("tool_response", case["name"]), tool_charts.tool_response, tool,
                 case["name"], section="tool-response", caption=tool_caption(case, tool))
     stiffness = _record(results["studies"], "dynamic_stiffness")
     if stiffness:
-        add(chart_key("dynamic_stiffness"), maps.dynamic_stiffness_map, stiffness,
+        add(chart_key("dynamic_stiffness"), tool_charts.dynamic_stiffness_map, stiffness,
             section="dynamic-stiffness", caption=stiffness_caption(stiffness))
     return out
 

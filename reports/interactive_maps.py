@@ -5,7 +5,6 @@ dynamic stiffness at the tool over the same map (the dynamic_stiffness study), d
 way; it has no static twin (report.pdf shows that study as its table)."""
 from __future__ import annotations
 
-import math
 from typing import TypeVar
 
 import numpy as np
@@ -14,12 +13,13 @@ from plotly.subplots import make_subplots
 
 from results import Workspace
 
-from .interactive_charts import COLOURS, LAYOUT, significant
+from .interactive_charts import COLOURS, LAYOUT
 
 T = TypeVar("T")
 
 
-def _finite(values) -> np.ndarray:
+def finite_array(values) -> np.ndarray:
+    """Floats, NaN where a value is None (an unreached pose)."""
     return np.array([np.nan if v is None else v for v in values], float)
 
 
@@ -115,7 +115,7 @@ def workspace_map(ws: Workspace, model: str, actuator: str) -> go.Figure:
                      *_reached(ws["s_joint_angles_deg"][iz][r][a]),
                      *_reached(ws["r_joint_angles_deg"][iz][r][a])]
                     for r, a in points]
-            values = _finite([d[3 + k] for d in data])
+            values = finite_array([d[3 + k] for d in data])
             lo, hi = float(np.nanmin(values)), float(np.nanmax(values))
             titles[k].append(f"z = {ws['heights_mm'][iz]:.0f} mm: f{k + 1} "
                              f"{lo:.1f}–{hi:.1f} Hz")
@@ -138,10 +138,10 @@ def workspace_height(ws: Workspace) -> go.Figure:
     modes = len(next(az for ring in ws["frequencies_hz"][layers[0]] for az in ring if az))
     fig = go.Figure()
     for k in range(modes):
-        values = [_finite([_reached(ws["frequencies_hz"][iz][r][a])[k]
+        values = [finite_array([_reached(ws["frequencies_hz"][iz][r][a])[k]
                            for r, a in map_points(ws, iz)])
                   for iz in layers]  # NaN: a family lost at a pose, as the PDF skips it
-        level = [float(_finite([_reached(ws["frequencies_hz"][iz][0][0])[k]])[0])
+        level = [float(finite_array([_reached(ws["frequencies_hz"][iz][0][0])[k]])[0])
                  for iz in layers]
         lo, hi = [float(np.nanmin(v)) for v in values], [float(np.nanmax(v)) for v in values]
         colour = COLOURS[k % len(COLOURS)]
@@ -167,7 +167,7 @@ def validation_map(wv: dict) -> go.Figure:
     diameters; hover: the pose, the FEM limit and every model's error there."""
     label = wv["default_model"]
     poses = [p for p in wv["poses"] if p["models"] and label in p["models"]]
-    errs = np.array([np.abs(_finite(p["models"][label])) for p in poses])
+    errs = np.array([np.abs(finite_array(p["models"][label])) for p in poses])
     modes = errs.shape[1]
     cols = 4
     rows = -(-modes // 3)
@@ -215,113 +215,4 @@ def validation_map(wv: dict) -> go.Figure:
             x=0.35, y=-0.12, len=0.6, thickness=12)))
     fig.update_polars(radialaxis=dict(ticksuffix="°", tickfont=dict(size=9)),
                       angularaxis=dict(tickfont=dict(size=9)))
-    return fig
-
-
-
-
-DIRECTIONS = ("x", "y", "z")  # the tool's directions, as the records key them
-LEAST_COLOUR = "#d62728"  # the least pose's star: outside Viridis
-
-
-def _compact(value: float) -> str:
-    """A value to three significant digits, its exponent short: 2e5, 1.79e5, 83.7."""
-    mantissa, _, exponent = f"{value:.3g}".partition("e")
-    return mantissa + (f"e{int(exponent)}" if exponent else "")
-
-
-def _log_ticks(lo: float, hi: float) -> tuple[list[float], list[str]]:
-    """Colour-bar ticks of a log10 colour between 10**lo and 10**hi, as log10 and labels: the
-    powers of ten (every few over many decades) where at least three fall inside, else
-    1, 2, 5 x 10^n, else every digit x 10^n; with fewer than three even then, the two ends
-    and the digits not crowding them."""
-    def labelled(values: list[float]) -> tuple[list[float], list[str]]:
-        return [math.log10(v) for v in values], [_compact(v) for v in values]
-
-    def inside(values) -> list[float]:
-        return [v for v in values if lo - 1e-9 <= math.log10(v) <= hi + 1e-9]
-
-    exponents = range(math.floor(lo), math.ceil(hi) + 1)
-    values = inside(10.0 ** e for e in exponents[::max(1, math.ceil((hi - lo) / 6))])
-    for digits in ((1, 2, 5), range(1, 10)):
-        if len(values) >= 3:
-            return labelled(values)
-        values = inside(m * 10.0 ** e for e in exponents for m in digits)
-    if len(values) >= 3:
-        return labelled(values)
-    gap = 0.15 * (hi - lo)
-    return labelled(sorted({10.0 ** lo, 10.0 ** hi,
-                            *(v for v in values if lo + gap < math.log10(v) < hi - gap)}))
-
-
-def stiffness_layers(ds: dict) -> list[int]:
-    """The dynamic-stiffness map's layers with a stiffness in at least one direction."""
-    return [i for i in range(len(ds["heights_mm"]))
-            if any(v is not None for d in DIRECTIONS if d in ds["stiffness_n_per_m"]
-                   for ring in ds["stiffness_n_per_m"][d][i] for v in ring)]
-
-
-def dynamic_stiffness_map(ds: dict) -> go.Figure | None:
-    """The least dynamic stiffness at the tool, 1 / max |H_dd|, over every layer of the map:
-    one polar panel per height (angle = azimuth, radius = tilt), a direction selector, colour
-    log10 of the stiffness on one scale per direction (N/m); the least pose of each direction
-    starred. Hover: the pose, the stiffness, the frequency of its peak and the mode dominating
-    it. A pose where the tool does not move along d (or not reached) has no point. None when
-    no layer has a stiffness."""
-    layers = stiffness_layers(ds)
-    directions = [d for d in DIRECTIONS if d in ds["stiffness_n_per_m"] and any(
-        v is not None for iz in layers for ring in ds["stiffness_n_per_m"][d][iz] for v in ring)]
-    if not directions:
-        return None
-    heights = [f"z = {ds['heights_mm'][iz]:.0f} mm" for iz in layers]
-    fig, rows = polar_panels(heights)
-    owner: list[int] = []
-    titles: list[list[str]] = []
-    template = ("z = %{customdata[0]:.1f} mm, θ = %{customdata[1]:.2f}°, φ = "
-                "%{customdata[2]:.1f}°<br><b>k_{d} = %{customdata[3]:.4g} N/m</b><br>"
-                "peak of |H_{d}{d}| at %{customdata[4]:.2f} Hz, mode %{customdata[5]}")
-    for k, d in enumerate(directions):
-        k_grid, f_grid, m_grid = (ds[key][d] for key in ("stiffness_n_per_m", "peak_hz", "mode"))
-        data = [[[*(significant(v) for v in (ds["heights_mm"][iz], ds["tilts_deg"][iz][r],
-                                              ds["azimuths_deg"][a], k_grid[iz][r][a],
-                                              f_grid[iz][r][a])), m_grid[iz][r][a]]
-                 for r, a in grid_points(k_grid[iz])] for iz in layers]
-        values = [np.round(np.log10(_finite([p[3] for p in points])), 4) for points in data]
-        lo = float(np.nanmin(np.concatenate(values)))
-        hi = float(np.nanmax(np.concatenate(values)))
-        ticks, labels = _log_ticks(lo, hi)
-        scale = next(n for n, points in enumerate(data) if points)  # the panel with the bar
-        titles.append([])
-        for n, (iz, points) in enumerate(zip(layers, data)):
-            shown = [v for v in values[n] if np.isfinite(v)]
-            titles[k].append(f"{heights[n]}: " + (  # the unit on the colour bar
-                f"{_compact(10 ** min(shown))}–{_compact(10 ** max(shown))}" if shown else "–"))
-            fig.add_trace(go.Scatterpolar(
-                r=[p[1] for p in points], theta=[p[2] for p in points], mode="markers",
-                customdata=points, hovertemplate=template.replace("{d}", d)
-                + "<extra>analytical</extra>", visible=k == 0,
-                name=f"k_{d}, {heights[n]}", showlegend=False,
-                marker=dict(color=values[n], colorscale="Viridis", cmin=lo,
-                            cmax=max(hi, lo + 1e-6), size=7, line=dict(width=0),
-                            showscale=n == scale, colorbar=dict(
-                                title=dict(text=f"k_{d} (N/m)", side="right"),
-                                tickvals=ticks, ticktext=labels, thickness=12))),
-                **panel(n, heights))
-            owner.append(k)
-        for row in ds["least"]:
-            if row["direction"] != d:
-                continue
-            n = min(range(len(layers)),
-                    key=lambda i: abs(ds["heights_mm"][layers[i]] - row["height_mm"]))
-            fig.add_trace(go.Scatterpolar(
-                r=[row["tilt_deg"]], theta=[row["azimuth_deg"]], mode="markers",
-                customdata=[[row["height_mm"], row["tilt_deg"], row["azimuth_deg"],
-                             row["stiffness_n_per_m"], row["frequency_hz"], row["mode"]]],
-                hovertemplate="<b>the least over the map</b><br>" + template.replace("{d}", d)
-                + "<extra>least</extra>", visible=k == 0, name=f"least k_{d}",
-                showlegend=False, marker=dict(symbol="star", size=16, color=LEAST_COLOUR,
-                                              line=dict(width=1, color="white"))),
-                **panel(n, heights))
-            owner.append(k)
-    switched_panels(fig, rows, [f"k_{d}" for d in directions], owner, titles)
     return fig

@@ -23,8 +23,7 @@ import pytest
 
 from reports import interactive
 from reports.document import context, render_html
-from reports.interactive_charts import tool_response
-from reports.interactive_maps import dynamic_stiffness_map
+from reports.interactive_tool import dynamic_stiffness_map, tool_response
 from results import validated
 from studies import RECORDS
 
