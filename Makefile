@@ -21,7 +21,7 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run campaign setup test fuzz verify lint bench report readme docs clean clean-cache update-baselines design
+.PHONY: run campaign setup test fuzz scenes verify lint bench report readme docs clean clean-cache update-baselines design
 
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
@@ -47,6 +47,10 @@ test: $(STAMP)
 # random plausible machines end to end (tests/test_fuzz_machines.py); RPS_FUZZ=slow for more
 fuzz: $(STAMP)
 	$(PYTHON) -m pytest -n 2 -m fuzz
+
+# every shipped scene but the paper's at CI size against its golden (tests/test_scenes.py)
+scenes: $(STAMP)
+	$(PYTHON) -m pytest -n 2 -m scenes
 
 verify: $(STAMP)
 	$(PYTHON) -m pytest -m verification
