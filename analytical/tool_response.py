@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from common.frf import canonical_groups, tool_rows, whole_groups
+from common.frf import tidy_groups, tool_rows
 
 from .batch_model import BatchModel, StandardForm, standard_modes
 from .modal import solve_modes
@@ -54,16 +54,9 @@ def tool_modes(model: SubstructureModel, rotation, point, count: int) -> ToolMod
     rows = _platform_rows(n_q, model.platform_slice, tool_rows(point, rotation))
     static = rows @ scipy.linalg.solve(model.stiffness, rows.T, assume_a="pos")
     omega = 2.0 * math.pi * modal.frequencies_hz
-    return _tidy(omega[:count], rows @ modal.shapes[:, :count], 0.5 * (static + static.T),
-                 omega[count] if count < n_q else np.inf)
-
-
-def _tidy(omega, phi, static, after) -> ToolModes:
-    """A repeated group split by the cut left out whole, every repeated group in its
-    principal basis at the tool (`common.frf.whole_groups`, `canonical_groups`)."""
-    phi, after = whole_groups(omega, phi, after)
-    phi, _ = canonical_groups(omega, phi)
-    return ToolModes(omega, phi, static, after)
+    phi, after = tidy_groups(omega[:count], rows @ modal.shapes[:, :count],
+                             omega[count] if count < n_q else np.inf)
+    return ToolModes(omega[:count], phi, 0.5 * (static + static.T), after)
 
 
 def batch_tool_modes(model: BatchModel, form: StandardForm, rotations, point, count: int,
@@ -86,9 +79,9 @@ def batch_tool_modes(model: BatchModel, form: StandardForm, rotations, point, co
         w = scipy.linalg.solve_triangular(form.factors[pose], rows[k].T, trans="T",
                                           check_finite=False)  # (n_q, 3)
         static[k] = w.T @ w
-        one = _tidy(1.0 / np.sqrt(mu[:count]), (w.T @ y[:, :count]) / np.sqrt(mu[:count]),
-                    None, 1.0 / math.sqrt(mu[count]) if count < n_q else np.inf)
-        omega[k], phi[k], after[k] = one.omega, one.phi, one.next_omega
+        omega[k] = 1.0 / np.sqrt(mu[:count])
+        phi[k], after[k] = tidy_groups(omega[k], (w.T @ y[:, :count]) / np.sqrt(mu[:count]),
+                                       1.0 / math.sqrt(mu[count]) if count < n_q else np.inf)
     return ToolModes(omega, phi, static, after)
 
 
@@ -100,14 +93,14 @@ def least_stiffness_map(manipulator, options, poses, damping, point, compared: i
     """The least dynamic stiffness at the tool along x, y, z of every pose of the batch
     `poses` (feasible poses: `PoseBatch.take`), each pose's band from 0 to
     common.frf.BAND_ABOVE times its highest compared mode on `lines` lines: the compared modes
-    and SUPERPOSED_EXTRA more summed, the rest by their residual flexibility. Returns
-    (common.frf.LeastStiffness (N, 3), frequencies (N, compared) Hz)."""
+    and SUPERPOSED_EXTRA more summed, the rest by their residual flexibility
+    (common.frf.LeastStiffness (N, 3))."""
     from common.frf import (
         LeastStiffness,
         band_lines,
-        band_top,
         least_dynamic_stiffness,
         residual_flexibility,
+        summed_band_top,
     )
 
     from .batch_model import assemble_batch, assembly_plan, standard_form
@@ -116,21 +109,16 @@ def least_stiffness_map(manipulator, options, poses, damping, point, compared: i
     n = len(poses)
     count = min(compared + SUPERPOSED_EXTRA, model_coordinates(manipulator, options))
     stiffness, peak, mode = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3), int)
-    hz = np.empty((n, min(compared, count)))
     plan = assembly_plan(leg_layout(manipulator, options, poses.base_joint, poses.platform_joint))
     for start in range(0, n, MAP_CHUNK):
         chunk = poses.take(np.arange(start, min(n, start + MAP_CHUNK)))
         model = assemble_batch(manipulator, chunk, options, plan)
         modes = batch_tool_modes(model, standard_form(model), chunk.rotation, point, count)
         residual = residual_flexibility(modes.static, modes.omega, modes.phi)
-        f = modes.omega / (2.0 * math.pi)
-        after = np.asarray(modes.next_omega)
-        band = band_lines(band_top(f, hz.shape[1], after / (2.0 * math.pi),
-                                   damping.ratios(np.column_stack([modes.omega, after]))[:, -1]),
+        band = band_lines(summed_band_top(modes.omega, compared, modes.next_omega, damping),
                           lines)
         least = least_dynamic_stiffness(band, modes.omega, damping.ratios(modes.omega),
                                         modes.phi, np.diagonal(residual, axis1=1, axis2=2))
         s = slice(start, start + len(chunk))
         stiffness[s], peak[s], mode[s] = least.stiffness_n_per_m, least.peak_hz, least.mode
-        hz[s] = f[:, :hz.shape[1]]
-    return LeastStiffness(stiffness, peak, mode), hz
+    return LeastStiffness(stiffness, peak, mode)

@@ -158,6 +158,14 @@ def whole_groups(omega, phi, next_omega) -> tuple[np.ndarray, float]:
     return phi, after
 
 
+def tidy_groups(omega, phi, next_omega) -> tuple[np.ndarray, float]:
+    """Summed tool shapes with a split repeated group left out whole (`whole_groups`) and
+    every repeated group in its principal basis (`canonical_groups`): what every model's
+    modes at the tool go through. Returns (phi, the first frequency left out)."""
+    phi, after = whole_groups(omega, phi, next_omega)
+    return canonical_groups(omega, phi)[0], after
+
+
 def rayleigh_through(omega_low: float, omega_high: float, zeta: float) -> tuple[float, float]:
     """(alpha, beta) of the Rayleigh damping with ratio `zeta` at both circular frequencies
     (equal to it there, below it between them): the damping matrix C = alpha M + beta K
@@ -260,6 +268,15 @@ def band_top(frequencies_hz, compared: int, next_hz=np.inf, next_zeta=0.0) -> np
         cut = np.where(np.isfinite(after), after / (1.0 + 3.0 * np.asarray(next_zeta, float)),
                        np.inf)
     return np.minimum(BAND_ABOVE * f[..., min(compared, f.shape[-1]) - 1], cut)
+
+
+def summed_band_top(omega, compared: int, next_omega, damping: Damping) -> np.ndarray:
+    """`band_top` of summed modes omega (..., m) rad/s whose first left out is `next_omega`
+    (..., inf: none), its ratio from `damping` as the (m + 1)-th mode's."""
+    omega, after = np.asarray(omega, float), np.asarray(next_omega, float)
+    with np.errstate(invalid="ignore"):  # a ratio at inf (nothing left out): masked below
+        zeta = damping.ratios(np.concatenate([omega, after[..., None]], axis=-1))[..., -1]
+    return band_top(omega / (2.0 * math.pi), compared, after / (2.0 * math.pi), zeta)
 
 
 def band_lines(top_hz, count: int = LINES) -> np.ndarray:

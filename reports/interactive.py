@@ -13,7 +13,7 @@ from __future__ import annotations
 import base64
 import json
 from pathlib import Path
-from typing import Any, Mapping, cast
+from typing import Any, Mapping
 
 import plotly.io
 
@@ -96,28 +96,22 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
         if study["sweep"]:
             add(chart_key("sweep", study["case"]), charts.stiffness_sweep, study)
     for case in results["cases"]:  # every case: the study's tables hold every case
-        tool = _record(case, "tool_response")
+        tool = case.get("tool_response")
         if tool:
             add(chart_key("tool_response", case["name"]), tool_charts.tool_response, tool,
                 case["name"], section="tool-response", caption=tool_caption(case, tool))
-    stiffness = _record(results["studies"], "dynamic_stiffness")
+    stiffness = results["studies"].get("dynamic_stiffness")
     if stiffness:
         add(chart_key("dynamic_stiffness"), tool_charts.dynamic_stiffness_map, stiffness,
             section="dynamic-stiffness", caption=stiffness_caption(stiffness))
     return out
 
 
-def _record(holder, key: str) -> dict | None:
-    """A study's record that the results' own types do not name (a study declared in the
-    registry only), None where absent or not computed."""
-    return cast(Mapping[str, Any], holder).get(key)
-
-
-def _point(record: dict) -> str:
+def _point(record: Mapping[str, Any]) -> str:
     return "(" + ", ".join(f"{v:g}" for v in record["point_mm"]) + ") mm"
 
 
-def tool_caption(case, record: dict) -> str:
+def tool_caption(case, record: Mapping[str, Any]) -> str:
     """The caption of a case's tool-response chart."""
     return (f"{case['description']} ({case['name']}): the receptance of the tool point "
             f"{_point(record)} from the platform centre, |H_xx|, |H_yy|, |H_zz| (m/N, log "
@@ -128,7 +122,7 @@ def tool_caption(case, record: dict) -> str:
             "`rps frf`).")
 
 
-def stiffness_caption(record: dict) -> str:
+def stiffness_caption(record: Mapping[str, Any]) -> str:
     """The caption of the least-dynamic-stiffness map."""
     return (f"The least dynamic stiffness at the tool point {_point(record)}, 1 / max |H_dd| "
             "(N/m), along x, y, z (buttons) over every layer of the workspace map: angle = "

@@ -29,15 +29,14 @@ from common.frf import (
     LINES,
     Damping,
     band_lines,
-    band_top,
-    canonical_groups,
     least_dynamic_stiffness,
     modal_table,
     rayleigh_damping,
     rayleigh_through,
     receptance,
     residual_flexibility,
-    whole_groups,
+    summed_band_top,
+    tidy_groups,
 )
 from common.frf_peaks import (
     DIRECT_FLOOR,
@@ -71,12 +70,8 @@ class ToolModel:
 
     @property
     def band_top_hz(self) -> float:
-        after = float(self.modes.next_omega)
-        if not math.isfinite(after):  # every mode summed
-            return float(band_top(self.modes.frequencies_hz, self.compared))
-        next_zeta = self.damping.ratios(np.append(self.modes.omega, after))[-1]
-        return float(band_top(self.modes.frequencies_hz, self.compared,
-                              after / (2.0 * math.pi), next_zeta))
+        return float(summed_band_top(self.modes.omega, self.compared, self.modes.next_omega,
+                                     self.damping))
 
     def lines(self, count: int = LINES, top_hz: float | None = None) -> np.ndarray:
         return band_lines(self.band_top_hz if top_hz is None else top_hz, count)
@@ -126,8 +121,7 @@ def fem_tool(result, damping: Damping, point, compared: int, label: str = "FEM")
     omega = 2.0 * math.pi * np.asarray(result.frequencies_hz, float)
     static, entries = static_compliance(result, a)
     phi = np.asarray(a @ result.modes_q)  # the last solved mode: where the band must stop
-    phi, after = whole_groups(omega[:-1], phi[:, :-1], float(omega[-1]))
-    phi, _ = canonical_groups(omega[:-1], phi)
+    phi, after = tidy_groups(omega[:-1], phi[:, :-1], float(omega[-1]))
     modes = ToolModes(omega[:-1], phi, static, after)
     return ToolModel(label, modes, damping, compared, entries)
 

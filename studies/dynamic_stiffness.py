@@ -52,7 +52,7 @@ def dynamic_stiffness_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
     poses = pose_batch(scene.manipulator, z.ravel(), phi.ravel(), tilt.ravel())
     reached = np.flatnonzero(poses.feasible)
     compared = scene.fidelity.modes
-    least, _ = least_stiffness_map(scene.manipulator, scene.analytical, poses.take(reached),
+    least = least_stiffness_map(scene.manipulator, scene.analytical, poses.take(reached),
                                    scene.damping, scene.tool.point, compared, lines)
 
     def grid(values, cast=float) -> list:

@@ -382,7 +382,7 @@ def test_the_tool_receptance_on_random_machines():
                            [c.pose.azimuth for c in scene.cases.values()],
                            [c.pose.tilt for c in scene.cases.values()])
         from analytical.tool_response import least_stiffness_map
-        least, _ = least_stiffness_map(scene.manipulator, scene.analytical, batch, damping,
+        least = least_stiffness_map(scene.manipulator, scene.analytical, batch, damping,
                                        point, scene.fidelity.modes, 2000)
         for i, case in enumerate(scene.cases.values()):
             g = pose_geometry(scene.manipulator, case.pose)
