@@ -162,22 +162,74 @@ class BatchModel:
     platform_radius: float
 
 
+@dataclass(frozen=True)
+class MachineParts:
+    """What the machine itself (not its pose) puts into K and M, per pose of a batch: the leg
+    segments' limb-frame matrices, whole solid parts, the springs, the platform's mass at
+    R = I and the payload's first moment. One machine at N poses (`machine_parts`), or N
+    machines at a pose each (`stack_parts`: input samples) assemble alike."""
+
+    segments: np.ndarray  # (s, 2, 3, N, 12, 12), Eq. (4)
+    solid: tuple  # ((first node, (2, 3, N, d, d)), ...) with legs = "solid"
+    springs: tuple  # per leg: ((columns, (N, c, c)), ...)
+    level: np.ndarray  # (N, 6, 6) platform mass at R = I (payload included)
+    first_moment: np.ndarray  # (N, 3) the payload's, platform frame
+    leg_radius: float
+    platform_radius: float
+
+
+def machine_parts(manipulator: Manipulator, poses: PoseBatch, options: ModelOptions,
+                  layout: LegLayout) -> MachineParts:
+    """The parts of one machine at every pose of `poses`."""
+    n = len(poses)
+    segments = leg_segments(manipulator, options, zone_for(manipulator, options),
+                            poses.leg_lengths.T)
+    solid = tuple(part_blocks(manipulator, options, poses.leg_lengths.T))
+    joints = (Joint.at(poses.base_joint, np.zeros(3), np.zeros(3), "base"),
+              Joint.at(poses.platform_joint, np.zeros(3), np.zeros(3), "platform"))
+    springs = tuple(
+        tuple((columns, np.broadcast_to(spring, (n, *np.shape(spring)[-2:])))
+              for columns, spring in spring_stiffness(layout, manipulator, i, joints,
+                                                      poses.joint_axes[:, i]))
+        for i in range(3))
+    level = platform_mass_matrix(manipulator, np.eye(3), options.platform_inertia)
+    return MachineParts(segments, solid, springs, np.broadcast_to(level, (n, 6, 6)),
+                        np.broadcast_to(manipulator.payload.first_moment, (n, 3)),
+                        manipulator.leg_diameter / 2, manipulator.platform_radius)
+
+
+def stack_parts(parts: list[MachineParts]) -> MachineParts:
+    """Parts of N batches (one machine each) as one batch, poses in order."""
+    first = parts[0]
+    return MachineParts(
+        np.concatenate([p.segments for p in parts], axis=3),
+        tuple((f, np.concatenate([p.solid[k][1] for p in parts], axis=2))
+              for k, (f, _) in enumerate(first.solid)),
+        tuple(tuple((columns, np.concatenate([p.springs[i][k][1] for p in parts]))
+                    for k, (columns, _) in enumerate(first.springs[i])) for i in range(3)),
+        np.concatenate([p.level for p in parts]),
+        np.concatenate([p.first_moment for p in parts]),
+        first.leg_radius, first.platform_radius)
+
+
 def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOptions,
-                   plan: AssemblyPlan | None = None) -> BatchModel:
+                   plan: AssemblyPlan | None = None, parts: MachineParts | None = None
+                   ) -> BatchModel:
     """K and M of every pose in `poses` (Eqs. 4-22), as substructure.assemble does one.
 
-    `plan` (from `assembly_plan`) may be passed to reuse it over many batches.
+    `plan` (from `assembly_plan`) may be passed to reuse it over many batches; `parts` (from
+    `machine_parts` or `stack_parts`) gives the machine's own matrices per pose (default:
+    `manipulator`'s at every pose).
     """
     layout = leg_layout(manipulator, options, poses.base_joint, poses.platform_joint)
     s = layout.segments  # elements, end zones with solid joint ends, the drive's
     if plan is None or plan.layout != layout:
         plan = assembly_plan(layout)
+    if parts is None:
+        parts = machine_parts(manipulator, poses, options, layout)
     n, n_q = len(poses), coordinate_count(layout)
     matrices = np.zeros((2, n, n_q, n_q))  # K and M
     arms = poses.platform_points - poses.platform_centre[:, None, :]
-    parts = leg_segments(manipulator, options, zone_for(manipulator, options),
-                         poses.leg_lengths.T)  # (s, 2, 3, N, 12, 12), Eq. (4)
-    solid = part_blocks(manipulator, options, poses.leg_lengths.T)  # legs = "solid"
     maps = []
     for i, (basis, per_element) in enumerate(plan.legs):
         try:
@@ -190,11 +242,11 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
         local = (limb_to_base @ t.reshape(n, 2 * (s + 1), 3, -1)).reshape(t.shape)  # Eq. (6)
         for e, (columns, runs) in enumerate(per_element):
             rows = local[:, 6 * e:6 * e + 12][:, :, columns]
-            reduced = np.swapaxes(rows, 1, 2) @ parts[e, :, i] @ rows  # (2, N, c_e, c_e)
+            reduced = np.swapaxes(rows, 1, 2) @ parts.segments[e, :, i] @ rows  # (2, N, c, c)
             for to_rows, a in runs:
                 for to_cols, b in runs:
                     matrices[:, :, to_rows, to_cols] += reduced[:, :, a, b]
-        for first, block in solid:  # legs = "solid": whole parts, (2, 3, N, d, d)
+        for first, block in parts.solid:  # legs = "solid": whole parts, (2, 3, N, d, d)
             span = slice(6 * first, 6 * first + block.shape[-1])
             columns = basis.touched(span)
             rows = local[:, span][:, :, columns]
@@ -203,23 +255,20 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
                 for to_cols, b in _runs(basis.columns[columns]):
                     matrices[:, :, to_rows, to_cols] += reduced[:, :, a, b]
         maps.append((basis.columns, t))
-        joints = (Joint.at(poses.base_joint, np.zeros(3), np.zeros(3), "base"),
-                  Joint.at(poses.platform_joint, np.zeros(3), np.zeros(3), "platform"))
-        for columns, spring in spring_stiffness(layout, manipulator, i, joints,
-                                                poses.joint_axes[:, i]):
+        for columns, spring in parts.springs[i]:
             matrices[0][:, columns[:, None], columns[None, :]] += spring
     stiffness, mass = matrices
     translation, rotation = slice(n_q - 6, n_q - 3), slice(n_q - 3, n_q)
-    level = platform_mass_matrix(manipulator, np.eye(3), options.platform_inertia)
-    mass[:, translation, translation] += level[:3, :3]  # m I
-    mass[:, rotation, rotation] += poses.rotation @ level[3:, 3:] @ np.swapaxes(
+    level = parts.level
+    mass[:, translation, translation] += level[:, :3, :3]  # m I
+    mass[:, rotation, rotation] += poses.rotation @ level[:, 3:, 3:] @ np.swapaxes(
         poses.rotation, 1, 2)  # R J R^T
-    if np.any(manipulator.payload.first_moment):  # an offset payload: -[R S x], [R S x]
-        coupling = skew(poses.rotation @ manipulator.payload.first_moment)
+    if np.any(parts.first_moment):  # an offset payload: -[R S x], [R S x]
+        coupling = skew(np.einsum("nij,nj->ni", poses.rotation, parts.first_moment))
         mass[:, translation, rotation] -= coupling
         mass[:, rotation, translation] += coupling
     return BatchModel(stiffness, mass, tuple(maps), slice(n_q - 6, n_q),
-                      manipulator.leg_diameter / 2, manipulator.platform_radius)
+                      parts.leg_radius, parts.platform_radius)
 
 
 @dataclass(frozen=True)

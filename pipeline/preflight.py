@@ -64,3 +64,14 @@ def check_sizes(scene: Scene, profile: str) -> None:
                 text = str(exc)
                 tail = text.split(": ", 1)[1] if text.startswith("mesh_size_mm = ") else text
                 raise InputError(f"{key}: {tail}") from None
+
+
+def check_uncertainty(scene: Scene, profile: str) -> None:
+    """The scene's uncertain inputs at their two ends as whole machines (the plausibility
+    rules), before any work: a full run propagates them (studies/uncertainty.py)."""
+    if scene.uncertainty is None or profile != "full":
+        return
+    from scene import parse_scene
+    from scene.uncertainty import check_ends
+
+    check_ends(scene.uncertainty, scene.raw, scene.path, parse_scene)

@@ -41,7 +41,7 @@ from solvers.refinement import fem_refinement, size_index, study_sizes, two_mesh
 from studies.fidelity import validate_fidelity
 from studies.reachable import check as check_workspace
 
-from .preflight import check_sizes
+from .preflight import check_sizes, check_uncertainty
 
 PROJECT = "rps-elastodynamics"
 
@@ -239,6 +239,7 @@ def validate(scene_path: str, out: Path, cache_dir: Path, profile: schema.Profil
     # every case and the workspace the studies take their poses from, before any expensive work
     reachable_workspace = check_workspace(scene, profile)
     check_sizes(scene, profile)  # every mesh the run plans, against the DOF and memory guard
+    check_uncertainty(scene, profile)  # the uncertain inputs' ends as machines
     cache = ResultCache(cache_dir)
     scene = with_cache_dir(scene, cache.directory)  # solid end zones beside the other entries
     workers = workers or min(os.cpu_count() or 1, 8)

@@ -15,3 +15,4 @@ from .study_records import *  # noqa: F401,F403
 from .tool_records import *  # noqa: F401,F403
 from .types import *  # noqa: F401,F403
 from .types import LOW_MODES, MAX_DEPTH, MAX_FREQUENCY_HZ, SCHEMA_VERSION  # noqa: F401
+from .uncertainty_records import *  # noqa: F401,F403

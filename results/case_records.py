@@ -9,6 +9,7 @@ from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from .tool_records import ToolResponse
 from .types import STRICT, CaseName, Frequencies, Frequency, Hz, Motion, RelativePath
+from .uncertainty_records import UncertaintyCase
 
 
 @with_config(STRICT)
@@ -290,3 +291,4 @@ class Case(CaseCore, total=False):
     fem_variants: FemIdealisations | None
     speed_vs_error: list[SpeedPoint] | None
     tool_response: ToolResponse | None  # None: the scene asks no dynamic compliance
+    uncertainty: UncertaintyCase | None  # None: the scene declares no [uncertainty]

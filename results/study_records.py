@@ -8,6 +8,7 @@ from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from .tool_records import DynamicStiffnessMap
 from .types import STRICT, Frequencies, Frequency, Hz
+from .uncertainty_records import UncertaintyPath
 
 
 @with_config(STRICT)
@@ -314,6 +315,7 @@ class Studies(TypedDict, total=False):
     angle_conventions: list[AngleConventions]
     workspace: Workspace | None
     dynamic_stiffness: DynamicStiffnessMap | None  # None: the scene asks no dynamic compliance
+    uncertainty_path: UncertaintyPath | None  # None: the scene declares no [uncertainty]
     joint_orders: list[JointOrderCase]
     joint_couplings: list[CouplingCase]  # empty: not run (the CI profile)
     workspace_validation: WorkspaceValidation | None

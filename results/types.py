@@ -14,7 +14,7 @@ from pydantic import AfterValidator, ConfigDict, Field, FiniteFloat
 
 from common.paths import name_problem
 
-SCHEMA_VERSION = 15
+SCHEMA_VERSION = 16
 Profile = Literal["full", "ci"]  # a run's profile: every case and study, or the CI's
 LOW_MODES = 3  # the paper reads its errors in two ranges: modes 1-3 and the modes above
 # No structural mode of a machine the scene ranges admit comes near 1 GHz; a larger value in

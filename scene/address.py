@@ -18,7 +18,7 @@ from common.payload import Payload
 from common.settings import Setting, declared
 from common.stiffness import Stiffness
 
-from .load import Scene, SceneError
+from .errors import SceneError
 
 TABLES: dict[str, type] = {"manipulator": Manipulator, "material": Material, "leg": LegProfile,
                            "stiffness": Stiffness, "payload": Payload}
@@ -39,10 +39,14 @@ class Address:
     def unit(self) -> str:
         return self.spec.unit or "-"
 
-    def value(self, scene: Scene) -> float:
+    def value(self, scene: Any) -> float:
         """The value this scene holds (given or default), in the edge unit."""
-        holder = (scene.manipulator if self.table == "manipulator"
-                  else getattr(scene.manipulator, self.table))
+        return self.read(scene.manipulator)
+
+    def read(self, manipulator: Manipulator) -> float:
+        """The value this machine has, in the edge unit."""
+        holder = (manipulator if self.table == "manipulator"
+                  else getattr(manipulator, self.table))
         return float(self.spec.edge(getattr(holder, self.field)))
 
     def applied(self, manipulator: Manipulator, value: float) -> Manipulator:

@@ -25,6 +25,7 @@ from meshing.geometry import MeshSettings
 from .cases import PAPER_ROWS_RULE, CaseSettings, HeightCalibration
 from .fidelity import FidelitySettings
 from .load import GEOMETRY_DEFAULTS_TEXT, FemStudy, ManipulatorNotes, SceneSettings
+from .uncertainty import InputSpec, UncertaintySettings
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "scenes.md"
@@ -60,6 +61,23 @@ TABLES = (
      "solid's direct frequency response at every case.", (Damping,)),
     ("[tool]", "Where the force acts and the response is read: a point fixed to the rigid "
      "platform.", (Tool,)),
+    ("[uncertainty]", "The scene's inputs known within a tolerance, for the propagation of input "
+     "uncertainty through the fast model (`rps uncertainty`; with the table, a validation adds "
+     "the uncertainty of every case's frequencies, the V&V 20 table and the 95 % band along "
+     "the workspace map's worst path; scene/uncertainty.py). Its own keys are below; every "
+     "other key is a scene number, quoted, as \"table.key\" (one of [manipulator], "
+     "[material], [leg], [stiffness], [payload]; the same addresses as `rps design` and "
+     "`rps identify`), set to an inline table of the keys in [uncertainty.\"table.key\"].",
+     (UncertaintySettings,)),
+    ("[uncertainty.\"table.key\"]", "One uncertain input, e.g. `\"material.youngs_modulus_gpa\" "
+     "= { distribution = \"normal\", cv_percent = 2.0, source = \"EN 10025: ...\" }`. A normal "
+     "or lognormal input has the scene's value as its mean; a uniform one spans low..high "
+     "around it. Every distribution is cut at its 1e-6 and 1 - 1e-6 quantiles, and each "
+     "input at those two ends (the others at the scene's values) is checked as a scene is: in "
+     "the key's range, a machine that can exist. An input that `follows` another moves by the "
+     "same factor (E and G under a fixed Poisson's ratio): not an input of its own, its share "
+     "counted in its leader's Sobol' indices. The inputs are independent otherwise.",
+     (InputSpec,)),
     ("[fidelity]", "What accuracy the scene needs, on which modes. Where the scene leaves "
      "[analytical] out, and mesh_size_mm out of [fem], the run chooses the cheapest models that "
      "meet it, by measurement (studies/choice.py).", (FidelitySettings,)),

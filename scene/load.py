@@ -41,11 +41,8 @@ from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
 from meshing.geometry import MIN_MESH_SIZE
 
 from .cases import CaseSettings, HeightCalibration, check_paper_rows
+from .errors import SceneError
 from .fidelity import FidelitySettings
-
-
-class SceneError(InputError):
-    """The scene file is unreadable or holds an invalid value."""
 
 
 @dataclass(frozen=True)
@@ -140,6 +137,7 @@ class Scene:
     tool: Tool = Tool()  # [tool]: where the force acts and the response is read
     dynamics_given: bool = False  # [damping] or [tool] in the file: the scene asks for the
                                   # dynamic compliance at the tool (its studies run)
+    uncertainty: Any = None  # [uncertainty] (scene.uncertainty.Uncertainty): its studies run
 
     def case(self, name: str) -> Case:
         if name not in self.cases:
@@ -347,6 +345,12 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     tool = tool_t.settings(Tool)
     tool_t.done()
 
+    uncertainty = None
+    if "uncertainty" in raw:  # after the machine: its inputs are around the scene's values
+        from .uncertainty import parse as parse_uncertainty
+        uncertainty = parse_uncertainty(top.table("uncertainty"), manipulator,
+                                        f"{where}.uncertainty")
+
     fid = top.table("fidelity", {})
     fidelity = fid.settings(FidelitySettings)
     fid.done()
@@ -436,4 +440,5 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         raise SceneError(f"{where}: {exc}") from None
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
                  reason, shape_reason, raw, tuple(ci_cases), fidelity, analytical_given,
-                 fem_size_given, warnings, damping, tool, "damping" in raw or "tool" in raw)
+                 fem_size_given, warnings, damping, tool, "damping" in raw or "tool" in raw,
+                 uncertainty)

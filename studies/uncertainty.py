@@ -1,0 +1,161 @@
+"""Case study: the scene's input uncertainty ([uncertainty]) through the run's analytical model
+at the case's pose (solvers/uncertainty.py: Saltelli's design, Sobol' indices, every
+statistic with its sampling error), and the V&V 20 table of the model against the FEM
+(results.cases[].uncertainty).
+
+V&V 20 (ASME V&V 20-2009) states a comparison as E = S - D beside the validation uncertainty
+u_val = sqrt(u_num^2 + u_input^2 + u_D^2), standard uncertainties. Here, per FEM mode paired
+by shape: E the model's error against the FEM (%); u_num the FEM's stated error (the larger
+of Richardson's step and the GCI, a bound) as a standard uncertainty, bound / sqrt(3) (GUM,
+JCGM 100:2008 4.3.7: a bound with no more known, a rectangular distribution); u_input the
+model's frequency standard deviation over the inputs (%); u_D none (no test). The model and
+the FEM share the inputs, so u_input does not blur E: it is the scale at which an error of
+the model would change what an engineer can say about the machine. The verdict reads E
+against 2 u_num (resolved by the FEM at all?) and against 2 u_val (does it matter at these
+tolerances?), k = 2 for about 95 %.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import results
+from common.frf import DIRECTIONS
+from results import Section, Table
+
+from .registry import CaseContext, Context, Study, own
+
+BUDGET_SECONDS = 300.0  # a case's propagation in a run; beyond, refused in the record
+COVERAGE = 2.0  # k of the verdict's expanded uncertainties (about 95 %)
+
+
+def verdict(e: float, u_num: float | None, u_val: float) -> str:
+    """V&V 20's reading of one comparison (module docstring)."""
+    if u_num is not None and abs(e) <= COVERAGE * u_num:
+        return (f"not resolved: |E| {abs(e):.3g} % within the FEM's own 2 u_num "
+                f"({COVERAGE * u_num:.3g} %)")
+    if abs(e) <= COVERAGE * u_val:
+        return (f"within 2 u_val ({COVERAGE * u_val:.3g} %): at these input tolerances the "
+                "model's error does not matter")
+    return (f"the model's error matters: delta_model = {e:.3g} +- {COVERAGE * u_val:.3g} % "
+            "(E beyond 2 u_val)")
+
+
+def validation_rows(pairs: list, modes: list, u_d: float | None = None
+                    ) -> list[results.ValidationRow]:
+    """V&V 20 rows from the comparison's pairs (results.Pair) and the model's mode statistics
+    (the uncertainty record's `modes`, by analytical mode)."""
+    rows = []
+    for p in pairs:
+        j = p["analytical_mode"] - 1
+        if j >= len(modes):
+            continue
+        bound = p["fem_estimated_error_percent"]
+        u_num = None if bound is None else bound / math.sqrt(3.0)
+        u_input = modes[j]["cv_percent"]
+        u_val = math.sqrt((u_num or 0.0) ** 2 + u_input ** 2 + (u_d or 0.0) ** 2)
+        rows.append(results.ValidationRow(
+            fem_mode=p["fem_mode"], analytical_mode=p["analytical_mode"],
+            e_percent=p["error_percent"], u_num_percent=u_num, u_input_percent=u_input,
+            u_d_percent=u_d, u_val_percent=u_val, verdict=verdict(p["error_percent"], u_num,
+                                                                   u_val)))
+    return rows
+
+
+def case_uncertainty(scene, case, cache) -> dict:
+    """The propagation's record (solvers.uncertainty.propagate) at the case, through the
+    result cache; {"refused": why} where it cannot run (the model, the budget)."""
+    from common.settings import as_dict
+    from solvers.uncertainty import OverBudget, propagate, refusal
+
+    why = refusal(scene, scene.analytical)
+    if why is not None:
+        return {"refused": why}
+    payload = {"manipulator": as_dict(scene.manipulator), "pose": as_dict(case.pose),
+               "analytical": as_dict(scene.analytical), "uncertainty": scene.raw["uncertainty"],
+               "damping": as_dict(scene.damping), "tool": as_dict(scene.tool),
+               "dynamics": bool(scene.dynamics_given), "modes": scene.fidelity.modes,
+               "budget": BUDGET_SECONDS}
+
+    def compute():
+        try:
+            return propagate(scene, scene.analytical, case.pose, scene.fidelity.modes,
+                             budget_seconds=BUDGET_SECONDS), {}
+        except OverBudget as exc:
+            return {"refused": str(exc)}, {}
+
+    value, _, _ = cache.get_or_compute("uncertainty", payload, compute,
+                                       modules=("solvers.uncertainty", "solvers.sensitivity",
+                                                "analytical.sample_batch"))
+    return value
+
+
+MODE_KEYS = ("mode", "nominal_hz", "mean_hz", "mean_error_hz", "std_hz", "std_error_hz",
+             "cv_percent", "q025_hz", "q025_error_hz", "q975_hz", "q975_error_hz")
+
+
+def _sobol(output: str, entry: dict) -> list[results.SobolRow]:
+    return [results.SobolRow(output=output, key=key, first=entry["sobol_first"][key],
+                             first_error=entry["sobol_first_error"][key],
+                             total=entry["sobol_total"][key],
+                             total_error=entry["sobol_total_error"][key])
+            for key in entry["sobol_first"]]
+
+
+def run(ctx: Context, cc: CaseContext) -> results.UncertaintyCase | None:
+    from solvers.compare import analytical_case, error_table
+
+    scene = ctx.scene
+    if scene.uncertainty is None:
+        return None
+    cc.step("input uncertainty through the analytical model")
+    start = time.perf_counter()
+    record = case_uncertainty(scene, cc.case, ctx.cache)
+    inputs = [results.UncertainInputRecord(
+        key=i.name, distribution=i.spec.distribution, described=i.describe(),
+        unit=i.address.unit, nominal=i.nominal, support=list(i.support),
+        followers=[a.name for a, _ in i.followers], source=i.spec.source.strip())
+        for i in scene.uncertainty.inputs]
+    if "modes" not in record:
+        return results.UncertaintyCase(
+            inputs=inputs, design="", model=scene.analytical.describe(), runs=0,
+            refused=record["refused"], modes=[], least=[], sobol=[], validation=[],
+            seconds=time.perf_counter() - start)
+    modes = [results.UncertaintyMode(**{k: m[k] for k in MODE_KEYS})  # type: ignore[typeddict-item]
+             for m in record["modes"]]
+    sobol = [row for m in record["modes"] for row in _sobol(f"f{m['mode']}", m)]
+    least = []
+    for d in DIRECTIONS if record["least_dynamic_stiffness"] else ():
+        s = record["least_dynamic_stiffness"][d]
+        least.append(results.UncertaintyStiffness(
+            direction=d, nominal_n_per_m=s["nominal_n_per_m"], mean_n_per_m=s["mean_n_per_m"],
+            mean_error_n_per_m=s["mean_error_n_per_m"], std_n_per_m=s["std_n_per_m"],
+            cv_percent=s["cv_percent"], q025_n_per_m=s["q025_n_per_m"],
+            q975_n_per_m=s["q975_n_per_m"]))
+        sobol += _sobol(f"least {d}", s)
+    a = analytical_case(scene, cc.case, scene.analytical)
+    pairs = error_table(a, cc.fem, scene.fidelity.modes, cc.fem_error, cc.reference)
+    return results.UncertaintyCase(
+        inputs=inputs, design=record["design"], model=record["model"], runs=record["runs"],
+        refused=None, modes=modes, least=least, sobol=sobol,
+        validation=validation_rows(pairs, modes),
+        seconds=record["model_seconds"] + record["statistics_seconds"])
+
+
+STUDY = Study(own(
+    "uncertainty", "case",
+    section=Section("uncertainty", "Input uncertainty: the frequencies' spread, what drives "
+                    "it, and the V&V 20 reading of the model against the FEM", None),
+    tables=(Table("validation", ("fem_mode", "analytical_mode", "e_percent", "u_num_percent",
+                                 "u_input_percent", "u_val_percent", "verdict"),
+                  each="validation"),
+            Table("frequencies", ("mode", "nominal_hz", "mean_hz", "std_hz", "cv_percent",
+                                  "q025_hz", "q975_hz", "mean_error_hz", "q025_error_hz",
+                                  "q975_error_hz"), each="modes"),
+            Table("sobol", ("output", "key", "first", "first_error", "total", "total_error"),
+                  each="sobol"),
+            Table("least_stiffness", ("direction", "nominal_n_per_m", "mean_n_per_m", "std_n_per_m",
+                                      "cv_percent", "q025_n_per_m", "q975_n_per_m"),
+                  each="least"),
+            Table("inputs", ("key", "described", "source"), each="inputs"))),
+    "case", run)

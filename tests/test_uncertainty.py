@@ -1,0 +1,196 @@
+"""Input uncertainty through the fast model (scene/uncertainty.py, analytical/sample_batch.py,
+solvers/sensitivity.py, solvers/uncertainty.py): the batched samples against the per-pose
+model, closed forms of a density known within a lognormal spread (every frequency scales as
+rho^-1/2), a spring's Sobol' index vanishing towards the rigid joint, the sampling statistics
+converging at the stated rate and within their stated errors, and the inputs refused in one
+line."""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from analytical.model import natural_frequencies
+from analytical.params import ModelOptions
+from analytical.sample_batch import assemble_samples, sample_poses
+from scene.load import SceneError, parse_scene, read_toml
+from solvers.sensitivity import base_rows, design
+from solvers.uncertainty import machines, propagate, sample_model
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "scenes" / "paper.toml"
+FAST = ModelOptions(elements=2, beam="timoshenko", modes=6)
+
+
+def scene_with(inputs: dict, samples: int = 128, base: Path = PAPER, **tables):
+    raw = read_toml(base)
+    raw.pop("uncertainty", None)
+    for table, values in tables.items():
+        raw[table] = {**raw.get(table, {}), **values}
+    raw["uncertainty"] = {"samples": samples, **inputs}
+    return parse_scene(raw, "test scene")
+
+
+def lognormal_sd(cv_percent: float) -> float:
+    return math.sqrt(math.log1p((cv_percent / 100.0) ** 2))
+
+
+def test_samples_solved_as_a_batch_agree_with_the_per_pose_model():
+    scene = scene_with({
+        "material.youngs_modulus_gpa": {"distribution": "normal", "cv_percent": 3.0},
+        "material.density_kg_m3": {"distribution": "lognormal", "cv_percent": 5.0},
+        "manipulator.leg_diameter_mm": {"distribution": "uniform", "low": 95.0, "high": 105.0},
+        "manipulator.platform_radius_mm": {"distribution": "normal", "cv_percent": 2.0}})
+    case = scene.cases["case1"]
+    unit = np.random.default_rng(3).random((7, 4))
+    built = machines(scene, unit)
+    got = sample_model(scene, FAST, case.pose, unit, 6, False).frequencies_hz
+    for k, m in enumerate(built):
+        assert got[k] == pytest.approx(natural_frequencies(m, case.pose, FAST), rel=1e-10)
+    poses = sample_poses(built, case.pose, shared=False)
+    assert assemble_samples(built, poses, FAST).stiffness.shape[0] == 7
+
+
+def test_a_follower_keeps_its_ratio_to_its_leader():
+    scene = scene_with({
+        "material.youngs_modulus_gpa": {"distribution": "normal", "cv_percent": 4.0},
+        "material.shear_modulus_gpa": {"follows": "material.youngs_modulus_gpa"}})
+    built = machines(scene, design(1, 64, 1))
+    ratio = [m.material.shear_modulus / m.material.youngs_modulus for m in built]
+    nominal = scene.manipulator.material
+    assert ratio == pytest.approx([nominal.shear_modulus / nominal.youngs_modulus] * len(ratio),
+                                  rel=1e-14)
+    assert np.std([m.material.youngs_modulus for m in built]) > 0.0
+
+
+def test_density_alone_scales_every_frequency_as_rho_to_the_minus_half():
+    """Legs and platform of one material, no payload or springs: M scales with rho, K not, so
+    f = f0 (rho / rho0)^-1/2 sample by sample, log f has half the log-spread of rho, and the
+    density explains all the variance (Sobol' indices 1)."""
+    cv, n = 10.0, 256
+    scene = scene_with({"material.density_kg_m3": {"distribution": "lognormal",
+                                                   "cv_percent": cv}}, samples=n)
+    case = scene.cases["case1"]
+    record = propagate(scene, FAST, case.pose, 6)
+    rho0 = scene.manipulator.material.density
+    unit = design(1, n, scene.uncertainty.settings.seed)
+    rho = np.array([m.material.density for m in machines(scene, unit)])
+    f = sample_model(scene, FAST, case.pose, unit, 6, False).frequencies_hz
+    f0 = np.array([m["nominal_hz"] for m in record["modes"]])
+    assert f == pytest.approx(f0 * np.sqrt(rho0 / rho)[:, None], rel=1e-9)
+    s = lognormal_sd(cv)
+    rows = base_rows(n, 1)
+    spread = np.log(f[rows]).std(axis=0, ddof=1) / np.log(rho[rows]).std(ddof=1)
+    assert spread == pytest.approx([0.5] * 6, rel=1e-9)  # exactly half, sample by sample
+    for k, mode in enumerate(record["modes"]):
+        # closed forms: log f is normal, mean ln f0 + s^2 / 4, sd s / 2: mean f0 exp(3 s^2 / 8),
+        # quantiles f0 exp(s^2 / 4 -+ 1.96 s / 2); each within its stated 95 % sampling error
+        exact = {"mean_hz": f0[k] * math.exp(3 * s * s / 8),
+                 "q025_hz": f0[k] * math.exp(s * s / 4 - 1.959964 * s / 2),
+                 "q975_hz": f0[k] * math.exp(s * s / 4 + 1.959964 * s / 2)}
+        for key, value in exact.items():
+            assert abs(mode[key] - value) <= mode[key.replace("_hz", "_error_hz")], (k, key)
+        sd = exact["mean_hz"] * math.sqrt(math.exp(s * s / 4) - 1)
+        assert abs(mode["std_hz"] - sd) <= mode["std_error_hz"]
+        for kind in ("sobol_first", "sobol_total"):
+            value = mode[kind]["material.density_kg_m3"]
+            error = mode[kind + "_error"]["material.density_kg_m3"]
+            assert abs(value - 1.0) <= max(error, 1e-9), (k, kind, value, error)
+
+
+@pytest.mark.parametrize("order", [0, 1])
+def test_sampling_errors_fall_at_the_stated_rate_and_bound_the_true_error(order):
+    """The stated error of the mean (bootstrap, 95 %) falls as 1 / sqrt(N) (x4 samples: x1/2)
+    and bounds the true error at every N (the closed form of the density case)."""
+    cv = 10.0
+    s = lognormal_sd(cv)
+    stated, true = [], []
+    for n in (64, 256, 1024):
+        scene = scene_with({"material.density_kg_m3": {"distribution": "lognormal",
+                                                       "cv_percent": cv}}, samples=n)
+        mode = propagate(scene, FAST, scene.cases["case1"].pose, 2)["modes"][order]
+        exact = mode["nominal_hz"] * math.exp(3 * s * s / 8)
+        stated.append(mode["mean_error_hz"])
+        true.append(abs(mode["mean_hz"] - exact))
+    assert all(t <= e for t, e in zip(true, stated)), (true, stated)
+    ratios = np.array(stated[:-1]) / np.array(stated[1:])
+    assert np.all((1.6 < ratios) & (ratios < 2.5)), ratios  # 2 at the stated 1 / sqrt(N)
+
+
+def test_a_spring_towards_the_rigid_joint_loses_its_index():
+    """E within 2 % and a base joint spring within 30 %: as the spring grows stiff the joint
+    tends to the rigid one, and the spring's total index tends to 0."""
+    totals = []
+    for k in (30.0, 3e3, 3e5):
+        scene = scene_with({
+            "material.youngs_modulus_gpa": {"distribution": "normal", "cv_percent": 2.0},
+            "stiffness.base_joint_translational_n_per_um": {"distribution": "lognormal",
+                                                            "cv_percent": 30.0}},
+            samples=128, stiffness={"base_joint_translational_n_per_um": k})
+        mode = propagate(scene, FAST, scene.cases["case1"].pose, 1)["modes"][0]
+        totals.append(mode["sobol_total"]["stiffness.base_joint_translational_n_per_um"])
+    assert totals[0] > 0.1 and totals[0] > totals[1] > totals[2]
+    assert totals[2] < 1e-3
+
+
+@pytest.mark.parametrize("inputs, expected", [
+    ({"material.density_kg_m3": {"distribution": "normal", "cv_percent": 30.0}},
+     "cv_percent = 30 for a normal input: at most 20"),
+    ({"material.density_kg_m3": {"distribution": "gamma", "cv_percent": 3.0}},
+     "distribution = 'gamma'"),
+    ({"material.density_kg_m3": {"cv_percent": 3.0}}, "missing distribution"),
+    ({"payload.mass_kg": {"distribution": "uniform", "low": 5.0, "high": 8.0}},
+     "the scene's value 0 is outside low..high"),
+    ({"material.density_kg_m3": {"distribution": "uniform", "cv_percent": 3.0}},
+     "a uniform input takes low and high"),
+    ({"material.shear_modulus_gpa": {"follows": "material.youngs_modulus_gpa"}},
+     "that key has no distribution"),
+    ({"material.name": {"distribution": "normal", "cv_percent": 1.0}},
+     "is not a number of [material]"),
+    ({"stiffness.actuator_axial_n_per_um": {"distribution": "lognormal", "cv_percent": 10.0}},
+     "needs a positive value"),
+    ({"material.density_kg_m3": {"distribution": "lognormal", "cv_percent": 200.0}},
+     "at its low end material.density_kg_m3 = 8.40944 kg/m3: must be >= 500"),
+    ({}, "no uncertain input"),
+])
+def test_bad_uncertainty_is_refused_in_one_line(inputs, expected):
+    with pytest.raises(SceneError) as info:
+        scene_with(inputs)
+    text = str(info.value)
+    assert expected in text and "\n" not in text, text
+
+
+def test_an_input_whose_end_is_no_machine_is_refused_by_the_propagating_command(tmp_path):
+    """platform_radius_mm within 20 %: its low end (4.75 sd) is a 9.9 mm plate radius, thinner
+    than the plate: refused in one line naming the key and the end, exit 2, nothing written."""
+    import re
+    import subprocess
+    import sys
+
+    text = PAPER.read_text(encoding="utf-8")
+    raw = re.sub(r"(?ms)^\[uncertainty\].*?(?=^\[)", "", text) + (
+        '\n[uncertainty]\n"manipulator.platform_radius_mm" = '
+        '{ distribution = "normal", cv_percent = 20.0 }\n')
+    path = tmp_path / "scene.toml"
+    path.write_text(raw, encoding="utf-8")
+    out = tmp_path / "out"
+    done = subprocess.run([sys.executable, "-m", "rps", "uncertainty", "--scene", str(path),
+                           "--out", str(out)], capture_output=True, text=True, cwd=ROOT)
+    assert done.returncode == 2, done.stderr
+    line = done.stderr.strip()
+    assert "\n" not in line and '"manipulator.platform_radius_mm": at its low end' in line, line
+    assert not out.exists()
+
+
+def test_an_unreachable_sample_is_refused_before_any_solve():
+    scene = scene_with({"manipulator.actuator_max_mm": {
+        "distribution": "uniform", "low": 1100.0, "high": 1300.0}},
+        manipulator={"actuator_max_mm": 1200.0})
+    case = scene.cases["case1"]
+    high = replace(case.pose, height=1.18)
+    with pytest.raises(Exception) as info:
+        sample_model(scene, FAST, high, design(1, 64, 1), 3, False)
+    assert "cannot reach the pose" in str(info.value)
