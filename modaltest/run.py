@@ -20,6 +20,7 @@ from . import identify as ident
 from .campaign import Campaign
 from .correlate import correlate_pose, correlation
 from .models import AnalyticalField, analytical_field, fem_field
+from .validation import validation as validate
 
 
 def model_record(kind: str, options: ModelOptions, source: str) -> ModelRecord:
@@ -98,6 +99,8 @@ def run_identification(campaign: Campaign, options: ModelOptions,
     except SceneError as exc:
         check = f"refused: {exc}"
     model = model_record("analytical", options, source)
+    fitted = ident.fit_table(problem, fit, after_fields, macs)
+    validation, validation_note = validate(campaign, options, at_scene, fitted, noise)
     seconds = time.perf_counter() - start
     record = Identification(
         schema=1, campaign=campaign.path, scene=campaign.scene_path,
@@ -106,14 +109,15 @@ def run_identification(campaign: Campaign, options: ModelOptions,
         residual_rms_percent_before=ident.rms_percent(fit.residuals_before),
         residual_rms_percent_after=ident.rms_percent(fit.residuals_after), noise=noise,
         singular_values=singular, parameter_correlation=corr,
-        fit=ident.fit_table(problem, fit, after_fields, macs), evaluations=fit.evaluations,
+        fit=fitted, evaluations=fit.evaluations,
         seconds=seconds, optimiser=(
             f"scipy least_squares (trf, bounded, log space): {fit.message}"
             + ("" if fit.converged else " (NOT converged: the keys are not to be trusted)")
             + f"; {problem.partner_changes} changes of a fitted mode's partner"
             + (f"; {len(more)} test modes paired only near the answer, fitted from there"
                if more else "")),
-        correlation_after=correlation(campaign, after, model, seconds))
+        correlation_after=correlation(campaign, after, model, seconds),
+        validation=validation, validation_note=validation_note)
     return record, identified
 
 
@@ -168,5 +172,7 @@ def write_identification(data: Identification, identified: str, directory: Path)
           "high": p["bounds"][1]} for p in data["parameters"]])))
     out.append(write_text_atomic(tables / "identification-fit.csv", csv_text(
         [{"pose": pose["pose"], **m} for pose in data["fit"] for m in pose["modes"]])))
+    out.append(write_text_atomic(tables / "identification-validation.csv",
+                                 csv_text([dict(row) for row in data["validation"]])))
     return out
 

@@ -157,6 +157,18 @@ FIT_COLUMNS = (("test_mode", "{:g}"), ("test_hz", "{:.2f}"), ("before_hz", "{:.2
                ("error_after_percent", "{:+.2f}"), ("mac_after", "{:.3f}"))
 
 
+VALIDATION_COLUMNS = (("test_mode", "{}"), ("test_hz", "{:.4f}"), ("e_percent", "{:+.3f}"),
+                      ("u_num_percent", "{:.3g}"), ("u_input_percent", "{:.3g}"),
+                      ("u_d_percent", "{:.3g}"), ("u_val_percent", "{:.3g}"),
+                      ("e_identified_percent", "{:+.3f}"))
+
+
+def validation_rows(rows: list[Mapping[str, Any]]) -> list[dict]:
+    return [{"cls": "", "cells": [_cell(v["pose"], "")]
+             + [_cell(num(v[k], f)) for k, f in VALIDATION_COLUMNS] + [_cell(v["verdict"], "")]}
+            for v in rows]
+
+
 def fit_rows(fit: Mapping[str, Any]) -> list[dict]:
     return [{"cls": "", "cells": [_cell(num(m[k], f)) for k, f in FIT_COLUMNS]}
             for m in fit["modes"]]
@@ -208,6 +220,7 @@ def identification_page(data: Mapping[str, Any]) -> str:
     return _render(
         "identification", f"Identification — {data['campaign']}", charts, r=data,
         c=c, fits=fits, parameters=parameter_rows(data["parameters"]),
+        validation=validation_rows(data["validation"]),
         unidentified=[p for p in data["parameters"] if not p["identifiable"]],
         residuals=[num(data["residual_rms_percent_before"]),
                    num(data["residual_rms_percent_after"]),

@@ -127,6 +127,23 @@ class NoiseRecord(TypedDict):
     degrees_of_freedom: int
 
 
+class ValidationRecord(TypedDict):
+    """V&V 20 for one fitted test mode (solvers/vv20.py): the scene's model (its values as
+    given) against the test, standard uncertainties in %."""
+    pose: str
+    test_mode: int
+    model_mode: int
+    test_hz: float
+    model_hz: float
+    e_percent: float  # the scene's model against the test
+    e_identified_percent: float  # the identified model (fitted to these data: not a validation)
+    u_num_percent: float  # the beam model's change with its elements doubled, / sqrt(3)
+    u_input_percent: float | None  # the scene's [uncertainty] at the pose; None without one
+    u_d_percent: float | None  # the identification's frequency noise
+    u_val_percent: float
+    verdict: str
+
+
 class Identification(TypedDict):
     schema: int
     campaign: str
@@ -145,3 +162,5 @@ class Identification(TypedDict):
     seconds: float
     optimiser: str
     correlation_after: Correlation
+    validation: list[ValidationRecord]
+    validation_note: str

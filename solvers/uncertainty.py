@@ -231,6 +231,22 @@ def propagate(scene, options: ModelOptions, pose: Pose, modes: int,
             "statistics_seconds": time.perf_counter() - start}
 
 
+def draws(scene, samples: int = PATH_SAMPLES) -> np.ndarray:
+    """Plain scrambled Sobol' draws (samples, d) of the scene's inputs' unit values."""
+    from scipy.stats import qmc
+
+    u = scene.uncertainty
+    return qmc.Sobol(len(u.inputs), scramble=True, seed=u.settings.seed).random(samples)
+
+
+def spread_percent(scene, options: ModelOptions, pose: Pose, modes: int,
+                   samples: int = PATH_SAMPLES) -> np.ndarray:
+    """(modes,) the standard deviation over mean of each of the lowest frequencies (the k-th
+    lowest of each sample) at `pose`, %, from plain draws (u_input of solvers.vv20)."""
+    f = sample_model(scene, options, pose, draws(scene, samples), modes, False).frequencies_hz
+    return 100.0 * f.std(axis=0, ddof=1) / f.mean(axis=0)
+
+
 def band(scene, options: ModelOptions, poses, modes: int, samples: int = PATH_SAMPLES,
          budget_seconds: float | None = None) -> list[dict]:
     """At each pose of `poses` (Pose list), the 2.5 / 50 / 97.5 % quantiles of f1 and, where
@@ -238,10 +254,7 @@ def band(scene, options: ModelOptions, poses, modes: int, samples: int = PATH_SA
     least over x, y and z of each sample), from plain scrambled Sobol' draws of the inputs.
     Every pose's samples are checked first; with `budget_seconds`, a pilot estimates the whole
     and OverBudget refuses what would take longer."""
-    from scipy.stats import qmc
-
-    u = scene.uncertainty
-    unit = qmc.Sobol(len(u.inputs), scramble=True, seed=u.settings.seed).random(samples)
+    unit = draws(scene, samples)
     tool = bool(scene.dynamics_given)
     prepared = [prepare(scene, pose, unit) for pose in poses]
     if budget_seconds is not None and prepared:

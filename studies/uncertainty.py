@@ -3,42 +3,22 @@ at the case's pose (solvers/uncertainty.py: Saltelli's design, Sobol' indices, e
 statistic with its sampling error), and the V&V 20 table of the model against the FEM
 (results.cases[].uncertainty).
 
-V&V 20 (ASME V&V 20-2009) states a comparison as E = S - D beside the validation uncertainty
-u_val = sqrt(u_num^2 + u_input^2 + u_D^2), standard uncertainties. Here, per FEM mode paired
-by shape: E the model's error against the FEM (%); u_num the FEM's stated error (the larger
-of Richardson's step and the GCI, a bound) as a standard uncertainty, bound / sqrt(3) (GUM,
-JCGM 100:2008 4.3.7: a bound with no more known, a rectangular distribution); u_input the
-model's frequency standard deviation over the inputs (%); u_D none (no test). The model and
-the FEM share the inputs, so u_input does not blur E: it is the scale at which an error of
-the model would change what an engineer can say about the machine. The verdict reads E
-against 2 u_num (resolved by the FEM at all?) and against 2 u_val (does it matter at these
-tolerances?), k = 2 for about 95 %.
+The V&V 20 table (solvers/vv20.py): per FEM mode paired by shape, E the model's error
+against the FEM (%), u_num the FEM's stated error as a standard uncertainty, u_input the
+model's frequency standard deviation over the inputs, no u_D, and the verdict.
 """
 from __future__ import annotations
 
-import math
 import time
 
 import results
 from common.frf import DIRECTIONS
 from results import Section, Table
+from solvers import vv20
 
 from .registry import CaseContext, Context, Study, own
 
 BUDGET_SECONDS = 300.0  # a case's propagation in a run; beyond, refused in the record
-COVERAGE = 2.0  # k of the verdict's expanded uncertainties (about 95 %)
-
-
-def verdict(e: float, u_num: float | None, u_val: float) -> str:
-    """V&V 20's reading of one comparison (module docstring)."""
-    if u_num is not None and abs(e) <= COVERAGE * u_num:
-        return (f"not resolved: |E| {abs(e):.3g} % within the FEM's own 2 u_num "
-                f"({COVERAGE * u_num:.3g} %)")
-    if abs(e) <= COVERAGE * u_val:
-        return (f"within 2 u_val ({COVERAGE * u_val:.3g} %): at these input tolerances the "
-                "model's error does not matter")
-    return (f"the model's error matters: delta_model = {e:.3g} +- {COVERAGE * u_val:.3g} % "
-            "(E beyond 2 u_val)")
 
 
 def validation_rows(pairs: list, modes: list, u_d: float | None = None
@@ -50,15 +30,14 @@ def validation_rows(pairs: list, modes: list, u_d: float | None = None
         j = p["analytical_mode"] - 1
         if j >= len(modes):
             continue
-        bound = p["fem_estimated_error_percent"]
-        u_num = None if bound is None else bound / math.sqrt(3.0)
+        u_num = vv20.from_bound(p["fem_estimated_error_percent"])
         u_input = modes[j]["cv_percent"]
-        u_val = math.sqrt((u_num or 0.0) ** 2 + u_input ** 2 + (u_d or 0.0) ** 2)
+        u_val = vv20.u_val(u_num, u_input, u_d)
         rows.append(results.ValidationRow(
             fem_mode=p["fem_mode"], analytical_mode=p["analytical_mode"],
             e_percent=p["error_percent"], u_num_percent=u_num, u_input_percent=u_input,
-            u_d_percent=u_d, u_val_percent=u_val, verdict=verdict(p["error_percent"], u_num,
-                                                                   u_val)))
+            u_d_percent=u_d, u_val_percent=u_val,
+            verdict=vv20.verdict(p["error_percent"], u_num, u_val)))
     return rows
 
 

@@ -83,7 +83,18 @@ def identification() -> dict:
                                                                          [-0.2, 1.0]],
             "fit": fit, "evaluations": 14, "seconds": 2.3, "correlation_after": correlation(),
             "model": {"kind": "analytical", "description": "Timoshenko beams, s = 5"},
-            "optimiser": "least squares (trust region)"}
+            "optimiser": "least squares (trust region)",
+            "validation": [
+                {"pose": "mid", "test_mode": 1, "model_mode": 1, "test_hz": 41.25,
+                 "model_hz": 43.1, "e_percent": 4.48, "e_identified_percent": 0.12,
+                 "u_num_percent": 0.01, "u_input_percent": 1.5, "u_d_percent": 0.8,
+                 "u_val_percent": 1.7, "verdict": "the model's error matters: delta_model = "
+                 "4.48 +- 3.4 % (E beyond 2 u_val)"},
+                {"pose": "high", "test_mode": 2, "model_mode": 2, "test_hz": 43.5,
+                 "model_hz": 46.2, "e_percent": 6.21, "e_identified_percent": -0.23,
+                 "u_num_percent": 0.01, "u_input_percent": None, "u_d_percent": None,
+                 "u_val_percent": 0.01, "verdict": "the model's error matters"}],
+            "validation_note": "u_input: the scene's [uncertainty] through the fitted model"}
 
 
 PLOTLY = re.compile(r"<script>.*?</script>", re.S)
@@ -188,6 +199,7 @@ def test_the_identification_page_draws_its_charts(identification_html):
     bars = charts["fit:0"]["figure"]["data"]
     assert [b["name"] for b in bars] == ["before", "after"]
     assert "Correlation after the fit" in identification_html
+    assert "V&amp;V 20" in identification_html and "E beyond 2 u_val" in identification_html
 
 
 def test_a_missing_key_is_refused_by_name():
