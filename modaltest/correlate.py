@@ -25,6 +25,7 @@ from scipy.optimize import linear_sum_assignment
 
 from common.modes import clusters, mac_matrix
 from results.campaign_records import (
+    SCHEMA,
     Correlation,
     CorrelationSummary,
     MachineRecord,
@@ -233,6 +234,6 @@ def pairing_record(settings: CorrelationSettings) -> PairingRecord:
 
 def correlation(campaign: Campaign, poses: list[PoseCorrelation], model: ModelRecord,
                 seconds: float) -> Correlation:
-    return Correlation(schema=1, campaign=campaign.path, scene=campaign.scene_path, model=model,
-                       pairing=pairing_record(campaign.correlation), poses=poses,
+    return Correlation(schema=SCHEMA, campaign=campaign.path, scene=campaign.scene_path,
+                       model=model, pairing=pairing_record(campaign.correlation), poses=poses,
                        summary=summary(poses), seconds=seconds)

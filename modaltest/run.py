@@ -11,7 +11,7 @@ import numpy as np
 from analytical.params import ModelOptions
 from common.atomic import write_json_atomic, write_text_atomic
 from common.errors import ComputeError
-from results.campaign_records import Correlation, Identification, ModelRecord
+from results.campaign_records import SCHEMA, Correlation, Identification, ModelRecord
 from results.declare import csv_text
 from scene.address import edited_text
 from scene.load import SceneError
@@ -103,7 +103,7 @@ def run_identification(campaign: Campaign, options: ModelOptions,
     validation, validation_note = validate(campaign, options, at_scene, fitted, noise)
     seconds = time.perf_counter() - start
     record = Identification(
-        schema=1, campaign=campaign.path, scene=campaign.scene_path,
+        schema=SCHEMA, campaign=campaign.path, scene=campaign.scene_path,
         identified_scene="identified.toml", identified_scene_check=check, model=model,
         parameters=records,
         residual_rms_percent_before=ident.rms_percent(fit.residuals_before),

@@ -12,6 +12,7 @@ import numpy as np
 
 from analytical.model import natural_frequencies
 from analytical.params import MAX_ELEMENTS, ModelOptions
+from common.errors import InputError
 from results.campaign_records import FitPose, NoiseRecord, PoseCorrelation, ValidationRecord
 from solvers import vv20
 
@@ -43,9 +44,14 @@ def validation(campaign: Campaign, options: ModelOptions, at_scene: list[PoseCor
                                                 replace(options, modes=count)))
         fine = np.asarray(natural_frequencies(scene.manipulator, tp.pose,
                                               replace(finer, modes=count)))
-        u_num = [vv20.from_bound(100.0 * (c / f - 1.0)) for c, f in zip(coarse, fine)]
-        spread = (None if why is not None else
-                  spread_percent(scene, options, tp.pose, count, SAMPLES))
+        u_num = [None if finer == options else vv20.from_bound(100.0 * (c / f - 1.0))
+                 for c, f in zip(coarse, fine)]  # at the most elements: no finer model
+        spread = None
+        if why is None:
+            try:
+                spread = spread_percent(scene, options, tp.pose, count, SAMPLES)
+            except InputError as exc:  # a sample out of reach, or not a machine
+                why = f"at pose {tp.name}: {exc}"
         for m in pose_fit["modes"]:
             j = partner.get(m["test_mode"])
             if j is None:
@@ -56,7 +62,7 @@ def validation(campaign: Campaign, options: ModelOptions, at_scene: list[PoseCor
                 pose=tp.name, test_mode=m["test_mode"], model_mode=j, test_hz=m["test_hz"],
                 model_hz=m["before_hz"], e_percent=m["error_before_percent"],
                 e_identified_percent=m["error_after_percent"],
-                u_num_percent=float(u_num[j - 1] or 0.0), u_input_percent=u_input,
+                u_num_percent=u_num[j - 1], u_input_percent=u_input,
                 u_d_percent=u_d, u_val_percent=u_val,
                 verdict=vv20.verdict(m["error_before_percent"], u_num[j - 1], u_val,
                                      "the test")))

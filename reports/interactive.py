@@ -22,6 +22,7 @@ from results import Results
 from . import interactive_charts as charts
 from . import interactive_maps as maps
 from . import interactive_tool as tool_charts
+from . import interactive_uncertainty as uncertainty_charts
 from .figure_set import has_paper, main_cases, reference, run_settings
 from .figures import PAPER_SECONDS
 from .interactive_modes import mode_viewer
@@ -100,6 +101,24 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
         if tool:
             add(chart_key("tool_response", case["name"]), tool_charts.tool_response, tool,
                 case["name"], section="tool-response", caption=tool_caption(case, tool))
+    for case in results["cases"]:
+        spread = case.get("uncertainty")
+        if spread and spread["sobol"]:
+            add(chart_key("uncertainty", case["name"]), uncertainty_charts.sobol_bars, spread,
+                case["name"], section="uncertainty",
+                caption=f"{case['description']} ({case['name']}): what drives the spread, "
+                "per output (f_k: the k-th lowest frequency; least d: the least dynamic "
+                "stiffness at the tool along d): bars each input's total Sobol' index with "
+                "its 95 % sampling error, diamonds its first-order index (without "
+                f"interactions); {spread['design']}; {spread['model']}.")
+    path = results["studies"].get("uncertainty_path")
+    if path and path["poses"]:
+        add(chart_key("uncertainty_path"), uncertainty_charts.path_band, path,
+            section="uncertainty-path",
+            caption=f"Along the workspace map's worst path ({path['path']}; "
+            f"{path['model']}): the value at the scene's values (line) and the 95 % band of "
+            "the inputs (shaded), f1 and, where the scene asks for it, the least dynamic "
+            "stiffness at the tool (log).")
     stiffness = results["studies"].get("dynamic_stiffness")
     if stiffness:
         add(chart_key("dynamic_stiffness"), tool_charts.dynamic_stiffness_map, stiffness,

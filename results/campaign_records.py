@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing_extensions import TypedDict
 
-SCHEMA = 1
+SCHEMA = 2  # 2: identification.json's V&V 20 rows
 
 
 class PairRecord(TypedDict):
@@ -137,7 +137,7 @@ class ValidationRecord(TypedDict):
     model_hz: float
     e_percent: float  # the scene's model against the test
     e_identified_percent: float  # the identified model (fitted to these data: not a validation)
-    u_num_percent: float  # the beam model's change with its elements doubled, / sqrt(3)
+    u_num_percent: float | None  # the beam model's change with its elements doubled, / sqrt(3)
     u_input_percent: float | None  # the scene's [uncertainty] at the pose; None without one
     u_d_percent: float | None  # the identification's frequency noise
     u_val_percent: float

@@ -116,4 +116,5 @@ class UncertaintyPath(TypedDict):
     model: str
     refused: str | None
     poses: list[PathPose]
+    skipped: list[str]  # a pose of the path where a sample cannot reach it: no band there
     seconds: FiniteFloat

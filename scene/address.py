@@ -53,18 +53,27 @@ class Address:
         """The manipulator with this key at `value` (edge unit): its own dataclass checks
         run (a hollow leg's wall, the stepped leg's parts), not the scene's whole-machine
         plausibility, which `parse_scene` of a scene with the value does."""
-        changes: dict[str, Any] = {self.field: float(value) * self.spec.scale}
-        if self.table == "manipulator":
-            return replace(manipulator, **changes)
-        holder = replace(getattr(manipulator, self.table), **changes)
-        derived: dict[str, Any] = {}
-        if self.table == "leg" and holder.stepped:  # a stepped leg's diameter is its parts'
-            derived["leg_diameter"] = holder.largest_diameter
-        return replace(manipulator, **{self.table: holder}, **derived)
+        return applied(manipulator, {self: value})
 
     def problem(self, value: float) -> str | None:
         """Why `value` (edge unit) is outside the key's declared range, or None."""
         return self.spec.problem(float(value) * self.spec.scale, edge=True)
+
+
+def applied(manipulator: Manipulator, values: Mapping[Address, float]) -> Manipulator:
+    """The manipulator with every addressed key at its value (edge units), set together: one
+    replace per table, so a pair that is only valid together (a rod's outer and inner
+    diameter) is checked as the pair, never half moved."""
+    tables: dict[str, dict[str, Any]] = {}
+    for address, value in values.items():
+        tables.setdefault(address.table, {})[address.field] = float(value) * address.spec.scale
+    changes = dict(tables.pop("manipulator", {}))
+    for table, fields in tables.items():
+        holder = replace(getattr(manipulator, table), **fields)
+        changes[table] = holder
+        if table == "leg" and holder.stepped:  # a stepped leg's diameter is its parts'
+            changes["leg_diameter"] = holder.largest_diameter
+    return replace(manipulator, **changes)
 
 
 def numbers(cls: type) -> dict[str, tuple[str, Setting]]:

@@ -191,6 +191,9 @@ def parse(table: Any, manipulator, where: str) -> Uncertainty:
                              "in [uncertainty] (a follower follows an input)")
     for name, (address, nominal, spec) in leaders.items():
         items = followed.get(name, [])
+        if items and nominal == 0.0:
+            raise SceneError(f"{items[0][2]}.follows = {name!r}: its leader's scene value is 0, "
+                             "so no factor moves the follower (give the leader a value)")
         inputs.append(UncertainInput(address, nominal, spec, tuple((a, n) for a, n, _ in items)))
     if not inputs:
         raise SceneError(f"{where}: no uncertain input (give one as \"table.key\" = "

@@ -39,13 +39,13 @@ class Sampled:
 
 def machines(scene, unit) -> list[Manipulator]:
     """The machine of every row of unit values (n, d) of the scene's inputs."""
+    from scene.address import applied
+
     moved = scene.uncertainty.values(unit)
     out = []
     for k in range(len(unit)):
-        m = scene.manipulator
         try:
-            for address, values in moved:
-                m = address.applied(m, float(values[k]))
+            m = applied(scene.manipulator, {a: float(v[k]) for a, v in moved})
         except ValueError as exc:
             shown = ", ".join(f"{a.name} = {v[k]:.6g}" for a, v in moved)
             raise InputError(f"uncertainty sample {k + 1} ({shown}): the machine is refused: "
@@ -173,7 +173,8 @@ def refusal(scene, options: ModelOptions) -> str | None:
     need its own solid FEM (an end zone, a leg part)."""
     if options.joint_ends != "solid" and options.legs != "solid":
         return None
-    moved = sorted({i.address.table for i in scene.uncertainty.inputs} - {"stiffness", "payload"})
+    moved = sorted({a.table for a, _ in scene.uncertainty.values(
+        np.full((1, len(scene.uncertainty.inputs)), 0.5))} - {"stiffness", "payload"})
     if not moved:
         return None
     return (f"uncertain [{moved[0]}] keys with the model {options.describe()!r}: every sample "
@@ -251,19 +252,29 @@ def band(scene, options: ModelOptions, poses, modes: int, samples: int = PATH_SA
          budget_seconds: float | None = None) -> list[dict]:
     """At each pose of `poses` (Pose list), the 2.5 / 50 / 97.5 % quantiles of f1 and, where
     the scene asks for the dynamic compliance, of the least dynamic stiffness at the tool (the
-    least over x, y and z of each sample), from plain scrambled Sobol' draws of the inputs.
-    Every pose's samples are checked first; with `budget_seconds`, a pilot estimates the whole
-    and OverBudget refuses what would take longer."""
+    least over x, y and z of each sample), from plain scrambled Sobol' draws of the inputs;
+    {"refused": why} at a pose some sample cannot reach. Every pose's samples are checked
+    first; with `budget_seconds`, a pilot estimates the whole and OverBudget refuses what would
+    take longer."""
     unit = draws(scene, samples)
     tool = bool(scene.dynamics_given)
-    prepared = [prepare(scene, pose, unit) for pose in poses]
-    if budget_seconds is not None and prepared:
-        estimate = estimate_seconds(scene, options, prepared[0], modes, tool) * len(prepared)
+    prepared: list[Prepared | str] = []
+    for pose in poses:
+        try:
+            prepared.append(prepare(scene, pose, unit))
+        except InputError as exc:  # this pose's refusal, the others' bands still drawn
+            prepared.append(str(exc))
+    ready_ones = [p for p in prepared if isinstance(p, Prepared)]
+    if budget_seconds is not None and ready_ones:
+        estimate = estimate_seconds(scene, options, ready_ones[0], modes, tool) * len(ready_ones)
         if estimate > budget_seconds:
-            raise OverBudget(f"{len(prepared)} poses x {samples} samples would take about "
+            raise OverBudget(f"{len(ready_ones)} poses x {samples} samples would take about "
                              f"{estimate:.0f} s, above the {budget_seconds:g} s allowed")
-    out = []
+    out: list[dict] = []
     for ready in prepared:
+        if isinstance(ready, str):
+            out.append({"refused": ready})
+            continue
         sampled = solve_prepared(scene, options, ready, modes, tool)
         row: dict = {"f1_hz": np.quantile(sampled.frequencies_hz[:, 0],
                                           (0.025, 0.5, 0.975)).tolist()}

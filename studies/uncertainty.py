@@ -43,9 +43,14 @@ def validation_rows(pairs: list, modes: list, u_d: float | None = None
 
 def case_uncertainty(scene, case, cache) -> dict:
     """The propagation's record (solvers.uncertainty.propagate) at the case, through the
-    result cache; {"refused": why} where it cannot run (the model, the budget)."""
+    result cache; {"refused": why} where it cannot run (the model, the budget, a sample out of
+    reach): written in the record, never fatal, and a refusal is not cached (the budget's
+    pilot depends on the machine's load)."""
+    from importlib.metadata import version
+
+    from common.errors import InputError
     from common.settings import as_dict
-    from solvers.uncertainty import OverBudget, propagate, refusal
+    from solvers.uncertainty import propagate, refusal
 
     why = refusal(scene, scene.analytical)
     if why is not None:
@@ -54,18 +59,19 @@ def case_uncertainty(scene, case, cache) -> dict:
                "analytical": as_dict(scene.analytical), "uncertainty": scene.raw["uncertainty"],
                "damping": as_dict(scene.damping), "tool": as_dict(scene.tool),
                "dynamics": bool(scene.dynamics_given), "modes": scene.fidelity.modes,
-               "budget": BUDGET_SECONDS}
+               "budget": BUDGET_SECONDS, "salib": version("SALib")}
 
     def compute():
-        try:
-            return propagate(scene, scene.analytical, case.pose, scene.fidelity.modes,
-                             budget_seconds=BUDGET_SECONDS), {}
-        except OverBudget as exc:
-            return {"refused": str(exc)}, {}
+        return propagate(scene, scene.analytical, case.pose, scene.fidelity.modes,
+                         budget_seconds=BUDGET_SECONDS), {}
 
-    value, _, _ = cache.get_or_compute("uncertainty", payload, compute,
-                                       modules=("solvers.uncertainty", "solvers.sensitivity",
-                                                "analytical.sample_batch"))
+    try:
+        value, _, _ = cache.get_or_compute(
+            "uncertainty", payload, compute,
+            modules=("solvers.uncertainty", "solvers.sensitivity", "analytical.sample_batch",
+                     "analytical.batch_model", "scene.uncertainty", "scene.address"))
+    except InputError as exc:  # OverBudget, a sample out of reach or refused as a machine
+        return {"refused": str(exc)}
     return value
 
 
@@ -123,8 +129,8 @@ def run(ctx: Context, cc: CaseContext) -> results.UncertaintyCase | None:
 
 STUDY = Study(own(
     "uncertainty", "case",
-    section=Section("uncertainty", "Input uncertainty: the frequencies' spread, what drives "
-                    "it, and the V&V 20 reading of the model against the FEM", None),
+    section=Section("uncertainty", "Input uncertainty: spread, Sobol' indices, V&V 20",
+                    None),
     tables=(Table("validation", ("fem_mode", "analytical_mode", "e_percent", "u_num_percent",
                                  "u_input_percent", "u_val_percent", "verdict"),
                   each="validation"),

@@ -17,6 +17,7 @@ from reports.campaign_pages import (
     identification_page,
     write_page,
 )
+from results.campaign_records import SCHEMA
 
 
 def pose(name: str, height: float, shift: float) -> dict:
@@ -48,7 +49,7 @@ def pose(name: str, height: float, shift: float) -> dict:
 
 
 def correlation() -> dict:
-    return {"schema": 1, "campaign": "campaigns/bench/campaign.toml",
+    return {"schema": SCHEMA, "campaign": "campaigns/bench/campaign.toml",
             "scene": "scenes/actuator-legs.toml",
             "model": {"kind": "analytical", "description": "Timoshenko beams, s = 5"},
             "pairing": {"min_mac": 0.6, "max_frequency_ratio": 1.5,
@@ -65,7 +66,7 @@ def identification() -> dict:
         {"test_mode": 2, "test_hz": 43.5, "before_hz": 46.2, "after_hz": 43.4,
          "error_before_percent": 6.21, "error_after_percent": -0.23, "mac_after": 0.92}]}
         for p in ("mid", "high")]
-    return {"schema": 1, "campaign": "campaigns/bench/campaign.toml",
+    return {"schema": SCHEMA, "campaign": "campaigns/bench/campaign.toml",
             "scene": "scenes/actuator-legs.toml", "identified_scene": "identified.toml",
             "identified_scene_check": "accepted",
             "parameters": [
@@ -216,8 +217,8 @@ def test_a_missing_key_is_refused_by_name():
     with pytest.raises(KeyError, match=r"correlation_after\.summary: field required"):
         identification_page(data)
     data = correlation()
-    data["schema"] = 2
-    with pytest.raises(ValueError, match="schema 2"):
+    data["schema"] = 99
+    with pytest.raises(ValueError, match="schema 99"):
         correlation_page(data)
 
 

@@ -282,6 +282,19 @@ def test_correlate_and_identify_write_their_records(tmp_path, model_made, capsys
     identified = load_scene(out / "identified.toml")
     assert identified.manipulator.stiffness.actuator_axial == pytest.approx(110e6, rel=1e-3)
     assert (out / "identification.html").exists()
+    # V&V 20 of the scene's model against the test: every fitted mode, E its error before the
+    # fit, u_D the identification's noise, u_val their root sum of squares
+    fitted = [(f["pose"], m["test_mode"]) for f in data["fit"] for m in f["modes"]]
+    rows = data["validation"]
+    assert sorted((r["pose"], r["test_mode"]) for r in rows) == sorted(fitted)
+    before = {(f["pose"], m["test_mode"]): m["error_before_percent"]
+              for f in data["fit"] for m in f["modes"]}
+    for r in rows:
+        assert r["e_percent"] == before[(r["pose"], r["test_mode"])]
+        assert r["u_d_percent"] == data["noise"]["frequency_percent"]
+        parts = [u for u in (r["u_num_percent"], r["u_input_percent"], r["u_d_percent"]) if u]
+        assert r["u_val_percent"] == pytest.approx(math.sqrt(sum(u * u for u in parts)))
+        assert r["u_input_percent"] > 0.0  # the scene's [uncertainty], at the pose
 
 
 def test_scene_addresses_are_refused_in_one_line():

@@ -24,6 +24,9 @@ def test_every_key_of_the_paper_scene_is_documented():
                 used |= set(case)
         elif key == "calibration":
             used |= set(value["height"])
+        elif key == "uncertainty":  # its own keys, and each input's table under its address
+            for name, item in value.items():
+                used |= set(item) if isinstance(item, dict) else {name}
         elif isinstance(value, dict):
             used |= set(value)
         else:

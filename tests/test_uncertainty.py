@@ -185,6 +185,46 @@ def test_an_input_whose_end_is_no_machine_is_refused_by_the_propagating_command(
     assert not out.exists()
 
 
+def test_the_vv20_verdict_reads_e_against_its_uncertainties():
+    from solvers import vv20
+
+    assert vv20.from_bound(0.3) == pytest.approx(0.3 / math.sqrt(3))
+    assert vv20.u_val(0.3, 0.4, None) == pytest.approx(0.5)
+    assert vv20.u_val(None, 1.2, 0.5) == pytest.approx(1.3)
+    assert vv20.verdict(0.05, 0.03, 1.0).startswith("not resolved")  # |E| <= 2 u_num
+    assert vv20.verdict(-1.9, 0.03, 1.0).startswith("within 2 u_val")  # |E| <= 2 u_val
+    assert vv20.verdict(2.1, 0.03, 1.0).startswith("the model's error matters")
+    assert vv20.verdict(2.1, None, 1.0).startswith("the model's error matters")
+
+
+def test_inputs_that_are_valid_only_together_are_moved_together():
+    """A rod's outer diameter with its bore following it: each sample's pair is checked as a
+    pair (moving one first would leave a wall thinner than 1 mm on the way)."""
+    scene = scene_with({"leg.rod_outer_diameter_mm": {"distribution": "uniform", "low": 41.0,
+                                                      "high": 62.0},
+                        "leg.rod_inner_diameter_mm": {"follows": "leg.rod_outer_diameter_mm"}},
+                       base=ROOT / "scenes" / "actuator-legs.toml")
+    built = machines(scene, design(1, 64, 1))
+    assert min(m.leg.rod_outer_diameter - m.leg.rod_inner_diameter for m in built) > 0.0
+    ratio = [m.leg.rod_inner_diameter / m.leg.rod_outer_diameter for m in built]
+    assert ratio == pytest.approx([ratio[0]] * len(ratio), rel=1e-12)
+
+
+def test_the_band_along_a_path_holds_the_scene_values_and_names_a_pose_out_of_reach():
+    scene = scene_with({"material.youngs_modulus_gpa": {"distribution": "normal",
+                                                        "cv_percent": 3.0}})
+    from solvers.uncertainty import band, nominal
+
+    case = scene.cases["case1"]
+    far = replace(case.pose, height=1.2)  # beyond the legs' full length
+    found = band(scene, FAST, [case.pose, far], 3, samples=64)
+    low, median, high = found[0]["f1_hz"]
+    f1 = nominal(scene, FAST, case.pose, 3, False).frequencies_hz[0, 0]
+    assert low < f1 < high and low < median < high
+    assert high / low == pytest.approx(math.exp(2 * 1.96 * 0.5 * 0.03), rel=0.1)  # f ~ E^1/2
+    assert "cannot reach the pose" in found[1]["refused"]
+
+
 def test_an_unreachable_sample_is_refused_before_any_solve():
     scene = scene_with({"manipulator.actuator_max_mm": {
         "distribution": "uniform", "low": 1100.0, "high": 1300.0}},
@@ -194,3 +234,72 @@ def test_an_unreachable_sample_is_refused_before_any_solve():
     with pytest.raises(Exception) as info:
         sample_model(scene, FAST, high, design(1, 64, 1), 3, False)
     assert "cannot reach the pose" in str(info.value)
+
+
+@pytest.mark.fuzz
+@pytest.mark.parametrize("kind", ["machine", "real legs"])
+def test_random_machines_propagate_as_their_per_pose_model(kind):
+    """Random plausible machines (3-RPS and 3-PRS, real legs with springs) with random
+    tolerances on the material, a dimension and a spring: each sample solved in the batch is
+    its own machine's per-pose model, the statistics are ordered and the indices bounded;
+    with the density alone every frequency is f0 (rho0 / rho)^1/2 sample by sample."""
+    from hypothesis import event, given
+    from hypothesis import strategies as st
+
+    from tests.test_fuzz_machines import _settings, real_leg_machines
+    from tests.test_fuzz_machines import machines as random_machines
+
+    strategy = random_machines() if kind == "machine" else real_leg_machines(sprung=True)
+
+    @_settings(4, 20)
+    @given(raw=strategy, cv=st.floats(1.0, 8.0), seed=st.integers(0, 2**20))
+    def check(raw, cv, seed):
+        try:
+            base = parse_scene(raw)
+        except SceneError:
+            event("machine refused up front")
+            return  # refused up front: the machine tests say how
+        case = base.cases.get("tilted") or next(iter(base.cases.values()))
+        dimension = ("manipulator.platform_thickness_mm" if kind == "machine"
+                     else "leg.rod_outer_diameter_mm")
+        inputs = {"material.youngs_modulus_gpa": {"distribution": "normal", "cv_percent": cv},
+                  "material.shear_modulus_gpa": {"follows": "material.youngs_modulus_gpa"},
+                  dimension: {"distribution": "normal", "cv_percent": 0.2}}
+        if "stiffness" in raw:
+            inputs["stiffness.actuator_axial_n_per_um"] = {"distribution": "lognormal",
+                                                           "cv_percent": 4 * cv}
+        try:
+            scene = parse_scene({**raw, "uncertainty": {"samples": 64, "seed": seed, **inputs}})
+        except SceneError:
+            event("an input's end refused")
+            return  # an end out of range (a thin part): refused in one line, tested above
+        try:
+            record = propagate(scene, FAST, case.pose, 4)
+        except Exception as exc:  # a sample out of reach is the one refusal allowed here
+            assert "cannot reach the pose" in str(exc), exc
+            event("a sample out of reach")
+            return
+        event("propagated")
+        unit = design(len(scene.uncertainty.inputs), 64, seed)[:: 37]
+        got = sample_model(scene, FAST, case.pose, unit, 4, False).frequencies_hz
+        for k, m in enumerate(machines(scene, unit)):
+            assert got[k] == pytest.approx(natural_frequencies(m, case.pose,
+                                                                replace(FAST, modes=4)),
+                                           rel=1e-9)
+        for mode in record["modes"]:
+            assert mode["q025_hz"] <= mode["mean_hz"] <= mode["q975_hz"]
+            for key, total in mode["sobol_total"].items():
+                assert -0.1 <= total <= 1.2, (key, total)
+        dense = {"material.density_kg_m3": {"distribution": "lognormal", "cv_percent": cv}}
+        alone = parse_scene({**raw, "uncertainty": {"samples": 64, "seed": seed, **dense}})
+        unit = design(1, 64, seed)
+        f = sample_model(alone, FAST, case.pose, unit, 4, False).frequencies_hz
+        rho = np.array([m.material.density for m in machines(alone, unit)])
+        f0 = propagate(alone, FAST, case.pose, 4)["modes"]
+        if alone.manipulator.payload.mass == 0.0:
+            assert f == pytest.approx(np.array([m["nominal_hz"] for m in f0])
+                                      * np.sqrt(alone.manipulator.material.density
+                                                / rho)[:, None], rel=1e-9)
+
+    check()
+
