@@ -11,6 +11,10 @@
 - issue 38's: `dynamic_map_vs_frequency_map`, the least dynamic stiffness at the tool over the
   10,000-pose map's reachable poses with 2,000 lines against the frequency map of the same grid
   (the scene's modes), both on one core;
+- issue 39's: `uncertainty_run_vs_batched_pose`, one model run of the input-uncertainty
+  propagation (a machine of its own per sample, assembled per machine, solved as a batch)
+  against one pose of the batched frequencies of the scene's machine, at the case, timed
+  alternately (scenes with [uncertainty]);
 - issue 26's two figures: `best_model_pose_seconds`, the most accurate analytical setting
   (Timoshenko middles between solid end zones at the largest s offered) per pose over the
   10,000-pose map's reachable poses, batched (assembly, standard form, eigenvalues only, in
@@ -57,6 +61,7 @@ from .bench_records import (
     SweepBench,
     Timing,
     Timings,
+    UncertaintyBench,
 )
 
 MAP_GRID = (20, 10, 50)  # heights x rings x azimuths: the 10,000-pose map of issue 12
@@ -307,6 +312,44 @@ def bench_sweep(scene, runs: int, workers: tuple[int, ...] = (1, 2)) -> SweepBen
                       speedup=medians[str(workers[0])] / medians[str(workers[-1])])
 
 
+def bench_uncertainty(scene, case_name: str, runs: int, samples: int = 256
+                      ) -> UncertaintyBench:
+    """Seconds per model run of `solvers.uncertainty.propagate` (Saltelli's design, `samples`
+    base points, the statistics included) at the case, against seconds per pose of the batched
+    frequencies of as many copies of the case's pose of the scene's own machine; medians."""
+    from analytical.batch_model import CHUNK, assemble_batch, batch_frequencies, standard_form
+    from analytical.pose_batch import pose_batch
+    from solvers.uncertainty import propagate
+
+    pose, modes = scene.cases[case_name].pose, scene.analytical.modes
+    count = samples * (len(scene.uncertainty.inputs) + 2)
+    poses = pose_batch(scene.manipulator, [pose.height] * count, [pose.azimuth] * count,
+                       [pose.tilt] * count)
+
+    def propagated():
+        propagate(scene, scene.analytical, pose, modes, samples=samples)
+
+    def batched():
+        for start in range(0, count, CHUNK):
+            model = assemble_batch(scene.manipulator, poses.take(slice(start, start + CHUNK)),
+                                   scene.analytical)
+            batch_frequencies(standard_form(model), modes)
+
+    propagated(), batched()  # warm-up
+    times: dict[str, list[float]] = {"propagated": [], "batched": []}
+    for _ in range(runs):
+        for name, fn in (("propagated", propagated), ("batched", batched)):
+            start = time.perf_counter()
+            fn()
+            times[name].append(time.perf_counter() - start)
+    run_s = statistics.median(times["propagated"]) / count
+    pose_s = statistics.median(times["batched"]) / count
+    return UncertaintyBench(case=case_name, inputs=len(scene.uncertainty.inputs),
+                            samples=samples, model_runs=count, runs=runs, run_seconds=run_s,
+                            batched_pose_seconds=pose_s, propagated_seconds=times["propagated"],
+                            batched_seconds=times["batched"], run_vs_batched_pose=run_s / pose_s)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pipeline.bench")
     parser.add_argument("--scene", default=str(default_scene()),
@@ -350,6 +393,10 @@ def main(argv: list[str] | None = None) -> int:
         result["best_model_pose_seconds"] = result["best_model"]["pose_seconds"]
         result["dynamic_map"] = bench_dynamic_map(scene, args.map_runs)
         result["dynamic_map_vs_frequency_map"] = result["dynamic_map"]["vs_frequency_map"]
+        if scene.uncertainty is not None:
+            result["uncertainty"] = bench_uncertainty(scene, args.case, args.map_runs)
+            result["uncertainty_run_vs_batched_pose"] = \
+                result["uncertainty"]["run_vs_batched_pose"]
         if not args.skip_fem:
             sizes = sorted(set(scene.fem_study.refinement) | {scene.fem.mesh_size}, reverse=True)
             fem = bench_fem(scene, args.case, args.fem_runs, sizes)
@@ -374,7 +421,8 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, RuntimeError, OSError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    headline = ("median", "plain_eigh", "speedup", "pose_seconds", "frequency_map")
+    headline = ("median", "plain_eigh", "speedup", "pose_seconds", "frequency_map",
+                "batched_pose")
     print(json.dumps({k: v for k, v in result.items() if k.endswith(headline)}, indent=1))
     return 0
 

@@ -97,3 +97,18 @@ class SweepBench(TypedDict):
 
 
 EstimatedErrors = dict[str, float]  # "<h>mm" -> the refinement study's worst estimated error, %
+
+
+class UncertaintyBench(TypedDict):
+    """One model run of the input-uncertainty propagation against one pose of the batched
+    frequencies of the scene's own machine, at the case; medians of alternate runs."""
+    case: str
+    inputs: int
+    samples: int
+    model_runs: int
+    runs: int
+    run_seconds: float
+    batched_pose_seconds: float
+    propagated_seconds: list[float]
+    batched_seconds: list[float]
+    run_vs_batched_pose: float
