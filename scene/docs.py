@@ -71,8 +71,10 @@ TABLES = (
      (UncertaintySettings,)),
     ("[uncertainty.\"table.key\"]", "One uncertain input, e.g. `\"material.youngs_modulus_gpa\" "
      "= { distribution = \"normal\", cv_percent = 2.0, source = \"EN 10025: ...\" }`. A normal "
-     "or lognormal input has the scene's value as its mean; a uniform one spans low..high "
-     "around it. Every distribution is cut at its 1e-6 and 1 - 1e-6 quantiles, and each "
+     "or lognormal input has the scene's value as its mean; a uniform one spans the scene's "
+     "value plus_minus a tolerance (which follows the scene's value when a design or an "
+     "identification moves it), or low..high around it. Every distribution is cut at its "
+     "1e-6 and 1 - 1e-6 quantiles, and each "
      "input at those two ends (the others at the scene's values) is checked as a scene is: in "
      "the key's range, a machine that can exist. An input that `follows` another moves by the "
      "same factor (E and G under a fixed Poisson's ratio): not an input of its own, its share "

@@ -10,10 +10,10 @@ uncertainty through the fast model (`rps uncertainty`, the run's uncertainty stu
 
 Every other key of the table is a scene address (`scene.address`: a number of [manipulator],
 [material], [leg], [stiffness] or [payload]), its inline table one `InputSpec`. A normal or
-lognormal input has the scene's value as its mean; a uniform one spans low..high (the key's
-edge unit) around it. An input that `follows` another moves by the same factor (E and G under
-a fixed Poisson's ratio; the densities of two materials of one supplier): it is not an input
-of its own, its effect is counted in its leader's Sobol' indices.
+lognormal input has the scene's value as its mean; a uniform one spans the scene's value
+plus or minus a tolerance, or low..high around it (the key's edge unit). An input that
+`follows` another moves by the same factor (E and G under a fixed Poisson's ratio): it is not
+an input of its own, its effect is counted in its leader's Sobol' indices.
 
 Every distribution is cut at its TAIL quantiles (the design's unit values are clipped there).
 Each input's two ends (its followers with it, the others at the scene's values) are checked in
@@ -72,8 +72,14 @@ class InputSpec:
         None, unit=None, scene_name="cv_percent", minimum=MIN_CV, maximum=MAX_CV,
         doc="coefficient of variation, standard deviation over mean, in percent (normal, "
         "lognormal)")
+    plus_minus: float = setting(
+        None, minimum=0.0, maximum=1e12, exclusive_minimum=True,
+        doc="uniform: the scene's value plus or minus this, in the key's own edge unit (a "
+        "drawing's tolerance: it follows the scene's value wherever a design or an "
+        "identification moves it)")
     low: float = setting(None, minimum=-1e12, maximum=1e12,
-                         doc="uniform: the lowest value, in the key's own edge unit")
+                         doc="uniform: the lowest value, in the key's own edge unit (a range "
+                         "fixed in absolute terms: a scene value moved outside it is refused)")
     high: float = setting(None, minimum=-1e12, maximum=1e12,
                           doc="uniform: the highest value, in the key's own edge unit")
     follows: str = setting(
@@ -105,8 +111,8 @@ class UncertainInput:
         u = np.clip(np.asarray(u, float), TAIL, 1.0 - TAIL)
         spec, mean = self.spec, self.nominal
         if spec.distribution == "uniform":
-            assert spec.low is not None and spec.high is not None
-            return spec.low + (spec.high - spec.low) * u
+            low, high = self.bounds
+            return low + (high - low) * u
         from scipy.special import ndtri
 
         cv = spec.cv / 100.0
@@ -116,14 +122,27 @@ class UncertainInput:
         return mean * np.exp(s * ndtri(u) - 0.5 * s * s)
 
     @property
+    def bounds(self) -> tuple[float, float]:
+        """A uniform input's low..high (edge unit)."""
+        spec = self.spec
+        if spec.plus_minus is not None:
+            return self.nominal - spec.plus_minus, self.nominal + spec.plus_minus
+        assert spec.low is not None and spec.high is not None
+        return spec.low, spec.high
+
+    @property
     def support(self) -> tuple[float, float]:
         low, high = self.quantile([0.0, 1.0])
         return float(low), float(high)
 
     def describe(self) -> str:
         spec = self.spec
-        text = (f"uniform {spec.low:g} .. {spec.high:g}" if spec.distribution == "uniform"
-                else f"{spec.distribution}, mean {self.nominal:g}, cv {spec.cv:g} %")
+        if spec.distribution == "uniform":
+            low, high = self.bounds
+            text = (f"uniform {low:g} .. {high:g}" if spec.plus_minus is None else
+                    f"uniform {self.nominal:g} +- {spec.plus_minus:g}")
+        else:
+            text = f"{spec.distribution}, mean {self.nominal:g}, cv {spec.cv:g} %"
         return f"{text} {self.address.unit}" + (
             " (with " + ", ".join(f.name for f, _ in self.followers) + ")"
             if self.followers else "")
@@ -221,9 +240,14 @@ def _checked(spec: InputSpec, given: set, nominal: float, here: str) -> InputSpe
         raise SceneError(f"{here}: missing distribution (one of {', '.join(DISTRIBUTIONS)}), "
                          "or follows = another key")
     if spec.distribution == "uniform":
+        if "plus_minus" in given:
+            if given & {"cv_percent", "low", "high"}:
+                raise SceneError(f"{here}: a uniform input takes plus_minus, or low and high, "
+                                 "not both (nor cv_percent)")
+            return spec
         if spec.low is None or spec.high is None or given & {"cv_percent"}:
-            raise SceneError(f"{here}: a uniform input takes low and high (the key's unit), "
-                             "not cv_percent")
+            raise SceneError(f"{here}: a uniform input takes low and high, or plus_minus (the "
+                             "key's unit), not cv_percent")
         if not spec.low < spec.high:
             raise SceneError(f"{here}: low = {spec.low:g} is not below high = {spec.high:g}")
         if not spec.low <= nominal <= spec.high:
@@ -231,9 +255,9 @@ def _checked(spec: InputSpec, given: set, nominal: float, here: str) -> InputSpe
                              f"{spec.low:g}..{spec.high:g} (the range is around the scene's "
                              "value)")
         return spec
-    if spec.cv is None or given & {"low", "high"}:
+    if spec.cv is None or given & {"low", "high", "plus_minus"}:
         raise SceneError(f"{here}: a {spec.distribution} input takes cv_percent (its mean is "
-                         "the scene's value), not low and high")
+                         "the scene's value), not low, high or plus_minus")
     if nominal <= 0.0:
         raise SceneError(f"{here}: a {spec.distribution} input around the scene's value "
                          f"{nominal:g}: needs a positive value (give the key a value, or a "

@@ -94,7 +94,7 @@ EXTRA_MODULES = {"gmsh": "gmsh", "scikit-fem": "skfem", "meshio": "meshio",
                  "pyvista": "pyvista", "pillow": "PIL", "jinja2": "jinja2",
                  "weasyprint": "weasyprint", "vtk": "vtk", "joblib": "joblib",
                  "dask[distributed]": "distributed", "pydantic": "pydantic",
-                 "plotly": "plotly"}
+                 "plotly": "plotly", "salib": "SALib"}
 
 
 def test_the_analytical_model_loads_nothing_of_the_extras():
