@@ -32,6 +32,13 @@ def validation(campaign: Campaign, options: ModelOptions, at_scene: list[PoseCor
     u_d = noise["frequency_percent"]
     why = ("the scene declares no [uncertainty]" if scene.uncertainty is None
            else refusal(scene, options))
+    if why is None:  # the inputs' ends as whole machines, as `rps uncertainty` checks them
+        from scene import parse_scene
+        from scene.uncertainty import check_ends
+        try:
+            check_ends(scene.uncertainty, scene.raw, scene.path, parse_scene)
+        except InputError as exc:
+            why = str(exc)
     finer = replace(options, elements=min(2 * options.elements, MAX_ELEMENTS))
     rows: list[ValidationRecord] = []
     for tp, pose_fit, pose_pairs in zip(campaign.poses, fit, at_scene):

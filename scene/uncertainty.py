@@ -159,6 +159,11 @@ class Uncertainty:
     def names(self) -> list[str]:
         return [i.name for i in self.inputs]
 
+    @property
+    def tables(self) -> set[str]:
+        """The scene tables the inputs and their followers move."""
+        return {a.table for i in self.inputs for a in (i.address, *(f for f, _ in i.followers))}
+
     def values(self, unit) -> list[tuple["Address", np.ndarray]]:
         """(address, values in its edge unit) of every input and follower at the unit values
         `unit` (n, d): a follower scaled by its leader's factor."""

@@ -74,9 +74,8 @@ def prepare(scene, pose: Pose, unit) -> Prepared:
     from analytical.sample_batch import SampleOutOfReach, same_geometry, sample_poses
 
     built = machines(scene, unit)
-    tables = {a.table for a, _ in scene.uncertainty.values(np.full((1, len(unit[0])), 0.5))}
     try:
-        poses = sample_poses(built, pose, same_geometry(tables))
+        poses = sample_poses(built, pose, same_geometry(scene.uncertainty.tables))
     except SampleOutOfReach as exc:
         raise InputError(f"uncertainty: {exc} (height {pose.height * 1e3:g} mm, azimuth "
                          f"{math.degrees(pose.azimuth):g} deg, tilt {math.degrees(pose.tilt):g} "
@@ -108,12 +107,15 @@ def sample_model(scene, options: ModelOptions, pose: Pose, unit, modes: int,
     return solve_prepared(scene, options, prepare(scene, pose, unit), modes, tool)
 
 
-def estimate_seconds(scene, options: ModelOptions, prepared: Prepared, modes: int,
+def estimate_seconds(scene, options: ModelOptions, pose: Pose, unit, modes: int,
                      tool: bool, pilot: int = 16) -> float:
-    """The time all of `prepared` would take, from a pilot solve of its first rows."""
-    head = prepared.take(slice(0, min(pilot, len(prepared))))
-    taken = solve_prepared(scene, options, head, modes, tool).seconds
-    return taken / len(head) * len(prepared)
+    """The time every row of `unit` would take (machines, checks and solves), from a pilot of
+    its first rows: measured before the rest is built, so a design too large for its budget
+    is refused before it holds any memory."""
+    start = time.perf_counter()
+    head = unit[:pilot]
+    solve_prepared(scene, options, prepare(scene, pose, head), modes, tool)
+    return (time.perf_counter() - start) / len(head) * len(unit)
 
 
 def _solve(scene, options, built, poses, modes: int, tool: bool):
@@ -173,8 +175,7 @@ def refusal(scene, options: ModelOptions) -> str | None:
     need its own solid FEM (an end zone, a leg part)."""
     if options.joint_ends != "solid" and options.legs != "solid":
         return None
-    moved = sorted({a.table for a, _ in scene.uncertainty.values(
-        np.full((1, len(scene.uncertainty.inputs)), 0.5))} - {"stiffness", "payload"})
+    moved = sorted(scene.uncertainty.tables - {"stiffness", "payload"})
     if not moved:
         return None
     return (f"uncertain [{moved[0]}] keys with the model {options.describe()!r}: every sample "
@@ -196,15 +197,14 @@ def propagate(scene, options: ModelOptions, pose: Pose, modes: int,
     n, d, seed = samples or u.settings.samples, len(u.inputs), u.settings.seed
     tool = bool(scene.dynamics_given)
     unit = design(d, n, seed)
-    prepared = prepare(scene, pose, unit)
     if budget_seconds is not None:
-        estimate = estimate_seconds(scene, options, prepared, modes, tool)
+        estimate = estimate_seconds(scene, options, pose, unit, modes, tool)
         if estimate > budget_seconds:
             raise OverBudget(f"{len(unit):,} model runs ({n} samples x {d + 2}) would take "
                              f"about {estimate:.0f} s (a pilot's {1e3 * estimate / len(unit):.2g}"
                              f" ms a run), above the {budget_seconds:g} s allowed: fewer "
                              "samples")
-    sampled = solve_prepared(scene, options, prepared, modes, tool)
+    sampled = solve_prepared(scene, options, prepare(scene, pose, unit), modes, tool)
     at_scene = nominal(scene, options, pose, modes, tool)
     start = time.perf_counter()
     names = u.names
@@ -266,7 +266,8 @@ def band(scene, options: ModelOptions, poses, modes: int, samples: int = PATH_SA
             prepared.append(str(exc))
     ready_ones = [p for p in prepared if isinstance(p, Prepared)]
     if budget_seconds is not None and ready_ones:
-        estimate = estimate_seconds(scene, options, ready_ones[0], modes, tool) * len(ready_ones)
+        estimate = estimate_seconds(scene, options, poses[prepared.index(ready_ones[0])], unit,
+                                    modes, tool) * len(ready_ones)
         if estimate > budget_seconds:
             raise OverBudget(f"{len(ready_ones)} poses x {samples} samples would take about "
                              f"{estimate:.0f} s, above the {budget_seconds:g} s allowed")

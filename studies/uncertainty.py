@@ -21,10 +21,9 @@ from .registry import CaseContext, Context, Study, own
 BUDGET_SECONDS = 300.0  # a case's propagation in a run; beyond, refused in the record
 
 
-def validation_rows(pairs: list, modes: list, u_d: float | None = None
-                    ) -> list[results.ValidationRow]:
+def validation_rows(pairs: list, modes: list) -> list[results.ValidationRow]:
     """V&V 20 rows from the comparison's pairs (results.Pair) and the model's mode statistics
-    (the uncertainty record's `modes`, by analytical mode)."""
+    (the uncertainty record's `modes`, by analytical mode); no u_D against the FEM."""
     rows = []
     for p in pairs:
         j = p["analytical_mode"] - 1
@@ -32,11 +31,11 @@ def validation_rows(pairs: list, modes: list, u_d: float | None = None
             continue
         u_num = vv20.from_bound(p["fem_estimated_error_percent"])
         u_input = modes[j]["cv_percent"]
-        u_val = vv20.u_val(u_num, u_input, u_d)
+        u_val = vv20.u_val(u_num, u_input, None)
         rows.append(results.ValidationRow(
             fem_mode=p["fem_mode"], analytical_mode=p["analytical_mode"],
             e_percent=p["error_percent"], u_num_percent=u_num, u_input_percent=u_input,
-            u_d_percent=u_d, u_val_percent=u_val,
+            u_d_percent=None, u_val_percent=u_val,
             verdict=vv20.verdict(p["error_percent"], u_num, u_val)))
     return rows
 

@@ -303,3 +303,16 @@ def test_random_machines_propagate_as_their_per_pose_model(kind):
 
     check()
 
+
+
+def test_a_design_beyond_its_budget_is_refused_before_it_is_built():
+    """The pilot's estimate refuses 65,536 x 3 runs against a 1 s budget in one line, having
+    built only the pilot's machines."""
+    from solvers.uncertainty import OverBudget
+
+    scene = scene_with({"material.density_kg_m3": {"distribution": "lognormal",
+                                                   "cv_percent": 5.0}}, samples=1 << 16)
+    with pytest.raises(OverBudget) as info:
+        propagate(scene, FAST, scene.cases["case1"].pose, 3, budget_seconds=1.0)
+    text = str(info.value)
+    assert "196,608 model runs" in text and "above the 1 s allowed" in text and "\n" not in text
