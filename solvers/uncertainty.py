@@ -183,6 +183,19 @@ def refusal(scene, options: ModelOptions) -> str | None:
             "through a beam model ([analytical] joint_ends = \"beam\", legs = \"beam\")")
 
 
+def run_model(scene, options: ModelOptions) -> ModelOptions:
+    """The model a run propagates through: its chosen one, or, where that one cannot
+    (`refusal`: solid joint ends or legs with uncertain material or dimensions), the same
+    settings with beam joint ends and beam legs. The spread of a frequency over the inputs is
+    a relative quantity the two share closely; the model's own error against the FEM stays the
+    chosen model's. The record names the model it propagated through."""
+    from dataclasses import replace
+
+    if refusal(scene, options) is None:
+        return options
+    return replace(options, joint_ends="beam", legs="beam")
+
+
 class OverBudget(InputError):
     """The propagation would take longer than it may."""
 

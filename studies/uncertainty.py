@@ -49,19 +49,17 @@ def case_uncertainty(scene, case, cache) -> dict:
 
     from common.errors import InputError
     from common.settings import as_dict
-    from solvers.uncertainty import propagate, refusal
+    from solvers.uncertainty import propagate, run_model
 
-    why = refusal(scene, scene.analytical)
-    if why is not None:
-        return {"refused": why}
+    options = run_model(scene, scene.analytical)
     payload = {"manipulator": as_dict(scene.manipulator), "pose": as_dict(case.pose),
-               "analytical": as_dict(scene.analytical), "uncertainty": scene.raw["uncertainty"],
+               "analytical": as_dict(options), "uncertainty": scene.raw["uncertainty"],
                "damping": as_dict(scene.damping), "tool": as_dict(scene.tool),
                "dynamics": bool(scene.dynamics_given), "modes": scene.fidelity.modes,
                "budget": BUDGET_SECONDS, "salib": version("SALib")}
 
     def compute():
-        return propagate(scene, scene.analytical, case.pose, scene.fidelity.modes,
+        return propagate(scene, options, case.pose, scene.fidelity.modes,
                          budget_seconds=BUDGET_SECONDS), {}
 
     try:

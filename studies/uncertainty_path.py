@@ -54,7 +54,7 @@ def worst_path(scene) -> list[tuple[int, Pose, float]]:
 
 
 def run(ctx: Context) -> results.UncertaintyPath | None:
-    from solvers.uncertainty import PATH_SAMPLES, OverBudget, band, nominal, refusal
+    from solvers.uncertainty import PATH_SAMPLES, OverBudget, band, nominal, run_model
 
     scene = ctx.scene
     if scene.uncertainty is None:
@@ -62,23 +62,24 @@ def run(ctx: Context) -> results.UncertaintyPath | None:
     start = time.perf_counter()
     how = ("per layer of the workspace map's grid, the pose of least nominal f1; "
            f"{PATH_SAMPLES} scrambled Sobol' draws of the inputs at each")
-    why = refusal(scene, scene.analytical)
-    path = worst_path(scene) if why is None else []
+    options = run_model(scene, scene.analytical)
+    why = None
+    path = worst_path(scene)
     rows: list[results.PathPose] = []
     skipped: list[str] = []
     try:
-        bands = band(scene, scene.analytical, [p for _, p, _ in path], scene.fidelity.modes,
+        bands = band(scene, options, [p for _, p, _ in path], scene.fidelity.modes,
                      budget_seconds=BUDGET_SECONDS) if path else []
     except OverBudget as exc:
         why, bands = str(exc), []
     tool = bool(scene.dynamics_given)
-    for (layer, pose, f1), found in zip(path, bands):
+    for (layer, pose, _), found in zip(path, bands):
         if "refused" in found:  # a sample out of reach at this pose: no band drawn there
             skipped.append(f"layer {layer}: {found['refused']}")
             continue
-        at_scene = (nominal(scene, scene.analytical, pose, scene.fidelity.modes, True)
-                    .least_n_per_m if tool else None)
-        least = None if at_scene is None else float(np.min(at_scene))
+        at_scene = nominal(scene, options, pose, scene.fidelity.modes, tool)  # the band's model
+        f1 = float(at_scene.frequencies_hz[0, 0])
+        least = None if at_scene.least_n_per_m is None else float(np.min(at_scene.least_n_per_m))
         q = found.get("least_n_per_m")
         rows.append(results.PathPose(
             layer=layer, height_mm=pose.height * 1e3, tilt_deg=math.degrees(pose.tilt),
@@ -90,7 +91,7 @@ def run(ctx: Context) -> results.UncertaintyPath | None:
             least_median_n_per_m=None if q is None else q[1],
             least_q975_n_per_m=None if q is None else q[2]))
     return results.UncertaintyPath(path=how, samples=PATH_SAMPLES,
-                                   model=scene.analytical.describe(), refused=why, poses=rows,
+                                   model=options.describe(), refused=why, poses=rows,
                                    skipped=skipped, seconds=time.perf_counter() - start)
 
 

@@ -316,3 +316,18 @@ def test_a_design_beyond_its_budget_is_refused_before_it_is_built():
         propagate(scene, FAST, scene.cases["case1"].pose, 3, budget_seconds=1.0)
     text = str(info.value)
     assert "196,608 model runs" in text and "above the 1 s allowed" in text and "\n" not in text
+
+
+def test_a_run_with_solid_ends_propagates_through_beam_ends_and_says_so():
+    """A solid end zone is a solid FEM of the material: a run whose chosen model has solid
+    ends propagates uncertain material through the same settings with beam ends (named in the
+    record), and keeps its own model where only springs or payload are uncertain."""
+    from solvers.uncertainty import refusal, run_model
+
+    solid = replace(FAST, joint_ends="solid")
+    scene = scene_with({"material.density_kg_m3": {"distribution": "normal", "cv_percent": 1.0}})
+    assert refusal(scene, solid) is not None and refusal(scene, FAST) is None
+    assert run_model(scene, solid) == replace(solid, joint_ends="beam", legs="beam")
+    springs = scene_with({"payload.mass_kg": {"distribution": "uniform", "low": 0.0,
+                                              "high": 5.0}})
+    assert run_model(springs, solid) == solid
