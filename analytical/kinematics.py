@@ -29,6 +29,7 @@ import numpy as np
 
 from common.errors import InputError
 from common.joints import JOINTS, JointType
+from common.rigid_body import cross
 
 from .architecture import actuation, height_reach, is_prs, leg_ends
 from .params import Manipulator, Pose
@@ -203,7 +204,7 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
             f"leg directions leave the R-joint planes by {off_plane.max():.3g} (cosine): "
             "the pose violates the revolute-joint closure"
         )
-    z_axes = np.cross(x_axes, axes)
+    z_axes = cross(x_axes, axes)
     frames = np.stack([x_axes, axes, z_axes], axis=2)
     base_normal, platform_normal = np.array([0.0, 0.0, 1.0]), rot[:, 2]
     # alpha_i from the normal of the body across the leg from the joint with the axis
@@ -213,7 +214,7 @@ def pose_geometry(manipulator: Manipulator, pose: Pose, check_limits: bool = Tru
     # body (positive leans outward)
     if m.axis_end == "base":  # from the base joint's body normal n (z; a rail), in its plane
         normals = ends.base_normals[0]
-        outward = np.einsum("ij,ij->i", x_axes, np.cross(tangent, normals))
+        outward = np.einsum("ij,ij->i", x_axes, cross(tangent, normals))
         upward = np.einsum("ij,ij->i", x_axes, normals)
     else:
         outward = np.einsum("ij,ij->i", x_axes, radial @ rot.T)
@@ -284,8 +285,8 @@ def clearances(manipulator: Manipulator, base_points: np.ndarray, platform_point
                              a[:, second]) - m.leg_diameter
     normal = rot[:, :, 2]
     legs = a - b
-    lengths = np.linalg.norm(legs, axis=2)
-    up = np.einsum("nij,nj->ni", legs, normal) / np.where(lengths > 0, lengths, 1.0)
+    lengths = np.sqrt(np.vecdot(legs, legs))
+    up = np.vecdot(legs, normal[:, None, :]) / np.where(lengths > 0, lengths, 1.0)
     half = 0.5 * m.platform_thickness * np.abs(normal[:, 2])
     if m.platform_shape == "triangle":  # the plate's corners are the joints A_i
         lowest = a[:, :, 2].min(axis=1) - half
@@ -300,19 +301,17 @@ def _segment_distance(p1, q1, p2, q2) -> np.ndarray:
     """Shortest distance between the segments p1-q1 and p2-q2 ((..., 3) each; Ericson,
     Real-Time Collision Detection, 5.1.9)."""
     d1, d2, r = q1 - p1, q2 - p2, p1 - p2
-    a = np.einsum("...i,...i->...", d1, d1)
-    e = np.einsum("...i,...i->...", d2, d2)
-    f = np.einsum("...i,...i->...", d2, r)
-    c = np.einsum("...i,...i->...", d1, r)
-    bb = np.einsum("...i,...i->...", d1, d2)
+    dot = np.vecdot  # (a few vectors: a tenth of einsum's call overhead)
+    a, e, f, c, bb = dot(d1, d1), dot(d2, d2), dot(d2, r), dot(d1, r), dot(d1, d2)
     denom = a * e - bb * bb
     safe = lambda x: np.where(x > 0, x, 1.0)  # noqa: E731 (segments have positive length)
-    s = np.where(denom > 1e-14 * a * e, np.clip((bb * f - c * e) / safe(denom), 0.0, 1.0), 0.0)
+    unit = lambda x: np.minimum(np.maximum(x, 0.0), 1.0)  # noqa: E731 (clip to [0, 1])
+    s = np.where(denom > 1e-14 * a * e, unit((bb * f - c * e) / safe(denom)), 0.0)
     t = (bb * s + f) / safe(e)
-    s = np.where(t < 0, np.clip(-c / safe(a), 0.0, 1.0),
-                 np.where(t > 1, np.clip((bb - c) / safe(a), 0.0, 1.0), s))
-    t = np.clip(t, 0.0, 1.0)
-    return np.linalg.norm(p1 + d1 * s[..., None] - p2 - d2 * t[..., None], axis=-1)
+    s = np.where(t < 0, unit(-c / safe(a)), np.where(t > 1, unit((bb - c) / safe(a)), s))
+    t = unit(t)
+    gap = r + d1 * s[..., None] - d2 * t[..., None]
+    return np.sqrt(dot(gap, gap))
 
 
 CLEARANCE_RULES = {  # clearance -> what a negative value means, for the one-line error

@@ -47,6 +47,8 @@ def platform_mass_matrix(manipulator: Manipulator, rotation: np.ndarray,
                          form: str = "plate") -> np.ndarray:
     """6x6 mass matrix on (Delta_p, Phi_p) in base coordinates, Eqs. (7)-(9): T_p oM_p T_p^T,
     with the scene's payload (`common.payload`) fixed to the plate."""
-    return rigid_mass_matrix(platform_mass(manipulator),
-                             platform_inertia_body(manipulator, form), rotation) \
-        + payload_mass_matrix(manipulator.payload, rotation)
+    plate = rigid_mass_matrix(platform_mass(manipulator),
+                              platform_inertia_body(manipulator, form), rotation)
+    if manipulator.payload.mass == 0.0:  # no payload (it has no inertia without mass)
+        return plate
+    return plate + payload_mass_matrix(manipulator.payload, rotation)

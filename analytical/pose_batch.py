@@ -14,6 +14,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from common.rigid_body import cross
+
 from .architecture import actuation, height_reach, leg_ends
 from .kinematics import CLEARANCE_TOLERANCE, PoseGeometry, clearances, pose_geometry
 from .params import Manipulator, Pose
@@ -126,7 +128,7 @@ def pose_batch(manipulator: Manipulator, heights, azimuths, tilts) -> PoseBatch:
     valid &= np.all(lengths >= 1e-12, axis=1)
     x_axes = legs / np.where(lengths > 0, lengths, 1.0)[..., None]
     off_plane = np.abs(np.einsum("nij,nij->ni", x_axes, axes))
-    z_axes = np.cross(x_axes, axes)
+    z_axes = cross(x_axes, axes)
     frames = np.stack([x_axes, axes, z_axes], axis=3)
     platform_normal = rot[:, :, 2]
     s_normal = (platform_normal if m.axis_end == "base"
@@ -134,7 +136,7 @@ def pose_batch(manipulator: Manipulator, heights, azimuths, tilts) -> PoseBatch:
     s_angles = np.arccos(np.clip(np.einsum("nij,nj->ni", x_axes, s_normal), -1.0, 1.0))
     if m.axis_end == "base":  # from the base joint's body normal n (z; a rail), in its plane
         normals = ends.base_normals
-        outward = np.einsum("nij,nij->ni", x_axes, np.cross(tangent, normals))
+        outward = np.einsum("nij,nij->ni", x_axes, cross(tangent, normals))
         upward = np.einsum("nij,nij->ni", x_axes, normals)
     else:
         outward = np.einsum("nij,nij->ni", x_axes, radial @ rot_t)

