@@ -4,7 +4,7 @@
 #   make test     set up (first time) and run the test suite
 #   make lint     the linter (ruff) and the type checker (mypy), as CI runs them
 #   make verify   the solid FEM against published benchmarks (pytest -m verification)
-#   make bench    timing benchmarks (medians of repeated runs) into out/bench.json
+#   make bench    timing benchmarks (medians of repeated runs) into bench/ (kept across runs)
 #   make report   rebuild out/report.html and out/report.pdf from out/results.json
 #   make design   a design study (DESIGN=designs/3prs-head.toml) into design-out/
 #   make clean-cache  empty the result, mesh, timing and figure caches (out/ stays)
@@ -60,7 +60,7 @@ lint: $(STAMP)
 	$(PYTHON) -m mypy
 
 bench: $(STAMP)
-	$(PYTHON) -m pipeline.bench --scene $(SCENE) --out out/bench.json
+	$(PYTHON) -m pipeline.bench --scene $(SCENE)
 
 report: $(STAMP)
 	$(PYTHON) -m rps report --results out/results.json --out out

@@ -1,6 +1,9 @@
-"""Timing benchmarks (`make bench`): medians of repeated runs, written to out/bench.json.
+"""Timing benchmarks (`make bench`): medians of repeated runs, written to bench/bench.json
+with a line in bench/history.jsonl and the comparisons of pipeline/bench_history.py.
 
-- the analytical model per pose (s = 1, 3, 6, 10) and the FEM per mesh size;
+- the analytical model per pose (s = 1, 3, 6, 10; s = 3 and 5 with solid ends) against a plain
+  scipy.linalg.eigh call on the pose's own matrices, timed alternately: `vs_plain_eigh`, and
+  `analytical_pose_vs_plain_eigh` for the scene's setting; the FEM per mesh size;
 - the workspace-validation sweep (the CI-size design: FEM at two sizes and every candidate
   model per pose) with 1 and with 2 workers, each from an empty cache: `sweep_speedup`;
 - the 10,000-pose analytical map (20 heights x 10 rings x 50 azimuths, modes followed by
@@ -15,14 +18,16 @@
   propagation (a machine of its own per sample, assembled per machine, solved as a batch)
   against one pose of the batched frequencies of the scene's machine, at the case, timed
   alternately (scenes with [uncertainty]);
-- issue 26's two figures: `best_model_pose_seconds`, the most accurate analytical setting
-  (Timoshenko middles between solid end zones at the largest s offered) per pose over the
-  10,000-pose map's reachable poses, batched (assembly, standard form, eigenvalues only, in
-  chunks of the map's size) on one core; and `map_one_core_vs_plain_eigh`, the map the run
-  draws on one worker against the 10,000 plain eigh calls.
+- issue 26's two figures and issue 40's account of them: `best_model_pose_seconds`, the most
+  accurate analytical setting per pose over the map's reachable poses, batched, on one core,
+  stage by stage with its flops, GFLOP/s and the ratio to the flop floor
+  (pipeline/bench_kernel.py); and `map_one_core_vs_plain_eigh`, the map the run draws on one
+  worker against the 10,000 plain eigh calls;
+- issue 40's `distributed_overhead`: a 10^5-pose sweep on a local Dask cluster of two workers
+  against one process, and a worker killed part-way (pipeline/bench_distributed.py).
 
 Timings never gate a test: this machine is shared and noisy. Run as
-`python -m pipeline.bench --scene scenes/paper.toml --out out/bench.json [--skip-fem]`.
+`python -m pipeline.bench --scene scenes/paper.toml [--skip-fem] [--distributed-poses 0]`.
 """
 from __future__ import annotations
 
@@ -46,12 +51,24 @@ from analytical.substructure import assemble
 from analytical.workspace import default_workers, frequency_map
 from common.atomic import write_json_atomic
 from common.locations import default_scene
+from runtime.places import path_argument
 from scene import load_scene
 from solvers.compare import fem_options, fem_runtime
 from studies.workspace_map import workspace_heights
 
+from .bench_distributed import POSE_GRID, bench_distributed
+from .bench_history import (
+    HISTORY,
+    against,
+    default_out,
+    headline,
+    previous_run,
+    record,
+    reference_ratios,
+    revision,
+)
+from .bench_kernel import MAP_GRID, bench_best_model, map_poses
 from .bench_records import (
-    BestModel,
     DynamicMapBench,
     EstimatedErrors,
     FemTiming,
@@ -63,85 +80,28 @@ from .bench_records import (
     Timings,
     UncertaintyBench,
 )
-
-MAP_GRID = (20, 10, 50)  # heights x rings x azimuths: the 10,000-pose map of issue 12
-
-
-def _median_seconds(fn, runs: int, warmup: int = 3) -> tuple[float, list[float]]:
-    for _ in range(warmup):
-        fn()
-    samples = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        fn()
-        samples.append(time.perf_counter() - start)
-    return statistics.median(samples), samples
+from .bench_timing import alternate
 
 
 def bench_analytical(scene, case_name: str, runs: int) -> Timings:
+    """One pose of the per-pose model (kinematics, assembly, modes) per setting, against a
+    plain scipy.linalg.eigh(K, M) call on that pose's own matrices, timed alternately: medians
+    and their ratio (the figure that carries across machines, pipeline/bench_history.py)."""
     case = scene.case(case_name)
+    settings = {f"s={s}": replace(scene.analytical, elements=s) for s in (1, 3, 6, 10)}
+    settings.update({  # Timoshenko middles between solid end zones (analytical.end_zones)
+        f"s={s}, solid ends": replace(scene.analytical, elements=s, beam="timoshenko",
+                                      shear="hutchinson", joint_ends="solid") for s in (3, 5)})
     out: Timings = {}
-    for s in (1, 3, 6, 10):
-        opts = replace(scene.analytical, elements=s)
-        median, samples = _median_seconds(lambda: analyse(scene.manipulator, case.pose, opts), runs)
-        out[f"s={s}"] = Timing(median_seconds=median, min_seconds=min(samples), runs=runs)
-    for s in (3, 5):  # Timoshenko middles between solid end zones (analytical.end_zones)
-        opts = replace(scene.analytical, elements=s, beam="timoshenko", shear="hutchinson",
-                       joint_ends="solid")
-        median, samples = _median_seconds(lambda: analyse(scene.manipulator, case.pose, opts), runs)
-        out[f"s={s}, solid ends"] = Timing(median_seconds=median, min_seconds=min(samples),
-                                           runs=runs)
+    for name, opts in settings.items():
+        model = analyse(scene.manipulator, case.pose, opts).model
+        times = alternate({"pose": lambda: analyse(scene.manipulator, case.pose, opts),
+                           "plain": lambda: scipy.linalg.eigh(model.stiffness, model.mass)},
+                          runs)
+        pose, plain = (statistics.median(times[k]) for k in ("pose", "plain"))
+        out[name] = Timing(median_seconds=pose, min_seconds=min(times["pose"]), runs=runs,
+                           plain_eigh_seconds=plain, vs_plain_eigh=pose / plain)
     return out
-
-
-def map_poses(scene):
-    """The reachable poses of the 10,000-pose map grid (every layer's rings and azimuths)."""
-    from analytical.pose_batch import pose_batch
-    from analytical.reach import regular_radii
-
-    layers, rings, azimuths = MAP_GRID
-    heights = workspace_heights(scene, layers)
-    radii = regular_radii(scene.manipulator, heights)
-    z, fraction, phi = np.meshgrid(np.arange(layers), np.linspace(0.0, 1.0, rings),
-                                   np.linspace(0.0, 2 * np.pi, azimuths, endpoint=False),
-                                   indexing="ij")
-    poses = pose_batch(scene.manipulator, heights[z.ravel()], phi.ravel(),
-                       (radii[z] * fraction).ravel())
-    return poses.take(np.flatnonzero(poses.feasible))
-
-
-def bench_best_model(scene, runs: int) -> BestModel:
-    """Seconds a pose of the most accurate analytical setting, batched over the map's poses on
-    one core (frequencies only, the scene's modes): medians of `runs`."""
-    from analytical.batch_model import (
-        CHUNK,
-        assemble_batch,
-        assembly_plan,
-        batch_frequencies,
-        standard_form,
-    )
-    from analytical.substructure import leg_layout, model_coordinates
-    from solvers.settings import SOLID_END_ELEMENTS, speed_settings
-
-    label = f"Timoshenko (Hutchinson) + solid ends, s={max(SOLID_END_ELEMENTS)}"
-    options = speed_settings(scene)[label]
-    poses = map_poses(scene)
-    plan = assembly_plan(leg_layout(scene.manipulator, options, poses.base_joint,
-                                    poses.platform_joint))
-
-    def solve(stage: str):
-        for start in range(0, len(poses), CHUNK):
-            model = assemble_batch(scene.manipulator, poses.take(slice(start, start + CHUNK)),
-                                   options, plan)
-            if stage == "solve":
-                batch_frequencies(standard_form(model), options.modes)
-
-    total, _ = _median_seconds(lambda: solve("solve"), runs, warmup=1)
-    assembly, _ = _median_seconds(lambda: solve("assemble"), runs, warmup=1)
-    return BestModel(setting=label, poses=len(poses),
-                     matrix_size=model_coordinates(scene.manipulator, options),
-                     modes=options.modes, runs=runs, pose_seconds=total / len(poses),
-                     assembly_pose_seconds=assembly / len(poses))
 
 
 def bench_map(scene, runs: int, modes: int, workers: int | None = None) -> MapBench:
@@ -234,13 +194,8 @@ def bench_dynamic_map(scene, runs: int) -> DynamicMapBench:
     def fmap():
         frequency_map(scene.manipulator, options, heights, rings, azimuths, 1)
 
-    dynamic(), frequencies(), fmap()  # warm-up
-    times: dict[str, list[float]] = {"dynamic": [], "frequencies": [], "map": []}
-    for _ in range(runs):
-        for name, fn in (("dynamic", dynamic), ("frequencies", frequencies), ("map", fmap)):
-            start = time.perf_counter()
-            fn()
-            times[name].append(time.perf_counter() - start)
+    times = alternate({"dynamic": dynamic, "frequencies": frequencies, "map": fmap}, runs,
+                      warmup=1)
     median = {k: statistics.median(v) for k, v in times.items()}
     return DynamicMapBench(
         poses=len(poses), lines=LINES, modes=modes,
@@ -335,13 +290,7 @@ def bench_uncertainty(scene, case_name: str, runs: int, samples: int = 256
                                    scene.analytical)
             batch_frequencies(standard_form(model), modes)
 
-    propagated(), batched()  # warm-up
-    times: dict[str, list[float]] = {"propagated": [], "batched": []}
-    for _ in range(runs):
-        for name, fn in (("propagated", propagated), ("batched", batched)):
-            start = time.perf_counter()
-            fn()
-            times[name].append(time.perf_counter() - start)
+    times = alternate({"propagated": propagated, "batched": batched}, runs, warmup=1)
     run_s = statistics.median(times["propagated"]) / count
     pose_s = statistics.median(times["batched"]) / count
     return UncertaintyBench(case=case_name, inputs=len(scene.uncertainty.inputs),
@@ -356,7 +305,13 @@ def main(argv: list[str] | None = None) -> int:
                         help="scene file (default: the paper's scene)")
     parser.add_argument("--case", default=None,
                         help="case to time (default: the scene's last CI case)")
-    parser.add_argument("--out", default="out/bench.json")
+    parser.add_argument("--out", type=path_argument, default=default_out(),
+                        help="the figures (default: bench/bench.json at the checkout, beside "
+                        "out/, which a validation replaces whole); its folder keeps "
+                        "history.jsonl, one line a run")
+    parser.add_argument("--results", type=path_argument, default=Path("out/results.json"),
+                        help="a validation's results, for the FEM's estimated errors "
+                        "(default: out/results.json)")
     parser.add_argument("--runs", type=int, default=200, help="analytical repetitions")
     parser.add_argument("--fem-runs", type=int, default=3, help="FEM repetitions per size")
     parser.add_argument("--map-runs", type=int, default=5,
@@ -364,7 +319,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--sweep-runs", type=int, default=1,
                         help="repetitions of the workspace-validation sweep per worker count "
                         "(0: skip it)")
-    parser.add_argument("--skip-fem", action="store_true")
+    parser.add_argument("--distributed-poses", type=int, default=POSE_GRID[0] * POSE_GRID[1]
+                        * POSE_GRID[2], choices=(0, 100_000), metavar="{0,100000}",
+                        help="the 10^5-pose sweep on a local Dask cluster (0: skip it; "
+                        "default: 100000)")
+    parser.add_argument("--skip-fem", action="store_true",
+                        help="no FEM timings nor the validation sweep (default: both)")
     args = parser.parse_args(argv)
     try:
         scene = load_scene(args.scene)
@@ -381,6 +341,8 @@ def main(argv: list[str] | None = None) -> int:
             "analytical_pose_seconds_median": analytical[f"s={scene.analytical.elements}"][
                 "median_seconds"],
             "analytical_runs": args.runs,
+            "analytical_pose_vs_plain_eigh": analytical[f"s={scene.analytical.elements}"][
+                "vs_plain_eigh"],
         }
         # the map the run draws (3 modes), and the same grid with the scene's modes
         result["map"] = bench_map(scene, args.map_runs, modes=3)
@@ -414,16 +376,25 @@ def main(argv: list[str] | None = None) -> int:
             if args.sweep_runs > 0:
                 result["sweep"] = bench_sweep(scene, args.sweep_runs)
                 result["sweep_speedup"] = result["sweep"]["speedup"]
-            est = _estimated_errors(Path(args.out).parent / "results.json", args.case)
+            est = _estimated_errors(args.results, args.case)
             if est:
                 result["fem_estimated_error_percent"] = est
-        write_json_atomic(Path(args.out), result)
+        if args.distributed_poses:
+            result["distributed"] = bench_distributed(scene)
+            result["distributed_overhead"] = result["distributed"]["overhead"]
+        result.update(revision())
+        history = args.out.parent / HISTORY
+        result["previous"] = against(headline(result), previous_run(
+            history, result["machine"], result["commit"]))
+        result["reference"] = reference_ratios(result)
+        write_json_atomic(args.out, result)
+        record(history, result)
     except (ValueError, RuntimeError, OSError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
-    headline = ("median", "plain_eigh", "speedup", "pose_seconds", "frequency_map",
-                "batched_pose")
-    print(json.dumps({k: v for k, v in result.items() if k.endswith(headline)}, indent=1))
+    print(json.dumps({"headline": headline(result), "previous": result["previous"],
+                      "reference": result["reference"]}, indent=1))
+    print(f"wrote {args.out} and a line of {history}")
     return 0
 
 

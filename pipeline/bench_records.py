@@ -1,4 +1,4 @@
-"""The records of `make bench` (out/bench.json), typed once: what each benchmark reports, in
+"""The records of `make bench` (bench/bench.json), typed once: what each benchmark reports, in
 seconds (medians of repeated runs), mesh sizes in mm."""
 from __future__ import annotations
 
@@ -9,20 +9,41 @@ class Timing(TypedDict):
     median_seconds: float
     min_seconds: float
     runs: int
+    plain_eigh_seconds: float  # scipy.linalg.eigh(K, M) of the pose's own matrices, median
+    vs_plain_eigh: float  # median_seconds / plain_eigh_seconds, timed alternately
 
 
 Timings = dict[str, Timing]  # setting ("s=3", "s=5, solid ends") -> its time per pose
 
 
+class Peak(TypedDict):
+    """One core's peak double-precision rate: clock times flops a cycle."""
+    gflops: float
+    clock_ghz: float
+    flops_per_cycle: int
+    vector_units: str  # the flags that set it ("avx2 fma")
+
+
 class BestModel(TypedDict):
-    """The most accurate analytical setting, batched over the map's poses on one core."""
+    """The most accurate analytical setting, batched over the map's poses on one core, per
+    stage (pipeline/bench_kernel.py), with its flops and the ratio to the flop floor."""
     setting: str
     poses: int
     matrix_size: int
     modes: int
     runs: int
-    pose_seconds: float
+    pose_seconds: float  # the whole: assembly, standard form, eigenvalues
     assembly_pose_seconds: float
+    standard_form_pose_seconds: float
+    eigenvalues_pose_seconds: float
+    flops_per_pose: float  # standard form and eigenvalues (assembly not counted)
+    gflops_per_core: float  # flops_per_pose / pose_seconds
+    solve_gflops_per_core: float  # flops_per_pose / (standard form + eigenvalues)
+    standard_form_gflops: float
+    eigenvalues_gflops: float
+    peak: Peak | None
+    floor_pose_seconds: float | None  # flops_per_pose at the core's peak
+    vs_floor: float | None  # pose_seconds / floor_pose_seconds
 
 
 class DynamicMapBench(TypedDict):
@@ -112,3 +133,36 @@ class UncertaintyBench(TypedDict):
     propagated_seconds: list[float]
     batched_seconds: list[float]
     run_vs_batched_pose: float
+
+
+class KilledWorker(TypedDict):
+    """The cluster's sweep with one worker killed part-way (pipeline/bench_distributed.py)."""
+    kill_after_results: int
+    stored_before_kill: int
+    stored_before_kill_computed_again: int  # must be 0
+    computed_again: int  # tasks lost with the killed worker, computed again
+    never_computed: int  # must be 0
+    difference: float  # largest relative difference from the one-process results
+    rerun_to_compute: int  # the same sweep again on the same cache: must be 0
+
+
+class DistributedBench(TypedDict):
+    """A 10^5-pose sweep in tasks of >= 1,000 poses: one process against a local Dask cluster
+    (each from an empty cache), and the cluster with a worker killed."""
+    poses: int
+    reached: int
+    tasks: int
+    poses_per_task: int
+    workers: int
+    modes: int
+    one_process_seconds: float
+    cluster_start_seconds: float
+    cluster_seconds: float
+    overhead: float  # workers * cluster_seconds / one_process_seconds - 1
+    speedup: float  # one_process_seconds / cluster_seconds
+    one_process_task_seconds: float  # the tasks' own time, summed, in one process
+    cluster_task_seconds: float  # the same in the workers
+    contention: float  # cluster_task_seconds / one_process_task_seconds - 1
+    dask_overhead: float  # workers * cluster_seconds / cluster_task_seconds - 1
+    difference: float  # largest relative difference from the one-process results
+    killed: KilledWorker

@@ -140,9 +140,12 @@ def _run_dask(fn: TaskFn, tasks: list, todo: list[int], address: str, store) -> 
         raise ComputeError(f"--scheduler {address}: cannot reach the Dask scheduler "
                            f"({' '.join(str(exc).split())})") from None
     try:
-        futures = [client.submit(_indexed, fn, i, tasks[i], pure=False) for i in todo]
-        for future in as_completed(futures):
+        # a result is released on the cluster once stored here: a worker that dies later holds
+        # nothing this sweep still wants, so nothing finished is computed again
+        for future in as_completed([client.submit(_indexed, fn, i, tasks[i], pure=False)
+                                    for i in todo]):
             i, value = future.result()
             store(i, value)
+            future.release()
     finally:
         client.close()
