@@ -166,3 +166,58 @@ def test_shear_coefficients_of_a_solid_circle():
     assert circle_shear_coefficient(0.0, "cowper") == circle_shear_coefficient(0.0, "hutchinson")
     with pytest.raises(ValueError, match="shear = 'x'"):
         circle_shear_coefficient(0.3, "x")
+
+
+def _printed_element(E, G, rho, s: Section, L: float, timoshenko: bool):
+    """The element as the references print it, entry by entry (Przemieniecki's stiffness,
+    Friedman & Kosmatka's consistent translational and rotary mass; the module doc)."""
+    k, m = np.zeros((12, 12)), np.zeros((12, 12))
+    rod = np.array([[5, 1], [1, 5]]) / 12 if timoshenko else np.array([[2, 1], [1, 2]]) / 6
+    bar = np.array([[1.0, -1.0], [-1.0, 1.0]])
+    for index, stiff, inertia in (([0, 6], E * s.area, s.area), ([3, 9], G * s.torsion_constant,
+                                                                   s.polar_moment)):
+        k[np.ix_(index, index)] = stiff / L * bar
+        m[np.ix_(index, index)] = rho * inertia * L * rod
+    for index, i, sign in (([1, 5, 7, 11], s.second_moment_z, 1.0),
+                           ([2, 4, 8, 10], s.second_moment_y, -1.0)):
+        p = 12 * E * i / (s.shear_coefficient * G * s.area * L**2) if timoshenko else 0.0
+        c = E * i / ((1 + p) * L**3)
+        kb = c * np.array([[12, 6 * L, -12, 6 * L],
+                           [6 * L, (4 + p) * L**2, -6 * L, (2 - p) * L**2],
+                           [-12, -6 * L, 12, -6 * L],
+                           [6 * L, (2 - p) * L**2, -6 * L, (4 + p) * L**2]])
+        a, b = 13 / 35 + 7 * p / 10 + p**2 / 3, (11 / 210 + 11 * p / 120 + p**2 / 24) * L
+        cc, d = 9 / 70 + 3 * p / 10 + p**2 / 6, (13 / 420 + 3 * p / 40 + p**2 / 24) * L
+        e, f = (1 / 105 + p / 60 + p**2 / 120) * L**2, (1 / 140 + p / 60 + p**2 / 120) * L**2
+        mb = rho * s.area * L / (1 + p)**2 * np.array([[a, b, cc, -d], [b, e, d, -f],
+                                                       [cc, d, a, -b], [-d, -f, -b, e]])
+        if timoshenko:
+            g, h = (1 / 10 - p / 2) * L, (2 / 15 + p / 6 + p**2 / 3) * L**2
+            kk = (1 / 30 + p / 6 - p**2 / 6) * L**2
+            mb = mb + rho * i / ((1 + p)**2 * L) * np.array(
+                [[6 / 5, g, -6 / 5, g], [g, h, -g, -kk], [-6 / 5, -g, 6 / 5, -g], [g, -kk, -g, h]])
+        flip = np.outer([1, sign, 1, sign], [1, sign, 1, sign])  # theta_y = -dw/dx
+        k[np.ix_(index, index)] = flip * kb
+        m[np.ix_(index, index)] = flip * mb
+    return k, m
+
+
+@pytest.mark.parametrize("theory", ["euler-bernoulli", "timoshenko"])
+def test_the_element_is_the_printed_matrices_entry_by_entry(theory):
+    """frame_element evaluates the printed closed forms as fixed patterns times factors of the
+    length: the same matrices to round-off, for random sections and materials, one length or
+    many (each element its own)."""
+    rng = np.random.default_rng(7)
+    for trial in range(40):
+        outer = rng.uniform(0.004, 0.3)
+        s = Section.circle(outer, outer * rng.uniform(0.0, 0.95) if trial % 2 else 0.0,
+                           rng.uniform(0.2, 0.45), "hutchinson")
+        E, G, rho = rng.uniform(5e10, 4e11), rng.uniform(2e10, 1.6e11), rng.uniform(1e3, 2e4)
+        lengths = rng.uniform(0.001, 2.0, size=(2, 3))
+        k, m = frame_element(E, G, rho, s, lengths, theory)
+        for idx in np.ndindex(lengths.shape):
+            want_k, want_m = _printed_element(E, G, rho, s, lengths[idx], theory == "timoshenko")
+            for got, want in ((k[idx], want_k), (m[idx], want_m)):
+                assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
+        one_k, _ = frame_element(E, G, rho, s, float(lengths[0, 0]), theory)
+        assert one_k.shape == (12, 12) and np.array_equal(one_k, k[0, 0])
