@@ -26,7 +26,7 @@ export OPENBLAS_NUM_THREADS ?= 1
 $(STAMP): pyproject.toml
 	python3 -m venv $(VENV)
 	$(PYTHON) -m pip install --quiet --upgrade pip
-	$(PYTHON) -m pip install --quiet -e '.[fem,report,test,modal-test]'
+	$(PYTHON) -m pip install --quiet -e '.[fem,report,test,modal-test,fast]'
 	touch $@
 
 setup: $(STAMP)

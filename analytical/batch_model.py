@@ -35,6 +35,7 @@ from common.rigid_body import skew
 
 from .end_zones import zone_for
 from .kinematics import Joint
+from .lanes import lane_eigenvalues
 from .leg_chain import leg_segments
 from .modal import ModalError
 from .params import Manipulator, ModelOptions
@@ -300,14 +301,24 @@ def standard_form(model: BatchModel) -> StandardForm:
     return StandardForm(matrices, factors)
 
 
-def batch_frequencies(form: StandardForm, count: int) -> np.ndarray:
-    """(N, count): the lowest `count` natural frequencies (Hz) of every pose, eigenvalues only
-    (tridiagonal reduction and QR, LAPACK ?syevd without vectors), Eqs. (23)-(24)."""
-    syevd = _lapack("syevd")
+def batch_frequencies(form: StandardForm, count: int, kernel: str = "lanes") -> np.ndarray:
+    """(N, count): the lowest `count` natural frequencies (Hz) of every pose, eigenvalues only,
+    Eqs. (23)-(24): with `kernel` "lanes" the compiled kernel with the poses in its vector lanes
+    (`analytical.lanes`; LAPACK where it cannot run), with "lapack" LAPACK's ?syevd without
+    vectors (tridiagonal reduction and QR) one pose a call."""
+    if not form.matrices:
+        return np.empty((0, count))
+    if count > len(form.matrices[0]):
+        raise ModalError(f"modes = {count}: the model has only {len(form.matrices[0])} "
+                         "coordinates")
+    largest = lane_eigenvalues(form.matrices, count) if kernel == "lanes" else None
+    if largest is not None:
+        for k in np.flatnonzero(~(largest[:, -1] > 0.0))[:1]:  # the first one, as LAPACK's
+            _eigenvalues(int(k), 0, largest[k])
+        return np.sqrt(1.0 / largest) / (2.0 * math.pi)
     values = np.empty((len(form.matrices), count))
+    syevd = _lapack("syevd")
     for k, matrix in enumerate(form.matrices):
-        if count > len(matrix):
-            raise ModalError(f"modes = {count}: the model has only {len(matrix)} coordinates")
         mu, _, info = syevd(matrix, compute_v=0, lower=0)
         values[k] = _eigenvalues(k, info, mu[::-1][:count])
     return np.sqrt(values) / (2.0 * math.pi)

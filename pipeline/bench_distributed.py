@@ -167,7 +167,7 @@ def bench_distributed(scene, grid: tuple[int, int, int] = POSE_GRID,
         start = time.perf_counter()
         with dask.config.set({WORKER_TRIM: TRIM_THRESHOLD}), LocalCluster(
                 n_workers=workers, threads_per_worker=1, processes=True,
-                dashboard_address=None, env={"OPENBLAS_NUM_THREADS": "1"}) as cluster:
+                dashboard_address=":0", env={"OPENBLAS_NUM_THREADS": "1"}) as cluster:
             started_s = time.perf_counter() - start
             start = time.perf_counter()
             spread = run_sweep(pose_frequencies, tasks, payloads, ResultCache(root / "two"),

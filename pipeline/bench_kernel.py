@@ -3,8 +3,10 @@
 The most accurate analytical setting (Timoshenko middles between solid end zones at the largest
 s offered) over the 10,000-pose map's reachable poses, batched in chunks of the map's size, on
 one core, frequencies only: assembly, the standard form (Cholesky K = U^T U, LAPACK ?potrf, and
-A = U^-T M U^-1, ?sygst) and the eigenvalues (tridiagonal reduction ?sytrd and QR, ?syevd
-without vectors). Each stage is timed as the difference of medians of the pipeline cut after it.
+A = U^-T M U^-1, ?sygst) and the eigenvalues (the compiled kernel of `analytical.lanes`,
+tridiagonal reduction and bisection with the poses in its vector lanes; and, timed in the same
+run, LAPACK's ?syevd without vectors one pose a call). Each stage is timed as the difference of
+medians of the pipeline cut after it.
 
 Flops of one pose, n coordinates (the textbook counts, leading order): Cholesky n^3 / 3, ?sygst
 n^3, ?sytrd 4 n^3 / 3; the tridiagonal QR's O(n^2) is not counted (under 1 % at n = 126). The
@@ -81,6 +83,7 @@ def bench_best_model(scene, runs: int) -> BestModel:
         batch_frequencies,
         standard_form,
     )
+    from analytical.lanes import kernels
     from analytical.substructure import leg_layout, model_coordinates
     from solvers.settings import SOLID_END_ELEMENTS, speed_settings
 
@@ -90,7 +93,7 @@ def bench_best_model(scene, runs: int) -> BestModel:
     plan = assembly_plan(leg_layout(scene.manipulator, options, poses.base_joint,
                                     poses.platform_joint))
 
-    def solve(last: str):
+    def solve(last: str, kernel: str = "lanes"):
         for start in range(0, len(poses), CHUNK):
             model = assemble_batch(scene.manipulator, poses.take(slice(start, start + CHUNK)),
                                    options, plan)
@@ -98,10 +101,12 @@ def bench_best_model(scene, runs: int) -> BestModel:
                 continue
             form = standard_form(model)
             if last == "eigenvalues":
-                batch_frequencies(form, options.modes)
+                batch_frequencies(form, options.modes, kernel)
 
     seconds = {last: median_seconds(lambda: solve(last), runs, warmup=1)[0] / len(poses)
                for last in ("assembly", "standard_form", "eigenvalues")}
+    lapack = median_seconds(lambda: solve("eigenvalues", "lapack"), runs, warmup=1)[0] / len(
+        poses) - seconds["standard_form"]
     n = model_coordinates(scene.manipulator, options)
     flops = stage_flops(n)
     standard = seconds["standard_form"] - seconds["assembly"]
@@ -117,5 +122,7 @@ def bench_best_model(scene, runs: int) -> BestModel:
         solve_gflops_per_core=total / (standard + eigen) / 1e9,
         standard_form_gflops=flops["standard_form"] / standard / 1e9,
         eigenvalues_gflops=flops["eigenvalues"] / eigen / 1e9,
+        kernel="lanes" if kernels() is not None else "lapack (numba missing)",
+        lapack_eigenvalues_pose_seconds=lapack, eigenvalues_vs_lapack=eigen / lapack,
         peak=peak, floor_pose_seconds=floor,
         vs_floor=None if floor is None else seconds["eigenvalues"] / floor)

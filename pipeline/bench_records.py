@@ -41,6 +41,9 @@ class BestModel(TypedDict):
     solve_gflops_per_core: float  # flops_per_pose / (standard form + eigenvalues)
     standard_form_gflops: float
     eigenvalues_gflops: float
+    kernel: str  # the eigenvalues' ("lanes": analytical/lanes.py; LAPACK without numba)
+    lapack_eigenvalues_pose_seconds: float  # LAPACK's ?syevd one pose a call, same run
+    eigenvalues_vs_lapack: float
     peak: Peak | None
     floor_pose_seconds: float | None  # flops_per_pose at the core's peak
     vs_floor: float | None  # pose_seconds / floor_pose_seconds

@@ -113,7 +113,7 @@ def test_a_killed_worker_loses_nothing_that_had_arrived(tmp_path):
     one = run_sweep(pose_frequencies, tasks, payloads, ResultCache(tmp_path / "one"), KIND,
                     workers=1)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster:
+                      dashboard_address=":0") as cluster:
         killed = killed_worker_sweep(tasks, payloads, cluster.scheduler_address,
                                      ResultCache(tmp_path / "killed"), tmp_path / "log.txt",
                                      kill_at=4)
