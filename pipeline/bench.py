@@ -60,6 +60,7 @@ from .bench_distributed import POSE_GRID, bench_distributed
 from .bench_history import (
     HISTORY,
     against,
+    cpu_model,
     default_out,
     headline,
     previous_run,
@@ -334,7 +335,7 @@ def main(argv: list[str] | None = None) -> int:
         result = {
             "machine": {"python": sys.version.split()[0], "platform": platform.platform(),
                         "processor": platform.processor() or platform.machine(),
-                        "cpu_count": os.cpu_count()},
+                        "cpu_model": cpu_model(), "cpu_count": os.cpu_count()},
             "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"),
             "case": args.case,
             "analytical": analytical,

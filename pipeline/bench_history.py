@@ -44,7 +44,7 @@ def revision() -> dict[str, Any]:
     if root is None:
         return {"commit": None, "changed": None}
     try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=root, check=True,
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, check=True,
                                 capture_output=True, text=True, timeout=10).stdout.strip()
         changed = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
                                  cwd=root, check=True, capture_output=True, text=True,
@@ -54,8 +54,19 @@ def revision() -> dict[str, Any]:
     return {"commit": commit, "changed": changed}
 
 
+def cpu_model(cpuinfo: Path = Path("/proc/cpuinfo")) -> str | None:
+    """The processor's model name (platform.processor() is only "x86_64" on Linux)."""
+    try:
+        for line in cpuinfo.read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return None
+
+
 def _same_machine(a: dict, b: dict) -> bool:
-    keys = ("processor", "cpu_count", "platform")
+    keys = ("processor", "cpu_model", "cpu_count", "platform")
     return all(a.get(k) == b.get(k) for k in keys)
 
 

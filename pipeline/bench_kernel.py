@@ -10,10 +10,12 @@ medians of the pipeline cut after it.
 
 Flops of one pose, n coordinates (the textbook counts, leading order): Cholesky n^3 / 3, ?sygst
 n^3, ?sytrd 4 n^3 / 3; the tridiagonal QR's O(n^2) is not counted (under 1 % at n = 126). The
-floor is those flops at one core's peak: its clock (`cpu MHz` of /proc/cpuinfo) times the double
-flops a cycle its vector units retire (two fused multiply-adds of 4 doubles with AVX2 and FMA:
-16; 32 with AVX-512; 8 with AVX alone; 4 with SSE2), the most the core can do, so the ratio of
-the measured time to it is a lower bound on how far from the hardware the kernel is.
+floor is those flops at one core's peak: its clock (`cpu MHz` of /proc/cpuinfo, the clock it
+runs at, not a turbo it may reach) times the double flops a cycle its vector units retire (two
+fused multiply-adds of 4 doubles with AVX2 and FMA: 16; 32 with AVX-512, where a core with one
+512-bit FMA unit does 16 and the floor stated is then half the true one; 8 with AVX alone; 4
+with SSE2), so the ratio of the measured time to it says how far from the hardware the kernel
+is.
 """
 from __future__ import annotations
 
@@ -114,15 +116,20 @@ def bench_best_model(scene, runs: int) -> BestModel:
     total = sum(flops.values())
     peak = core_peak()
     floor = None if peak is None else total / (peak["gflops"] * 1e9)
+
+    def rate(work: float, time: float) -> float | None:  # a difference of medians can be noise
+        return work / time / 1e9 if time > 0.0 else None
+
     return BestModel(
         setting=label, poses=len(poses), matrix_size=n, modes=options.modes, runs=runs,
         pose_seconds=seconds["eigenvalues"], assembly_pose_seconds=seconds["assembly"],
         standard_form_pose_seconds=standard, eigenvalues_pose_seconds=eigen,
         flops_per_pose=total, gflops_per_core=total / seconds["eigenvalues"] / 1e9,
-        solve_gflops_per_core=total / (standard + eigen) / 1e9,
-        standard_form_gflops=flops["standard_form"] / standard / 1e9,
-        eigenvalues_gflops=flops["eigenvalues"] / eigen / 1e9,
+        solve_gflops_per_core=rate(total, standard + eigen),
+        standard_form_gflops=rate(flops["standard_form"], standard),
+        eigenvalues_gflops=rate(flops["eigenvalues"], eigen),
         kernel="lanes" if kernels() is not None else "lapack (numba missing)",
-        lapack_eigenvalues_pose_seconds=lapack, eigenvalues_vs_lapack=eigen / lapack,
+        lapack_eigenvalues_pose_seconds=lapack,
+        eigenvalues_vs_lapack=eigen / lapack if lapack > 0.0 else None,
         peak=peak, floor_pose_seconds=floor,
         vs_floor=None if floor is None else seconds["eigenvalues"] / floor)

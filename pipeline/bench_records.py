@@ -38,12 +38,12 @@ class BestModel(TypedDict):
     eigenvalues_pose_seconds: float
     flops_per_pose: float  # standard form and eigenvalues (assembly not counted)
     gflops_per_core: float  # flops_per_pose / pose_seconds
-    solve_gflops_per_core: float  # flops_per_pose / (standard form + eigenvalues)
-    standard_form_gflops: float
-    eigenvalues_gflops: float
+    solve_gflops_per_core: float | None  # flops_per_pose / (standard form + eigenvalues)
+    standard_form_gflops: float | None
+    eigenvalues_gflops: float | None
     kernel: str  # the eigenvalues' ("lanes": analytical/lanes.py; LAPACK without numba)
     lapack_eigenvalues_pose_seconds: float  # LAPACK's ?syevd one pose a call, same run
-    eigenvalues_vs_lapack: float
+    eigenvalues_vs_lapack: float | None
     peak: Peak | None
     floor_pose_seconds: float | None  # flops_per_pose at the core's peak
     vs_floor: float | None  # pose_seconds / floor_pose_seconds

@@ -140,12 +140,14 @@ def _run_dask(fn: TaskFn, tasks: list, todo: list[int], address: str, store) -> 
         raise ComputeError(f"--scheduler {address}: cannot reach the Dask scheduler "
                            f"({' '.join(str(exc).split())})") from None
     try:
-        # a result is released on the cluster once stored here: a worker that dies later holds
-        # nothing this sweep still wants, so nothing finished is computed again
+        # a result is released on the cluster as soon as it is here, before it is stored: a
+        # worker that dies once the release has reached the scheduler (the client sends such
+        # messages every few milliseconds) holds nothing this sweep still wants, so nothing
+        # that arrived is computed again
         for future in as_completed([client.submit(_indexed, fn, i, tasks[i], pure=False)
                                     for i in todo]):
             i, value = future.result()
-            store(i, value)
             future.release()
+            store(i, value)
     finally:
         client.close()

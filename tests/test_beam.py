@@ -212,6 +212,11 @@ def test_the_element_is_the_printed_matrices_entry_by_entry(theory):
         outer = rng.uniform(0.004, 0.3)
         s = Section.circle(outer, outer * rng.uniform(0.0, 0.95) if trial % 2 else 0.0,
                            rng.uniform(0.2, 0.45), "hutchinson")
+        if trial % 3 == 0:  # any section: I_y, I_z, J and I_p apart (a swap would show)
+            i = s.second_moment_y
+            s = Section(s.area, i * rng.uniform(0.3, 1.0), i * rng.uniform(1.0, 3.0),
+                        i * rng.uniform(0.2, 1.5), i * rng.uniform(1.5, 4.0),
+                        rng.uniform(0.5, 0.9))
         E, G, rho = rng.uniform(5e10, 4e11), rng.uniform(2e10, 1.6e11), rng.uniform(1e3, 2e4)
         lengths = rng.uniform(0.001, 2.0, size=(2, 3))
         k, m = frame_element(E, G, rho, s, lengths, theory)

@@ -118,6 +118,7 @@ def test_a_killed_worker_loses_nothing_that_had_arrived(tmp_path):
                                      ResultCache(tmp_path / "killed"), tmp_path / "log.txt",
                                      kill_at=4)
     counts = killed["computed"]
+    assert killed["killed_pid"] not in killed["worker_pids_after"]  # it did die
     assert len(killed["before_kill"]) == 4
     assert all(counts[i] == 1 for i in killed["before_kill"])
     assert min(counts) >= 1
