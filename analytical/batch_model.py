@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.linalg
@@ -35,7 +35,7 @@ from common.rigid_body import skew
 
 from .end_zones import zone_for
 from .kinematics import Joint
-from .lanes import lane_eigenvalues
+from .lanes import LANES, lane_eigenvalues, lane_model_eigenvalues
 from .leg_chain import leg_segments
 from .modal import ModalError
 from .params import Manipulator, ModelOptions
@@ -53,6 +53,11 @@ from .substructure import (
 )
 
 CHUNK = 64  # poses assembled and solved together (their matrices stay in cache)
+# The whole solve on the kernel pays while its two lanes' matrices (K's factor, M's standard
+# form) stay in cache; LAPACK's blocked standard form is faster beyond (measured on one core,
+# us a pose, whole kernel against LAPACK's standard form + the kernel's eigenvalues: n = 54
+# 72 against 96 (3.0 MB); n = 72 284 against 204 (5.3 MB); n = 126 850 against 630).
+FULL_LANE_BYTES = 4 * 2 ** 20
 
 
 @dataclass(frozen=True)
@@ -282,23 +287,53 @@ class StandardForm:
     factors: list  # U per pose
 
 
-def standard_form(model: BatchModel) -> StandardForm:
-    """Reduce every pose once; K and M are overwritten (they are not needed afterwards).
+def standard_form(model: BatchModel, index=None) -> StandardForm:
+    """Reduce every pose once (or the poses `index`, in its order); their K and M are
+    overwritten (they are not needed afterwards).
 
     The transposed views of the C-ordered K and M are Fortran-ordered, so LAPACK works in
     place; their upper triangle is the lower one of K and M, which solve_modes reads.
     """
     potrf, sygst = (_lapack(name) for name in ("potrf", "sygst"))
     matrices, factors = [], []
-    for k in range(len(model.stiffness)):
+    for k in (range(len(model.stiffness)) if index is None else np.asarray(index, int)):
         factor, info = potrf(model.stiffness[k].T, lower=0, clean=1, overwrite_a=1)
         if info != 0:
-            raise ModalError(f"pose {k}: the stiffness matrix is not positive definite: the "
-                             f"structure is a mechanism (LAPACK info = {info})")
+            raise _mechanism(int(k), info)
         matrix, info = sygst(model.mass[k].T, factor, itype=1, lower=0, overwrite_a=1)
         matrices.append(matrix)
         factors.append(factor)
     return StandardForm(matrices, factors)
+
+
+def _mechanism(pose: int, info: int) -> ModalError:
+    return ModalError(f"pose {pose}: the stiffness matrix is not positive definite: the "
+                      f"structure is a mechanism (LAPACK info = {info})")
+
+
+def frequencies(model: BatchModel, count: int, keep: bool = False) -> np.ndarray:
+    """(N, count): the lowest `count` natural frequencies (Hz) of every pose, Eqs. (23)-(24).
+
+    Small models wholly on the compiled kernel from K and M (`analytical.lanes`: Cholesky,
+    standard form, tridiagonal, bisection), while both lanes' matrices fit in FULL_LANE_BYTES;
+    larger ones through LAPACK's blocked standard form and the kernel's eigenvalues
+    (`batch_frequencies`); LAPACK alone where the kernel cannot run. The LAPACK paths overwrite
+    K and M unless `keep`."""
+    n = model.stiffness.shape[1]
+    if count > n:
+        raise ModalError(f"modes = {count}: the model has only {n} coordinates")
+    whole = 2 * n * n * LANES * 8 <= FULL_LANE_BYTES and len(model.stiffness) > 0
+    found = lane_model_eigenvalues(model.stiffness, model.mass, count) if whole else None
+    if found is None:
+        if keep:
+            model = replace(model, stiffness=model.stiffness.copy(), mass=model.mass.copy())
+        return batch_frequencies(standard_form(model), count)
+    largest, info = found
+    for k in np.flatnonzero(info)[:1]:  # the first, as LAPACK's pose by pose would
+        raise _mechanism(int(k), int(info[k]))
+    for k in np.flatnonzero(~(largest[:, -1] > 0.0))[:1]:
+        _eigenvalues(int(k), 0, largest[k])
+    return np.sqrt(1.0 / largest) / (2.0 * math.pi)
 
 
 def batch_frequencies(form: StandardForm, count: int, kernel: str = "lanes") -> np.ndarray:

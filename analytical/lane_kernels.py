@@ -168,3 +168,64 @@ def gather_lower(stack, a):  # pragma: no cover - compiled
         for j in range(i + 1):
             for b in range(lanes):
                 a[i, j, b] = stack[b, i, j]
+
+
+@njit(cache=True)
+def cholesky(a, info):  # pragma: no cover - compiled
+    """K = L L^T of each lane's symmetric matrix a (n, n, B), lower triangle read and
+    overwritten by L (LAPACK's ?potf2, lower); info[b] = j + 1 at the first pivot j that is not
+    positive (the lane is then garbage), 0 where the factor exists."""
+    n, _, lanes = a.shape
+    inverse = np.empty(lanes)
+    for j in range(n):
+        for b in range(lanes):
+            pivot = a[j, j, b]
+            if not pivot > 0.0:
+                if info[b] == 0:
+                    info[b] = j + 1
+                pivot = 1.0
+            root = np.sqrt(pivot)
+            a[j, j, b] = root
+            inverse[b] = 1.0 / root
+        for i in range(j + 1, n):
+            for b in range(lanes):
+                a[i, j, b] *= inverse[b]
+        for k in range(j + 1, n):
+            for i in range(k, n):
+                for b in range(lanes):
+                    a[i, k, b] -= a[i, j, b] * a[k, j, b]
+
+
+@njit(cache=True)
+def reduce_standard(a, l):  # pragma: no cover - compiled
+    """a <- L^-1 a L^-T on each lane's lower triangle, L lower from `cholesky` (LAPACK's ?sygs2,
+    itype 1, lower: per column a scaling, a symmetric rank-2 update of the trailing matrix and a
+    forward substitution)."""
+    n, _, lanes = a.shape
+    half = np.empty(lanes)
+    inverse = np.empty(lanes)
+    for k in range(n):
+        for b in range(lanes):
+            diagonal = l[k, k, b]
+            entry = a[k, k, b] / (diagonal * diagonal)
+            a[k, k, b] = entry
+            half[b] = -0.5 * entry
+            inverse[b] = 1.0 / diagonal
+        if k == n - 1:
+            break
+        for i in range(k + 1, n):
+            for b in range(lanes):
+                a[i, k, b] = a[i, k, b] * inverse[b] + half[b] * l[i, k, b]
+        for j in range(k + 1, n):
+            for i in range(j, n):
+                for b in range(lanes):
+                    a[i, j, b] -= a[i, k, b] * l[j, k, b] + l[i, k, b] * a[j, k, b]
+        for i in range(k + 1, n):
+            for b in range(lanes):
+                a[i, k, b] += half[b] * l[i, k, b]
+        for j in range(k + 1, n):  # solve L[k+1:, k+1:] x = a[k+1:, k], forward
+            for b in range(lanes):
+                a[j, k, b] /= l[j, j, b]
+            for i in range(j + 1, n):
+                for b in range(lanes):
+                    a[i, k, b] -= a[j, k, b] * l[i, j, b]

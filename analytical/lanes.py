@@ -57,3 +57,33 @@ def lane_eigenvalues(matrices: list[np.ndarray], count: int) -> np.ndarray | Non
         compiled.largest(d, e, count, found)
         out[start:start + LANES] = found.T[:min(LANES, len(matrices) - start)]
     return out
+
+
+def lane_model_eigenvalues(stiffness: np.ndarray, mass: np.ndarray, count: int
+                           ) -> tuple[np.ndarray, np.ndarray] | None:
+    """The `count` largest mu of M x = mu K x, descending, for each pose of K and M (N, n, n)
+    (lower triangles read, neither changed), all on the kernel: Cholesky of K, the standard
+    form, the tridiagonal and the bisection; and per pose 0, or j + 1 where K's j-th pivot is not
+    positive (not positive definite: a mechanism). None where the kernel cannot run."""
+    compiled = kernels()
+    if compiled is None:
+        return None
+    total, n = len(stiffness), stiffness.shape[1]
+    out, info = np.empty((total, count)), np.zeros(total + LANES, np.int64)
+    factor, a = np.empty((n, n, LANES)), np.empty((n, n, LANES))
+    d, e, found = np.empty((n, LANES)), np.empty((n - 1, LANES)), np.empty((count, LANES))
+    for start in range(0, total, LANES):
+        stop = min(start + LANES, total)
+        k_group, m_group = stiffness[start:stop], mass[start:stop]
+        if stop - start < LANES:  # a short last group repeats its last pose
+            spare = LANES - (stop - start)
+            k_group = np.concatenate([k_group, np.repeat(k_group[-1:], spare, axis=0)])
+            m_group = np.concatenate([m_group, np.repeat(m_group[-1:], spare, axis=0)])
+        compiled.gather_lower(np.ascontiguousarray(k_group), factor)
+        compiled.gather_lower(np.ascontiguousarray(m_group), a)
+        compiled.cholesky(factor, info[start:start + LANES])
+        compiled.reduce_standard(a, factor)
+        compiled.tridiagonal(a, d, e)
+        compiled.largest(d, e, count, found)
+        out[start:stop] = found.T[:stop - start]
+    return out, info[:total]

@@ -29,7 +29,7 @@ from scipy.optimize import minimize
 
 from common.errors import RpsError
 
-from .batch_model import CHUNK, assemble_batch, assembly_plan, batch_frequencies, standard_form
+from .batch_model import CHUNK, assemble_batch, assembly_plan, frequencies
 from .model import natural_frequencies
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import pose_batch
@@ -71,7 +71,7 @@ def grid_frequencies(manipulator: Manipulator, options: ModelOptions, heights, a
         ok = np.flatnonzero(poses.feasible)
         if len(ok):
             model = assemble_batch(manipulator, poses.take(ok), options, plan)
-            out[start + ok] = batch_frequencies(standard_form(model), options.modes)
+            out[start + ok] = frequencies(model, options.modes)
     return out.reshape(np.shape(np.broadcast_arrays(heights, azimuths, tilts)[0])
                        + (options.modes,))
 

@@ -29,8 +29,8 @@ from .batch_model import (
     CHUNK,
     assemble_batch,
     assembly_plan,
-    batch_frequencies,
     batch_modes,
+    frequencies,
     probe_shapes,
     standard_form,
 )
@@ -130,21 +130,22 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radiu
     where[0, :] = where[0, 0]  # the level pose is the same for every azimuth
     solvable = poses.take(feasible)
     plan = assembly_plan(leg_layout(manipulator, options, poses.base_joint, poses.platform_joint))
-    solved = []  # per chunk of poses: (its slice, its model, its standard form)
+    solved = []  # per chunk of poses: (its slice, its model, its frequencies)
     for chunk in _chunks(len(feasible)):
         model = assemble_batch(manipulator, solvable.take(chunk), options, plan)
-        solved.append((chunk, model, standard_form(model)))
-    hz = np.concatenate([batch_frequencies(form, window + 1) for _, _, form in solved])
+        solved.append((chunk, model, frequencies(model, window + 1, keep=True)))
+    hz = np.concatenate([found for _, _, found in solved])
     sorted_hz = np.where(where[..., None] >= 0, hz[where], np.nan)
 
     steps, closures = _steps(where, sorted_hz)
     shaped = np.unique([where[0, 0]] + [where[q] for a, b, need, _ in steps + closures
                                         if need for q in (a, b)])
     probes: dict[int, np.ndarray] = {}
-    for chunk, model, form in solved:
+    for chunk, model, _ in solved:
         inside = shaped[(shaped >= chunk.start) & (shaped < chunk.stop)] - chunk.start
-        if len(inside):
-            _, vectors = batch_modes(form, inside, window)
+        if len(inside):  # the standard form of these poses alone
+            _, vectors = batch_modes(standard_form(model, inside), np.arange(len(inside)),
+                                     window)
             probes.update(zip((inside + chunk.start).tolist(),
                               probe_shapes(model, vectors, inside)))
     matched = [step for step in steps + closures if step[2]]

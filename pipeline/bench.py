@@ -164,13 +164,7 @@ def bench_dynamic_map(scene, runs: int) -> DynamicMapBench:
     (issue 38: 2,000 lines; the scene's [damping] and [tool], or their defaults) against the
     frequency map the run draws on the same grid with the scene's modes, one core each, and
     against the same poses' frequencies alone; timed alternately, medians."""
-    from analytical.batch_model import (
-        CHUNK,
-        assemble_batch,
-        assembly_plan,
-        batch_frequencies,
-        standard_form,
-    )
+    from analytical.batch_model import CHUNK, assemble_batch, assembly_plan, frequencies
     from analytical.substructure import leg_layout, model_coordinates
     from analytical.tool_response import SUPERPOSED_EXTRA, least_stiffness_map
     from common.frf import LINES
@@ -186,16 +180,16 @@ def bench_dynamic_map(scene, runs: int) -> DynamicMapBench:
         least_stiffness_map(scene.manipulator, options, poses, scene.damping,
                             scene.tool.point, modes, LINES)
 
-    def frequencies():
+    def frequencies_only():
         for start in range(0, len(poses), CHUNK):
             model = assemble_batch(scene.manipulator, poses.take(slice(start, start + CHUNK)),
                                    options, plan)
-            batch_frequencies(standard_form(model), modes)
+            frequencies(model, modes)
 
     def fmap():
         frequency_map(scene.manipulator, options, heights, rings, azimuths, 1)
 
-    times = alternate({"dynamic": dynamic, "frequencies": frequencies, "map": fmap}, runs,
+    times = alternate({"dynamic": dynamic, "frequencies": frequencies_only, "map": fmap}, runs,
                       warmup=1)
     median = {k: statistics.median(v) for k, v in times.items()}
     return DynamicMapBench(
@@ -273,7 +267,7 @@ def bench_uncertainty(scene, case_name: str, runs: int, samples: int = 256
     """Seconds per model run of `solvers.uncertainty.propagate` (Saltelli's design, `samples`
     base points, the statistics included) at the case, against seconds per pose of the batched
     frequencies of as many copies of the case's pose of the scene's own machine; medians."""
-    from analytical.batch_model import CHUNK, assemble_batch, batch_frequencies, standard_form
+    from analytical.batch_model import CHUNK, assemble_batch, frequencies
     from analytical.pose_batch import pose_batch
     from solvers.uncertainty import propagate
 
@@ -289,7 +283,7 @@ def bench_uncertainty(scene, case_name: str, runs: int, samples: int = 256
         for start in range(0, count, CHUNK):
             model = assemble_batch(scene.manipulator, poses.take(slice(start, start + CHUNK)),
                                    scene.analytical)
-            batch_frequencies(standard_form(model), modes)
+            frequencies(model, modes)
 
     times = alternate({"propagated": propagated, "batched": batched}, runs, warmup=1)
     run_s = statistics.median(times["propagated"]) / count

@@ -70,7 +70,7 @@ class PoseTask:
 def pose_frequencies(task: PoseTask) -> dict:
     """The lowest `options.modes` frequencies (Hz) of each pose of the task, None where a pose
     is out of reach, and the seconds it took; logs the computation (its index) first."""
-    from analytical.batch_model import CHUNK, assemble_batch, batch_frequencies, standard_form
+    from analytical.batch_model import CHUNK, assemble_batch, frequencies
     from analytical.pose_batch import pose_batch
 
     if task.log is not None:
@@ -83,7 +83,7 @@ def pose_frequencies(task: PoseTask) -> dict:
     for start in range(0, len(reached), CHUNK):
         index = reached[start:start + CHUNK]
         model = assemble_batch(task.manipulator, poses.take(index), task.options)
-        hz[index] = batch_frequencies(standard_form(model), task.options.modes)
+        hz[index] = frequencies(model, task.options.modes)
     return {"frequencies_hz": [None if np.isnan(row[0]) else row.tolist() for row in hz],
             "seconds": time.perf_counter() - began}
 

@@ -119,7 +119,7 @@ def estimate_seconds(scene, options: ModelOptions, pose: Pose, unit, modes: int,
 
 
 def _solve(scene, options, built, poses, modes: int, tool: bool):
-    from analytical.batch_model import batch_frequencies, standard_form
+    from analytical.batch_model import frequencies, standard_form
     from analytical.sample_batch import assemble_samples
     from analytical.substructure import model_coordinates
     from analytical.tool_response import SUPERPOSED_EXTRA, batch_tool_modes
@@ -131,9 +131,9 @@ def _solve(scene, options, built, poses, modes: int, tool: bool):
     )
 
     model = assemble_samples(built, poses, options)
-    form = standard_form(model)
     if not tool:
-        return batch_frequencies(form, modes), None
+        return frequencies(model, modes), None
+    form = standard_form(model)
     count = min(modes + SUPERPOSED_EXTRA, model_coordinates(built[0], options))
     found = batch_tool_modes(model, form, poses.rotation, scene.tool.point, count)
     residual = residual_flexibility(found.static, found.omega, found.phi)

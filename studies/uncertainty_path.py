@@ -27,7 +27,7 @@ CHUNK = 256
 
 def worst_path(scene) -> list[tuple[int, Pose, float]]:
     """(layer, pose, nominal f1 in Hz) of the least f1 of each layer of the map's grid."""
-    from analytical.batch_model import assemble_batch, batch_frequencies, standard_form
+    from analytical.batch_model import assemble_batch, frequencies
     from analytical.pose_batch import pose_batch
 
     heights, tilts, phis = map_grid(scene)
@@ -41,7 +41,7 @@ def worst_path(scene) -> list[tuple[int, Pose, float]]:
     for first in range(0, len(reached), CHUNK):
         index = reached[first:first + CHUNK]
         model = assemble_batch(scene.manipulator, poses.take(index), scene.analytical)
-        f1[index] = batch_frequencies(standard_form(model), 1)[:, 0]
+        f1[index] = frequencies(model, 1)[:, 0]
     per_layer = f1.reshape(len(heights), -1)
     out = []
     for layer, row in enumerate(per_layer):

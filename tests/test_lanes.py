@@ -11,8 +11,17 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from analytical.batch_model import CHUNK, assemble_batch, batch_frequencies, standard_form
+from analytical.batch_model import (
+    CHUNK,
+    FULL_LANE_BYTES,
+    assemble_batch,
+    batch_frequencies,
+    frequencies,
+    standard_form,
+)
 from analytical.kinematics import PoseError
+from analytical.lanes import LANES
+from analytical.modal import ModalError
 from analytical.pose_batch import pose_batch
 from analytical.reach import level_band
 from common.stiffness import Stiffness
@@ -35,9 +44,15 @@ def poses_of(manipulator, count: int, seed: int):
 
 
 def both(manipulator, poses, options, count: int):
-    form = standard_form(assemble_batch(manipulator, poses, options))
+    """The kernel's frequencies (the whole solve on it, and its eigenvalues after LAPACK's
+    standard form, which must agree) against LAPACK's."""
+    model = assemble_batch(manipulator, poses, options)
+    whole = frequencies(replace(model, stiffness=model.stiffness.copy(),
+                                mass=model.mass.copy()), count)
+    form = standard_form(model)
     lapack = batch_frequencies(form, count, kernel="lapack")
     lanes = batch_frequencies(form, count, kernel="lanes")
+    assert np.abs(whole / lapack - 1).max() <= TOLERANCE
     return lanes, lapack
 
 
@@ -130,3 +145,23 @@ def test_without_numba_one_line_says_so_and_lapack_solves(monkeypatch):
     assert len(said) == 1 and "\n" not in str(said[0].message)
     assert "numba" in str(said[0].message) and "LAPACK" in str(said[0].message)
     assert np.array_equal(got, expected)
+
+
+def test_the_whole_solve_on_the_kernel_is_taken_where_it_fits_and_finds_a_mechanism():
+    """The paper's scene (54 coordinates) is solved wholly on the kernel, leaving K and M as
+    they were; a pose whose stiffness is not positive definite is named as LAPACK names it."""
+    scene = load_scene(ROOT / "scenes" / "paper.toml")
+    n = 18 * scene.analytical.elements
+    assert 2 * n * n * LANES * 8 <= FULL_LANE_BYTES
+    model = assemble_batch(scene.manipulator, poses_of(scene.manipulator, 70, seed=2),
+                           scene.analytical)
+    before = model.stiffness.copy(), model.mass.copy()
+    frequencies(model, 6)
+    assert np.array_equal(model.stiffness, before[0]) and np.array_equal(model.mass, before[1])
+    model.stiffness[66] = -np.eye(n)  # in the short last group
+    with pytest.raises(ModalError, match="pose 66: the stiffness matrix is not positive "
+                                         "definite: the structure is a mechanism"):
+        frequencies(model, 6)
+    copy = replace(model, stiffness=model.stiffness.copy(), mass=model.mass.copy())
+    with pytest.raises(ModalError, match="pose 66: the stiffness matrix is not positive"):
+        batch_frequencies(standard_form(copy), 6, kernel="lapack")
