@@ -34,8 +34,8 @@ import numpy as np
 from analytical.params import Manipulator, ModelOptions
 from runtime.cache import ResultCache, content_key
 from runtime.sweep import SweepPlan, run_sweep
-from studies.workspace_map import workspace_heights
 
+from .bench_kernel import grid_poses
 from .bench_records import DistributedBench, KilledWorker
 
 POSE_GRID = (40, 50, 50)  # heights x rings x azimuths: 100,000 poses
@@ -91,15 +91,7 @@ def pose_frequencies(task: PoseTask) -> dict:
 def sweep_tasks(scene, grid: tuple[int, int, int] = POSE_GRID, per_task: int = PER_TASK,
                 log: Path | None = None) -> tuple[list[PoseTask], list[dict]]:
     """The grid's poses in tasks of `per_task`, and each task's cache payload."""
-    from analytical.reach import regular_radii
-
-    layers, rings, azimuths = grid
-    heights = workspace_heights(scene, layers)
-    radii = regular_radii(scene.manipulator, heights)
-    z, fraction, phi = np.meshgrid(np.arange(layers), np.linspace(0.0, 1.0, rings),
-                                   np.linspace(0.0, 2 * np.pi, azimuths, endpoint=False),
-                                   indexing="ij")
-    h, a, t = heights[z.ravel()], phi.ravel(), (radii[z] * fraction).ravel()
+    h, a, t = grid_poses(scene, grid)
     tasks, payloads = [], []
     for k, start in enumerate(range(0, len(h), per_task)):
         part = slice(start, start + per_task)

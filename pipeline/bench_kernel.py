@@ -34,19 +34,25 @@ FLOPS_PER_CYCLE = (("avx512f", 32), ("avx2 fma", 16), ("avx", 8), ("sse2", 4))
 CPUINFO = Path("/proc/cpuinfo")
 
 
-def map_poses(scene):
-    """The reachable poses of the 10,000-pose map grid (every layer's rings and azimuths)."""
-    from analytical.pose_batch import pose_batch
+def grid_poses(scene, grid: tuple[int, int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Heights, azimuths and tilts (SI) of a layers x rings x azimuths grid over the workspace:
+    every layer's rings up to its regular tilt radius, as the map draws them."""
     from analytical.reach import regular_radii
 
-    layers, rings, azimuths = MAP_GRID
+    layers, rings, azimuths = grid
     heights = workspace_heights(scene, layers)
     radii = regular_radii(scene.manipulator, heights)
     z, fraction, phi = np.meshgrid(np.arange(layers), np.linspace(0.0, 1.0, rings),
                                    np.linspace(0.0, 2 * np.pi, azimuths, endpoint=False),
                                    indexing="ij")
-    poses = pose_batch(scene.manipulator, heights[z.ravel()], phi.ravel(),
-                       (radii[z] * fraction).ravel())
+    return heights[z.ravel()], phi.ravel(), (radii[z] * fraction).ravel()
+
+
+def map_poses(scene):
+    """The reachable poses of the 10,000-pose map grid (every layer's rings and azimuths)."""
+    from analytical.pose_batch import pose_batch
+
+    poses = pose_batch(scene.manipulator, *grid_poses(scene, MAP_GRID))
     return poses.take(np.flatnonzero(poses.feasible))
 
 
