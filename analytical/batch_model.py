@@ -331,6 +331,12 @@ def frequencies(model: BatchModel, count: int, keep: bool = False) -> np.ndarray
     largest, info = found
     for k in np.flatnonzero(info)[:1]:  # the first, as LAPACK's pose by pose would
         raise _mechanism(int(k), int(info[k]))
+    return _hertz(largest)
+
+
+def _hertz(largest: np.ndarray) -> np.ndarray:
+    """Frequencies (Hz) from the kernel's largest mu = 1 / omega^2 of every pose, the first pose
+    whose last mu is not positive refused as `_eigenvalues` refuses it."""
     for k in np.flatnonzero(~(largest[:, -1] > 0.0))[:1]:
         _eigenvalues(int(k), 0, largest[k])
     return np.sqrt(1.0 / largest) / (2.0 * math.pi)
@@ -348,9 +354,7 @@ def batch_frequencies(form: StandardForm, count: int, kernel: str = "lanes") -> 
                          "coordinates")
     largest = lane_eigenvalues(form.matrices, count) if kernel == "lanes" else None
     if largest is not None:
-        for k in np.flatnonzero(~(largest[:, -1] > 0.0))[:1]:  # the first one, as LAPACK's
-            _eigenvalues(int(k), 0, largest[k])
-        return np.sqrt(1.0 / largest) / (2.0 * math.pi)
+        return _hertz(largest)
     values = np.empty((len(form.matrices), count))
     syevd = _lapack("syevd")
     for k, matrix in enumerate(form.matrices):

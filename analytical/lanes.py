@@ -35,6 +35,16 @@ def kernels():
     return lane_kernels
 
 
+def _groups(stack: np.ndarray):
+    """(start, stop, LANES matrices) of N stacked ones (N, n, n), a short last group padded
+    with copies of its last matrix (the spare lanes' results are dropped)."""
+    for start in range(0, len(stack), LANES):
+        group = stack[start:start + LANES]
+        if len(group) < LANES:
+            group = np.concatenate([group, np.repeat(group[-1:], LANES - len(group), axis=0)])
+        yield start, min(start + LANES, len(stack)), np.ascontiguousarray(group)
+
+
 def lane_eigenvalues(matrices: list[np.ndarray], count: int) -> np.ndarray | None:
     """(N, count): the `count` largest eigenvalues, descending, of the symmetric matrices (their
     upper triangles, as LAPACK's ?sygst leaves them), or None where the kernel cannot run."""
@@ -45,17 +55,15 @@ def lane_eigenvalues(matrices: list[np.ndarray], count: int) -> np.ndarray | Non
     out = np.empty((len(matrices), count))
     a, d, e = np.empty((n, n, LANES)), np.empty((n, LANES)), np.empty((n - 1, LANES))
     found = np.empty((count, LANES))
-    for start in range(0, len(matrices), LANES):
-        group = matrices[start:start + LANES]
-        # the lower triangle of each lane's matrix is the upper of the given one: a[i, j, b]
-        # = matrix_b[j, i] (the transposes of ?sygst's Fortran-ordered results are C-ordered:
-        # stacked as they lie, then gathered into lanes, 23 against 49 us a pose for
-        # np.stack along the last axis); a short last group repeats its last matrix
-        group = group + [group[-1]] * (LANES - len(group))
-        compiled.gather_lower(np.stack([matrix.T for matrix in group]), a)
+    # the lower triangle of each lane's matrix is the upper of the given one: a[i, j, b] =
+    # matrix_b[j, i] (the transposes of ?sygst's Fortran-ordered results are C-ordered: stacked
+    # as they lie, then gathered into lanes, 23 against 49 us a pose for np.stack along the last
+    # axis)
+    for start, stop, group in _groups(np.stack([matrix.T for matrix in matrices])):
+        compiled.gather_lower(group, a)
         compiled.tridiagonal(a, d, e)
         compiled.largest(d, e, count, found)
-        out[start:start + LANES] = found.T[:min(LANES, len(matrices) - start)]
+        out[start:stop] = found.T[:stop - start]
     return out
 
 
@@ -72,15 +80,9 @@ def lane_model_eigenvalues(stiffness: np.ndarray, mass: np.ndarray, count: int
     out, info = np.empty((total, count)), np.zeros(total + LANES, np.int64)
     factor, a = np.empty((n, n, LANES)), np.empty((n, n, LANES))
     d, e, found = np.empty((n, LANES)), np.empty((n - 1, LANES)), np.empty((count, LANES))
-    for start in range(0, total, LANES):
-        stop = min(start + LANES, total)
-        k_group, m_group = stiffness[start:stop], mass[start:stop]
-        if stop - start < LANES:  # a short last group repeats its last pose
-            spare = LANES - (stop - start)
-            k_group = np.concatenate([k_group, np.repeat(k_group[-1:], spare, axis=0)])
-            m_group = np.concatenate([m_group, np.repeat(m_group[-1:], spare, axis=0)])
-        compiled.gather_lower(np.ascontiguousarray(k_group), factor)
-        compiled.gather_lower(np.ascontiguousarray(m_group), a)
+    for (start, stop, k_group), (_, _, m_group) in zip(_groups(stiffness), _groups(mass)):
+        compiled.gather_lower(k_group, factor)
+        compiled.gather_lower(m_group, a)
         compiled.cholesky(factor, info[start:start + LANES])
         compiled.reduce_standard(a, factor)
         compiled.tridiagonal(a, d, e)
