@@ -21,19 +21,25 @@ export PYVISTA_OFF_SCREEN := true
 export OPENBLAS_NUM_THREADS ?= 1
 
 .DEFAULT_GOAL := run
-.PHONY: run campaign setup test fuzz scenes verify lint bench report readme docs clean clean-cache update-baselines design
+.PHONY: run campaign setup test fuzz scenes verify lint bench report readme readme-timings docs clean clean-cache update-baselines design
 
 $(STAMP): pyproject.toml
+	@mkdir -p bench && date +%s.%N > bench/.setup-begin
 	python3 -m venv $(VENV)
 	$(PYTHON) -m pip install --quiet --upgrade pip
 	$(PYTHON) -m pip install --quiet -e '.[fem,report,test,modal-test,fast]'
 	touch $@
+	@$(PYTHON) -m pipeline.make_timing setup-end
 
 setup: $(STAMP)
 
+# `make` and `make test` time themselves (pipeline/make_timing.py: bench/timings.jsonl, the
+# README's timings block through `make readme-timings`)
 run: $(STAMP)
+	@$(PYTHON) -m pipeline.make_timing begin make
 	$(PYTHON) -m rps validate --scene $(SCENE) --out out
 	$(MAKE) --no-print-directory campaign
+	@$(PYTHON) -m pipeline.make_timing end make
 
 # the example test campaign (CAMPAIGN): correlation and identification into out/
 campaign: $(STAMP)
@@ -42,7 +48,9 @@ campaign: $(STAMP)
 
 # two workers (pytest-xdist): the suite's heavy tests are single-threaded (one BLAS thread)
 test: $(STAMP)
+	@$(PYTHON) -m pipeline.make_timing begin test
 	$(PYTHON) -m pytest -n 2
+	@$(PYTHON) -m pipeline.make_timing end test
 
 # random plausible machines end to end (tests/test_fuzz_machines.py); RPS_FUZZ=slow for more
 fuzz: $(STAMP)
@@ -67,6 +75,10 @@ report: $(STAMP)
 
 readme: $(STAMP)
 	$(PYTHON) -m rps readme --results out/results.json
+
+# the README's timings block from the newest `make` and `make test` records of this machine
+readme-timings: $(STAMP)
+	$(PYTHON) -m rps readme --timings
 
 docs: $(STAMP)
 	$(PYTHON) -m rps scene-docs

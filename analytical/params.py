@@ -383,6 +383,15 @@ def _check_proportions(m: Manipulator) -> None:
                          f"thicker than the platform radius "
                          f"{_named(Manipulator, 'platform_radius', m.platform_radius)}; "
                          f"expected at most {m.platform_radius * 1e3:g} mm (a plate)")
+    if not is_prs(m) and abs(m.base_radius - m.platform_radius) >= m.actuator_max:
+        big, small = sorted((("base_radius", m.base_radius),
+                             ("platform_radius", m.platform_radius)), key=lambda kv: -kv[1])
+        raise InputError(
+            f"{_named(Manipulator, *big)} with {_named(Manipulator, *small)}: the radii differ "
+            f"by {(big[1] - small[1]) * 1e3:.6g} mm, at least the longest leg "
+            f"({_named(Manipulator, 'actuator_max', m.actuator_max)}); a level platform's legs "
+            "each span the radii's difference, so no level pose is reachable; expected the "
+            f"radii less than {m.actuator_max * 1e3:g} mm apart")
     angles = m.leg_angles
     for radius, name, ends, end in ((m.base_radius, "base_radius", "B", "base"),
                                     (m.platform_radius, "platform_radius", "A", "platform")):

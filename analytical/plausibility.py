@@ -70,6 +70,10 @@ RULES = (
     ("payload above the base", "the payload's centre above the base plane (z > 0) at every "
      f"pose of the level band ({BAND_HEIGHTS} heights, each level and at its largest tilt in "
      f"{BAND_AZIMUTHS} directions)"),
+    ("tool envelope", f"the [tool]'s point_mm, like the payload's centre, within "
+     f"{PAYLOAD_REACH:g} platform radii of the platform centre, and above the base plane "
+     "(z > 0) at every pose of the level band: a tool that would pass through the base is "
+     "no tool"),
     ("springs", "each [stiffness] key is 0 (rigid) or at least "
      f"{MIN_SPRING / 1e6:g} N/um (N m/urad for a rotation): a softer bearing or drive carries "
      "no machine; at most its declared maximum, rigid to every digit of a double"),
@@ -111,6 +115,42 @@ def _checked(m: Manipulator, poses: tuple) -> tuple[str, ...]:
     if loaded:
         _check_above_base(m, *found)
     return _check_weight(m, *found)
+
+
+def check_tool(m: Manipulator, point) -> None:
+    """Refuse (InputError, one line naming the key and the rule 'tool envelope') a tool point
+    (platform frame, m) beyond the payload's envelope or below the base plane at a pose of the
+    level band."""
+    _tool_checked(m, tuple(float(v) for v in point))
+
+
+@lru_cache(maxsize=64)
+def _tool_checked(m: Manipulator, point: tuple[float, float, float]) -> None:
+    shown = [float(f"{c * 1e3:.6g}") for c in point]
+    reach = PAYLOAD_REACH * m.platform_radius
+    distance = math.dist(point, (0.0, 0.0, 0.0))
+    if distance > reach:
+        raise InputError(
+            f"tool.point_mm = {shown}: {distance * 1e3:.6g} mm from the platform centre, "
+            f"beyond {PAYLOAD_REACH:g} platform radii (platform_radius_mm = "
+            f"{_mm(m.platform_radius)}: at most {reach * 1e3:.6g} mm, rule 'tool envelope')")
+    try:
+        band = level_band(m)
+    except WorkspaceError:  # no level pose: the run's own workspace check names the limit
+        return
+    if distance < band.low:  # the platform centre is at least band.low above the base
+        return
+    found = _poses(m, (), BAND_GRID)
+    if found is None:
+        return
+    batch, names = found
+    heights = batch.platform_centre[:, 2] + batch.rotation[:, 2, :] @ np.asarray(point)
+    k = int(np.argmin(heights))
+    if heights[k] <= 0.0:
+        raise InputError(
+            f"tool.point_mm = {shown}: the tool point reaches {heights[k] * 1e3:.1f} mm, below "
+            f"the base plane, at {_where(batch, names, k)} (rule 'tool envelope': it would "
+            "pass through the base)")
 
 
 def _weight(m: Manipulator) -> float:

@@ -84,6 +84,18 @@ class Damping:
         index = np.minimum(np.arange(omega.shape[-1]), len(listed) - 1)
         return np.broadcast_to(listed[index], omega.shape).copy()
 
+    def check_table(self, typed: dict, where: str) -> None:
+        """Refuse a [damping] table (its keys as typed) that declares no damping: an undamped
+        structure's response is infinite at every resonance, and the default is for a scene
+        without the table."""
+        if not self.declared:
+            keys = ", ".join(f"{k} = {v!r}" for k, v in typed.items()) or "no key"
+            raise InputError(f"{where}: {keys}: the table declares no damping (an undamped "
+                             "structure's response is infinite at every resonance); give "
+                             "modal_ratio, or a positive rayleigh_alpha_per_s or "
+                             "rayleigh_beta_s, or leave [damping] out for the default "
+                             f"{DEFAULT_RATIO:.0%} of every mode")
+
     def describe(self) -> str:
         if self.rayleigh:
             return (f"Rayleigh, alpha = {self.rayleigh_alpha:g} 1/s, beta = "

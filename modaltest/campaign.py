@@ -20,6 +20,7 @@ each key to identify and its bounds. Units at this edge as in scenes; SI inside.
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from dataclasses import MISSING, dataclass, field, replace
 from pathlib import Path
@@ -34,7 +35,7 @@ from scene.cases import CaseSettings
 from scene.load import SceneError, _short, _Table, parse_scene, read_toml
 
 from . import uff
-from .ema import EmaSettings, identify_modes
+from .ema import EmaError, EmaSettings, identify_modes
 from .placement import Placement, place
 
 MAX_POSES = 50  # a campaign's poses at most (each one model solve per evaluation)
@@ -180,10 +181,16 @@ class Campaign:
 
 
 def _relative(top: Path, text: str, where: str) -> Path:
+    """The file a campaign key names, relative to the campaign's folder (links resolved where
+    they lead somewhere; a link loop is returned as it is, for its reader to refuse)."""
     why = text_problem(text)
     if why is not None or not text.strip():
         raise SceneError(f"{where} = {_short(text)}: {why or 'empty'}")
-    return (top / text).resolve()
+    path = Path(os.path.abspath(top / text))
+    try:
+        return path.resolve()
+    except (RuntimeError, OSError):  # a symbolic link loop (RuntimeError before Python 3.13)
+        return path
 
 
 @dataclass(frozen=True)
@@ -213,9 +220,19 @@ def _pose_entry(table: _Table, scene: Scene) -> _PoseEntry:
 def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaSettings | None,
           tolerance: float) -> TestPose:
     """A pose's test data read (its modes identified from FRFs) and its nodes placed."""
-    spec, where, pose, geometry = entry.spec, entry.where, entry.pose, entry.geometry
+    spec, where = entry.spec, entry.where
     path = _relative(campaign_dir, spec.data, f"{where}.data")
-    content = uff.read_uff(path)
+    typed = f"{where}.data = {_short(spec.data)}"  # every refusal of the file names the key
+    try:
+        return _read_pose(entry, path, typed, scene, ema, tolerance)
+    except (uff.UffError, EmaError) as exc:
+        raise SceneError(f"{typed}: {exc}") from None
+
+
+def _read_pose(entry: _PoseEntry, path: Path, typed: str, scene: Scene,
+               ema: EmaSettings | None, tolerance: float) -> TestPose:
+    spec, pose, geometry = entry.spec, entry.pose, entry.geometry
+    content = uff.read_uff(path, shown="")
     if content.modes is not None:
         modes = content.modes
         source = "modes (UFF 55)"
@@ -230,7 +247,7 @@ def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaSettings 
         band = (axis >= settings.lower_hz) & (axis <= settings.upper_hz)
         points = int(band.sum()) * len(content.frfs.values)
         if points > MAX_EMA_POINTS:  # LSCF's cost grows with FRFs x lines (x order^2)
-            raise SceneError(f"{where}.data {spec.data!r}: {len(content.frfs.values)} FRFs x "
+            raise SceneError(f"{typed}: {len(content.frfs.values)} FRFs x "
                              f"{int(band.sum())} lines in the band = {points:,} values; at most "
                              f"{MAX_EMA_POINTS:,} are identified in one pose (measured 1 s "
                              "for 1.5e5 at order 60): narrow [ema] lower_hz/upper_hz or "
@@ -242,8 +259,7 @@ def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaSettings 
     measured = set(int(n) for n in modes.dofs.node)
     keep = [i for i, n in enumerate(content.nodes.ids) if int(n) in measured]
     nodes = uff.Nodes(content.nodes.ids[keep], content.nodes.xyz[keep])
-    placements = place(scene.manipulator, geometry, nodes.ids, nodes.xyz, tolerance,
-                       f"{where}.data {spec.data!r}")
+    placements = place(scene.manipulator, geometry, nodes.ids, nodes.xyz, tolerance, typed)
     return TestPose(spec.name, pose, geometry, str(path), source, modes, nodes, placements)
 
 

@@ -105,14 +105,20 @@ class Modes:
 
     def __post_init__(self) -> None:
         hz = _array(self.frequencies_hz, np.float64, "Modes.frequencies_hz", (None,))
-        if np.any(hz < 0.0):
-            raise UffError("Modes.frequencies_hz: negative frequency")
+        if np.any(hz <= 0.0):
+            k = int(np.flatnonzero(hz <= 0.0)[0])
+            raise UffError(f"Modes.frequencies_hz: mode {k + 1} at {hz[k]:g} Hz; a mode has a "
+                           "positive frequency")
         object.__setattr__(self, "frequencies_hz", hz)
         if (zeta := self.damping_ratios) is not None:
             zeta = _array(zeta, np.float64, "Modes.damping_ratios", (len(hz),))
             object.__setattr__(self, "damping_ratios", zeta)
-        object.__setattr__(self, "shapes", _array(self.shapes, np.float64, "Modes.shapes",
-                                                  (len(self.dofs.node), len(hz))))
+        shapes = _array(self.shapes, np.float64, "Modes.shapes", (len(self.dofs.node), len(hz)))
+        null = ~np.any(shapes != 0.0, axis=0)
+        if np.any(null):
+            raise UffError(f"Modes.shapes: mode {int(np.flatnonzero(null)[0]) + 1} is zero at "
+                           "every measured dof")
+        object.__setattr__(self, "shapes", shapes)
 
 
 @dataclass(frozen=True, eq=False)

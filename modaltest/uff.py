@@ -59,6 +59,11 @@ MM_PER_M = 1000.0
 # a modal test's file per pose: some thousand FRFs of some thousand lines is tens of MB in
 # binary 58, an ASCII one a few times that; beyond, pyuff's whole-file read is the wrong tool
 MAX_FILE_BYTES = 500e6
+# The most flexible structure a modal test of a machine meets: a free-free piece of 1 kg on
+# soft supports, at 0.05 Hz above its rigid-body modes, yields 1 / (m w^2) = 10 m/N; a machine
+# on its base some 1e-9 to 1e-5 m/N. Far above, an FRF is a unit slip or corrupt numbers (a
+# receptance near the largest double overflows every fit that squares it).
+MAX_RECEPTANCE = 1e3  # m/N
 _WRITE_UNITS = {"type": 164, "units_code": 5, "units_description": "mm (milli-newton)",
                 "temp_mode": 2, "length": 1000.0, "force": 1000.0, "temp": 1.0,
                 "temp_offset": 273.15}
@@ -69,9 +74,11 @@ _ABSCISSA = {0, 18}  # unknown, frequency (Hz)
 _Sets = list[tuple[int, dict[str, Any]]]  # (dataset number in the file, pyuff's dict)
 
 
-def read_uff(path: str | os.PathLike[str]) -> UffContent:
-    """Nodes, modes (55) and FRFs (58) of a UFF file, in SI (module docstring for the rules)."""
+def read_uff(path: str | os.PathLike[str], shown: str | None = None) -> UffContent:
+    """Nodes, modes (55) and FRFs (58) of a UFF file, in SI (module docstring for the rules).
+    A refusal starts with `shown` (default: the path; "": nothing, the caller names it)."""
     name = os.fspath(path)
+    label = name if shown is None else shown
     try:
         size = os.path.getsize(name) if os.path.isfile(name) else 0
         if size > MAX_FILE_BYTES:
@@ -85,13 +92,15 @@ def read_uff(path: str | os.PathLike[str]) -> UffContent:
         if modes is None and frfs is None:
             raise UffError("neither modes (dataset 55) nor FRFs (dataset 58, function type 4)")
     except UffError as exc:
-        raise UffError(f"{name}: {exc}") from None
+        raise UffError(f"{label}: {exc}" if label else str(exc)) from None
     return UffContent(name, nodes, modes, frfs, 1.0 / length)
 
 
 def _read_sets(name: str) -> _Sets:
     if not os.path.isfile(name):
-        raise UffError("not a file" if os.path.exists(name) else "no such file")
+        raise UffError("not a regular file" if os.path.exists(name) else
+                       "a symbolic link that leads nowhere (broken, or a loop)"
+                       if os.path.islink(name) else "no such file")
     try:
         uff = pyuff.UFF(name)
         types = [int(t) for t in uff.get_set_types()]
@@ -99,6 +108,7 @@ def _read_sets(name: str) -> _Sets:
         raise UffError(f"cannot be read ({one_line(exc)})") from None
     if not any(t > 0 for t in types):
         raise UffError("not a universal file (no dataset between '-1' delimiter lines)")
+    _check_whole(name, uff, types)
     out = []
     for i, t in enumerate(types):
         if t in _READ:
@@ -108,6 +118,25 @@ def _read_sets(name: str) -> _Sets:
                 raise UffError(f"dataset {i + 1} (type {t}) cannot be read by pyuff: "
                                f"{one_line(exc)}") from None
     return out
+
+
+def _check_whole(name: str, uff: Any, types: list[int]) -> None:
+    """Refuse a file that goes on after its last complete dataset: a dataset opened by a '-1'
+    line and never closed is a file cut short (a copy or a download broken off), whose
+    complete datasets alone would be read as if they were all. pyuff pairs the delimiter
+    lines and keeps where each dataset ends; what follows the last one's closing line must
+    be blank."""
+    ends = getattr(uff, "_block_ind", None)  # pyuff's (start, end) of each dataset
+    if ends is None or not len(ends):
+        return
+    with open(name, "rb") as fh:
+        fh.seek(int(ends[-1][1]) + 1)
+        tail = fh.read()
+    rest = tail.split(b"\n", 1)[1] if b"\n" in tail else b""  # past the closing '-1' line
+    if rest.strip():
+        raise UffError(f"ends inside a dataset begun after dataset {len(types)} (type "
+                       f"{types[-1]}): the file is cut short (a truncated copy?) or holds "
+                       "text outside the '-1' delimiter lines; none of it is read")
 
 
 def _units(sets: _Sets) -> tuple[float, float]:
@@ -192,6 +221,17 @@ def _modes(sets: _Sets, known: set[int]) -> Modes | None:
                 raise UffError(f"{where}: node {node_id} given twice")
             column[node_id] = v
             order.setdefault(node_id, len(order))
+        if not (math.isfinite(f) and f > 0.0):
+            raise UffError(f"{where}: frequency {f:g} Hz; a mode has a positive frequency "
+                           "(a rigid-body mode of a free test piece is not one of the machine's)")
+        if not all(np.all(np.isfinite(v)) for v in column.values()):
+            raise UffError(f"{where}: non-finite numbers in its shape")
+        if not any(np.any(v != 0) for v in column.values()):
+            raise UffError(f"{where}: its shape is zero at every node: no mode was measured")
+        if columns and set(column) != set(columns[0]):
+            raise UffError(f"{where}: shape at {len(column)} nodes, where mode 1 has it at "
+                           f"{len(columns[0])} ({_node_difference(column, columns[0])}): "
+                           "a partial dataset; every mode is measured at the same nodes")
         columns.append(column)
         info.append((f, z, bool(np.iscomplexobj(values))))
     if not columns:
@@ -212,6 +252,12 @@ def _modes(sets: _Sets, known: set[int]) -> Modes | None:
     axis = np.tile(np.arange(3), len(order))[measured]
     dofs = Dofs(np.repeat(np.array(list(order), dtype=np.int64), 3)[measured], np.eye(3)[axis])
     return Modes(hz, zeta if np.any(zeta != 0.0) else None, dofs, shapes)
+
+
+def _node_difference(column: dict[int, Any], first: dict[int, Any]) -> str:
+    missing = sorted(set(first) - set(column))
+    extra = sorted(set(column) - set(first))
+    return (f"node {missing[0]} missing" if missing else f"node {extra[0]} added")
 
 
 def _frfs(sets: _Sets, known: set[int], factor: float) -> Frfs | None:
@@ -264,8 +310,19 @@ def _frfs(sets: _Sets, known: set[int], factor: float) -> Frfs | None:
             values[i] = values[i] / (1j * omega)
         elif p == 2:
             values[i] = values[i] / -(omega * omega)
+    largest = np.abs(values).max(axis=1)  # m/N; overflows and unit slips end up far above
+    if np.any(~np.isfinite(largest) | (largest > MAX_RECEPTANCE)):
+        i = int(np.argmax(np.where(np.isfinite(largest), largest, np.inf)))
+        raise UffError(f"dataset {_index58(sets, i)} (58, FRF {i + 1}): a receptance of "
+                       f"{largest[i]:.3g} m/N (as displacement over force, SI); a structure "
+                       f"yields at most {MAX_RECEPTANCE:g} m/N: a unit slip or a corrupt record")
     e = np.array(ends, dtype=np.int64)
     return Frfs(axis, Dofs.from_codes(e[:, 0], e[:, 1]), Dofs.from_codes(e[:, 2], e[:, 3]), values)
+
+
+def _index58(sets: _Sets, k: int) -> int:
+    """The dataset number of the k-th FRF (58, function type 4) in the file."""
+    return [index for index, d in sets if d["type"] == 58 and d["func_type"] == 4][k]
 
 
 def write_uff(path: str | os.PathLike[str], nodes: Nodes, modes: Modes | None = None,

@@ -34,7 +34,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import statistics
 import sys
 import time
@@ -60,9 +59,9 @@ from .bench_distributed import POSE_GRID, bench_distributed
 from .bench_history import (
     HISTORY,
     against,
-    cpu_model,
     default_out,
     headline,
+    machine,
     previous_run,
     record,
     reference_ratios,
@@ -327,9 +326,7 @@ def main(argv: list[str] | None = None) -> int:
             args.case = scene.ci_cases[-1]
         analytical = bench_analytical(scene, args.case, args.runs)
         result = {
-            "machine": {"python": sys.version.split()[0], "platform": platform.platform(),
-                        "processor": platform.processor() or platform.machine(),
-                        "cpu_model": cpu_model(), "cpu_count": os.cpu_count()},
+            "machine": machine(),
             "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"),
             "case": args.case,
             "analytical": analytical,

@@ -65,6 +65,17 @@ def cpu_model(cpuinfo: Path = Path("/proc/cpuinfo")) -> str | None:
     return None
 
 
+def machine() -> dict[str, Any]:
+    """This machine as the timing records name it: two records compare only on one machine."""
+    import os
+    import platform
+    import sys
+
+    return {"python": sys.version.split()[0], "platform": platform.platform(),
+            "processor": platform.processor() or platform.machine(),
+            "cpu_model": cpu_model(), "cpu_count": os.cpu_count()}
+
+
 def _same_machine(a: dict, b: dict) -> bool:
     keys = ("processor", "cpu_model", "cpu_count", "platform")
     return all(a.get(k) == b.get(k) for k in keys)

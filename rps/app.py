@@ -82,12 +82,23 @@ def _terminate(signum, frame):
     raise KeyboardInterrupt
 
 
+def _check_places(args: argparse.Namespace) -> None:
+    """The checks every command that takes a place option shares, before it reads anything:
+    a --cache given must be (or be able to become) a directory the run can write into,
+    whether or not this run's model stores anything there (runtime/places.py)."""
+    cache = getattr(args, "cache", None)
+    if cache is not None:
+        from runtime.places import check_writable_dir
+        check_writable_dir(cache, "--cache")
+
+
 def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGTERM, _terminate)
     prog = "rps" if Path(sys.argv[0]).name == "rps" else "python -m rps"
     parser = build_parser(prog)
     args = parser.parse_args(argv)
     try:
+        _check_places(args)
         return COMMANDS_BY_NAME[args.command].run(args)
     except ModuleNotFoundError as exc:
         extras = ("fem,report" if args.command in ("validate", "report") else

@@ -48,9 +48,12 @@ from typing import Callable, Iterator
 
 from common.errors import RpsError
 
-# An existing directory holding one of these may be replaced (outputs of earlier runs).
+# An existing directory holding one of these may be replaced (outputs of earlier runs): the
+# record each command writes at the top of its output directory (tests/test_faults.py checks
+# that every record staged by a command is here, so each command can run again into its own).
 OUTPUT_MARKERS = ("results.json", "report.html", "bench.json", "design.json",
-                  "correlation.json", "identification.json", "frf.json")
+                  "correlation.json", "identification.json", "frf.json", "uncertainty.json",
+                  "verification.json")
 
 _AT_FDCWD = -100
 _RENAME_EXCHANGE = 2  # linux/fs.h

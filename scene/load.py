@@ -341,6 +341,8 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         damp.data = {**damp.data, "modal_ratio": [damp.data["modal_ratio"]]}  # one for all
     damping = damp.settings(Damping)
     damp.done()
+    if "damping" in raw:  # a table that damps nothing is refused, never read as the default
+        damping.check_table(damp.data, f"{where}.damping")
     tool_t = top.table("tool", {})
     tool = tool_t.settings(Tool)
     tool_t.done()
@@ -436,6 +438,8 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     top.done()
     try:  # the machine as a whole, before any work (the rules of analytical.plausibility)
         warnings = plausibility.check(manipulator, [(n, c.pose) for n, c in cases.items()])
+        if "tool" in raw:
+            plausibility.check_tool(manipulator, tool.point)
     except InputError as exc:
         raise SceneError(f"{where}: {exc}") from None
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,

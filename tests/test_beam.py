@@ -225,4 +225,7 @@ def test_the_element_is_the_printed_matrices_entry_by_entry(theory):
             for got, want in ((k[idx], want_k), (m[idx], want_m)):
                 assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
         one_k, _ = frame_element(E, G, rho, s, float(lengths[0, 0]), theory)
-        assert one_k.shape == (12, 12) and np.array_equal(one_k, k[0, 0])
+        # alone or in a batch: numpy's vector paths round by array shape and processor, so
+        # the same element to round-off, not to the bit (tests/README.md)
+        assert one_k.shape == (12, 12)
+        assert np.abs(one_k - k[0, 0]).max() <= 1e-14 * np.abs(k[0, 0]).max()

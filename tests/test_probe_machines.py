@@ -249,7 +249,8 @@ def test_every_place_is_checked_before_the_benchmarks(capsys, tmp_path, a_file, 
     for argv, needles in [
         (["--out", str(a_file)], ("exists and is not a directory",)),
         (["--out", ""], ("--out '': empty",)),
-        (["--out", "/proc"], ("--out /proc: cannot write in /proc",)),
+        (["--out", "/proc"], ("--out /proc: holds", "not an output directory")),
+        (["--out", "/proc/out"], ("--out /proc/out: cannot write in /proc",)),
         (["--cache", str(a_file / "sub")], ("is a file, not a directory",)),
     ]:
         refused(capsys, ["verify", "--cache", str(tmp_path / "c"), *argv], *needles)

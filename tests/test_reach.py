@@ -115,9 +115,10 @@ def test_the_sampler_is_bounded_on_a_machine_that_hardly_tilts(manipulator):
     assert float(np.max(max_tilts(tight, z, np.linspace(0, 2 * math.pi, 12)))) < 0.1
 
 
-def test_the_lookahead_bisection_is_plain_bisection_bit_for_bit():
+def test_the_lookahead_bisection_is_plain_bisection_within_its_tolerance():
     """max_tilts halves several times per batch for few (height, azimuth) pairs: the same
-    midpoints and decisions as one halving per batch, so the same tilts to the last bit."""
+    midpoints and decisions as one halving per batch, so the same tilts within the
+    bisection's tolerance (the batches differ in shape: not the same vector path)."""
     from pathlib import Path
 
     import analytical.reach as reach
@@ -136,5 +137,7 @@ def test_the_lookahead_bisection_is_plain_bisection_bit_for_bit():
             plain = reach.max_tilts(m, heights, phis, tolerance)
         finally:
             reach.LOOKAHEAD_POSES = 64
-        assert np.array_equal(both, plain)
-        assert ahead[0] == plain[0, 0]
+        # batches of other shapes may round the kinematics differently in the last bit
+        # (tests/README.md), which may flip one bisection step: equal within the tolerance
+        assert np.abs(both - plain).max() <= tolerance
+        assert abs(ahead[0] - plain[0, 0]) <= tolerance

@@ -71,3 +71,41 @@ def test_the_layout_names_every_room():
 def test_the_make_targets_the_readme_names_exist(target):
     makefile = (ROOT / "Makefile").read_text(encoding="utf-8")
     assert re.search(rf"^{re.escape(target)}:", makefile, re.M), target
+
+
+def test_the_timings_block_is_rendered_from_the_recorded_timings():
+    """The README's timings are what `make` and `make test` measured of themselves
+    (docs/timings.json, written by `make readme-timings` from bench/timings.jsonl), rendered,
+    never typed by hand."""
+    import json
+
+    from pipeline.make_timing import KINDS, README_END, README_START, RECORD_KEYS, render
+
+    records = json.loads((ROOT / "docs" / "timings.json").read_text(encoding="utf-8"))
+    assert set(records) <= set(KINDS) and {"warm", "test"} <= set(records)
+    for record in records.values():
+        assert set(record) == set(RECORD_KEYS)
+        assert record["seconds"] > 0 and record["machine"]["cpu_count"] >= 1
+        assert re.fullmatch(r"[0-9a-f]{40}", record["commit"])
+    block = README.split(README_START, 1)[1].split(README_END, 1)[0]
+    assert block == "\n" + render(records)
+
+
+def test_make_records_its_own_timing_and_only_when_it_succeeds(tmp_path, monkeypatch):
+    import json
+    import time
+
+    import pipeline.make_timing as timing
+
+    monkeypatch.setattr(timing, "_cache_empty", lambda: True)
+    (tmp_path / ".setup-begin").write_text(f"{time.time() - 42.0:.9f}")
+    timing.setup_end(tmp_path)
+    timing.begin(tmp_path, "make")
+    entry = timing.end(tmp_path, "make")
+    assert entry is not None and timing.kind(entry) == "fresh"
+    assert 42.0 <= entry["setup_seconds"] < 60.0 and entry["seconds"] >= 0.0
+    timing.begin(tmp_path, "test")  # a failed recipe never reaches `end`: nothing recorded
+    lines = (tmp_path / timing.TIMINGS).read_text().splitlines()
+    assert [json.loads(line)["target"] for line in lines] == ["make"]
+    found = timing.newest(tmp_path / timing.TIMINGS, entry["machine"])
+    assert set(found) == {"fresh"} and "fresh clone" in timing.render(found)

@@ -57,6 +57,26 @@ def _checked(args: argparse.Namespace) -> None:
                          "1e6 Hz")
 
 
+def _holds_a_resonance(top_hz: float, tool) -> None:
+    """Refuse a band that stops below the first mode moving the tool and its half-power band:
+    its "least dynamic stiffness" would be the quasi-static value at the band's edge, not a
+    resonance's."""
+    omega, phi, zeta = tool.modes.omega, tool.modes.phi, tool.zeta
+    size = np.linalg.norm(phi, axis=0)
+    moving = np.flatnonzero(size > 1e-9 * max(float(size.max(initial=0.0)), 1e-300))
+    if not len(moving):
+        return
+    j = int(moving[0])
+    f = float(omega[j]) / (2.0 * math.pi)
+    needed = f * (1.0 + float(zeta[j]))
+    if top_hz < needed:
+        raise InputError(f"--top-hz {top_hz:g}: below the first resonance at the tool (mode "
+                         f"{j + 1}, {f:.6g} Hz, with its half-power band up to {needed:.6g} "
+                         "Hz): the band would hold no mode, and its least dynamic stiffness "
+                         "would be the quasi-static one at the band's edge; give at least "
+                         f"{needed:.6g} Hz or leave --top-hz out")
+
+
 def write_uff(path, record: dict, point_base_m) -> None:
     """The nine receptances as UFF 58 on one node, the tool point (base frame)."""
     from modaltest.measured import Dofs, Frfs, Nodes
@@ -125,6 +145,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"--top-hz {args.top_hz:g}: above {tool.band_top_hz:.6g} Hz, where "
                          "the first mode left out of the sum resonates (the band may not "
                          "reach it: its resonance would be missing)")
+    if args.top_hz is not None:
+        _holds_a_resonance(args.top_hz, tool)
     lines = tool.lines(args.lines, args.top_hz)
     record = frf_record(tool, np.asarray(scene.tool.point) * 1e3, scene.damping, lines)
     point_base = (np.asarray(geometry.platform_centre, float)

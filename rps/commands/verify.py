@@ -13,6 +13,8 @@ from runtime.places import path_argument
 from ..args import cache_dir, cache_option
 from .registry import Command
 
+RECORD = "verification.json"
+
 if TYPE_CHECKING:  # results (and pydantic, an extra) only when the benchmarks run
     from results import FemVerification
 
@@ -51,19 +53,20 @@ def table_lines(record: FemVerification) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     from common.atomic import write_json_atomic
-    from common.paths import inside
     from runtime.cache import ResultCache
-    from runtime.places import check_writable_dir
+    from runtime.outdir import check_output_dir, staged_output
     from studies.fem_verification import verification_record
 
-    check_writable_dir(args.out, "--out")  # where it goes, before the benchmarks run
+    # where it goes, before the benchmarks run: an output directory of this pipeline (a run's
+    # out/, whose other files are kept) or a new or empty one, never a folder of someone's files
+    check_output_dir(args.out, "--out")
     cache = ResultCache(cache_dir(args))
     record = verification_record(cache,
                                  progress=lambda name: print(f"benchmark {name} ...",
                                                              file=sys.stderr, flush=True))
-    path = inside(args.out, "verification.json")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    write_json_atomic(path, record)
+    with staged_output(args.out, keep=lambda name: name != RECORD) as stage:
+        write_json_atomic(stage / RECORD, record)
+    path = args.out / RECORD
     if args.json:
         print(json.dumps(record))
     else:
