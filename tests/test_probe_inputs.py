@@ -13,6 +13,9 @@ import pytest
 from rps import app as cli
 from tests.conftest import PAPER_SCENE
 
+# warnings of numpy or any library never reach the user raw: each is an error here
+pytestmark = pytest.mark.filterwarnings("error")
+
 
 def scene_with(tmp_path, old: str, new: str):
     text = PAPER_SCENE.read_text(encoding="utf-8")

@@ -25,6 +25,9 @@ from rps import app as cli
 from scene import parse_scene
 from tests.conftest import PAPER_SCENE, REPORT_FIXTURE, ROOT
 
+# warnings of numpy or any library never reach the user raw: each is an error here
+pytestmark = pytest.mark.filterwarnings("error")
+
 LEGS_SCENE = ROOT / "scenes" / "actuator-legs.toml"
 SLENDER_SCENE = ROOT / "scenes" / "slender.toml"
 
@@ -361,7 +364,7 @@ def test_the_payload_stays_above_the_base_at_every_reachable_pose_it_admits(x, z
     every one of them; one it refuses is below the base at one of them, or at the grid's."""
     import tomllib
 
-    from analytical.architecture import height_reach
+    from analytical.architectures import height_reach
     from analytical.pose_batch import pose_batch
     raw = tomllib.loads(LEGS_SCENE.read_text(encoding="utf-8"))
     raw["payload"]["centre_mm"] = [x, 0.0, z]

@@ -22,6 +22,9 @@ from rps import app as cli
 from studies import RECORDS
 from tests.conftest import PAPER_SCENE, ROOT
 
+# warnings of numpy or any library never reach the user raw: each is an error here
+pytestmark = pytest.mark.filterwarnings("error")
+
 RESULTS = ROOT / "tests" / "fixtures" / "report_results.json"
 
 
