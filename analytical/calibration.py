@@ -11,7 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from .architecture import height_range
+from .architectures import height_range
 from .model import natural_frequencies
 from .params import Manipulator, ModelOptions, Pose
 

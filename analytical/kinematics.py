@@ -31,7 +31,7 @@ from common.errors import InputError
 from common.joints import JOINTS, JointType
 from common.rigid_body import cross
 
-from .architecture import actuation, height_reach, is_prs, leg_ends
+from .architectures import actuation, height_reach, leg_ends, of
 from .params import Manipulator, Pose
 
 _EVEN_SPACING = np.array([0.0, 2 * math.pi / 3, 4 * math.pi / 3])
@@ -238,8 +238,7 @@ def check_joint_limits(manipulator: Manipulator, geom: PoseGeometry) -> None:
     for i, value in enumerate(geom.actuation):
         if value < act.low - tol or value > act.high + tol:
             above = value > act.high
-            what = (f"leg {i + 1} would be {value * 1e3:.1f} mm long" if not is_prs(m) else
-                    f"slider {i + 1} would travel {value * 1e3:.1f} mm")
+            what = of(m).out_of_range(i, value)
             raise PoseError(
                 f"{what}, outside the {act.limit_name}: "
                 + (f"above {act.high_key} = {act.high * 1e3:g}" if above else

@@ -24,8 +24,9 @@ from common.settings import (
 )
 from common.stiffness import Stiffness
 
-from .architecture import ARCHITECTURES, RAIL_ANGLE_RANGE, is_prs
+from .architectures import ARCHITECTURES, NAMES, of
 from .beam import SHEAR_COEFFICIENTS
+from .prs import RAIL_ANGLE_RANGE
 
 BEAM_THEORIES = ("euler-bernoulli", "timoshenko")
 PLATFORM_INERTIAS = ("plate", "paper-eq8")
@@ -123,10 +124,8 @@ class Manipulator:
                                  maximum=math.pi / 2, **_POSITIVE,
                                  doc="beta_max, largest rotation of a revolute joint from the "
                                  "normal of its body (Eq. 25)")  # rad
-    architecture: str = setting("3-RPS", kind=str, choices=ARCHITECTURES,
-                                doc='"3-RPS" (revolute joints on the base, prismatic legs; the '
-                                'paper) or "3-PRS" (a slider on a rail from each B_i carries the '
-                                "revolute joint, legs of fixed length)")
+    architecture: str = setting(NAMES[0], kind=str, choices=NAMES, doc=" or ".join(
+        f'"{a.name}" ({a.doc})' for a in ARCHITECTURES.values()))
     rail_angle: float = setting(math.pi / 2, unit="deg", minimum=RAIL_ANGLE_RANGE[0],
                                 maximum=RAIL_ANGLE_RANGE[1],
                                 doc="3-PRS: inclination of every rail from the base plane, in "
@@ -154,15 +153,7 @@ class Manipulator:
             raise InputError(f"base_joint = {self.base_joint!r}, platform_joint = "
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
-        if is_prs(self):
-            if (self.base_joint, self.platform_joint) != ("R", "S"):
-                raise InputError(f"base_joint = {self.base_joint!r}, platform_joint = "
-                                 f"{self.platform_joint!r} with architecture = '3-PRS': its "
-                                 "revolute joint sits on the slider, the spherical joint on "
-                                 "the platform (R, S)")
-            # a 3-PRS leg has one length: the legs' length range is [L, L]
-            object.__setattr__(self, "actuator_min", self.leg_length)
-            object.__setattr__(self, "actuator_max", self.leg_length)
+        of(self).prepare(self)  # its own refusals and derived fields (analytical/prs.py)
 
     def leg_parts(self, length: float) -> tuple[LegPart, ...]:
         """The parts of a leg `length` long, base joint first (`common.leg_profile`)."""
@@ -286,8 +277,8 @@ def _distance_on_circle(radius: float, a: float, b: float) -> float:
 def check_manipulator(m: Manipulator) -> None:
     """Raise ValueError naming the first non-physical or implausible parameter: its scene key,
     its value and the expected range in the scene file's unit, on one line."""
-    actuator = ({"leg_length": m.leg_length, "slider_max": m.slider_max} if is_prs(m) else
-                {"actuator_min": m.actuator_min, "actuator_max": m.actuator_max})
+    arch = of(m)
+    actuator = {name: getattr(m, name) for name in arch.positive}
     positive = {
         "base_radius": m.base_radius,
         "platform_radius": m.platform_radius,
@@ -305,14 +296,11 @@ def check_manipulator(m: Manipulator) -> None:
         if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             key = next(s for n, s, _ in declared(cls) if n == name).scene_key(name)
             raise InputError(f"{key} = {value!r} (SI): must be a finite positive number")
-    lower, upper = ("slider_min", "slider_max") if is_prs(m) else ("actuator_min", "actuator_max")
+    lower, upper = arch.stroke
     if getattr(m, lower) >= getattr(m, upper):
         raise InputError(f"{_named(Manipulator, lower, getattr(m, lower))} is not below "
                          f"{_named(Manipulator, upper, getattr(m, upper))}")
-    if is_prs(m) and m.leg.stepped:
-        raise InputError(f"leg.housing_length_mm = {m.leg.housing_length * 1e3:g} with "
-                         "architecture = '3-PRS': its legs are links of fixed length, not "
-                         "actuators (a housing and a rod belong to a 3-RPS's prismatic legs)")
+    arch.check(m, lambda name, value: _named(Manipulator, name, value))
     mat = m.material
     low, high = YOUNGS_MODULUS_RANGE
     if not low <= mat.youngs_modulus <= high:
@@ -369,7 +357,7 @@ def _check_proportions(m: Manipulator) -> None:
     d = m.leg_diameter
     if m.leg.stepped:
         _check_profile(m)
-    shortest = "leg_length" if is_prs(m) else "actuator_min"
+    shortest = of(m).shortest
     if m.actuator_min < d:
         raise InputError(f"{_named(Manipulator, shortest, getattr(m, shortest))}: the shortest "
                          f"leg is shorter than its diameter "
@@ -383,15 +371,6 @@ def _check_proportions(m: Manipulator) -> None:
                          f"thicker than the platform radius "
                          f"{_named(Manipulator, 'platform_radius', m.platform_radius)}; "
                          f"expected at most {m.platform_radius * 1e3:g} mm (a plate)")
-    if not is_prs(m) and abs(m.base_radius - m.platform_radius) >= m.actuator_max:
-        big, small = sorted((("base_radius", m.base_radius),
-                             ("platform_radius", m.platform_radius)), key=lambda kv: -kv[1])
-        raise InputError(
-            f"{_named(Manipulator, *big)} with {_named(Manipulator, *small)}: the radii differ "
-            f"by {(big[1] - small[1]) * 1e3:.6g} mm, at least the longest leg "
-            f"({_named(Manipulator, 'actuator_max', m.actuator_max)}); a level platform's legs "
-            "each span the radii's difference, so no level pose is reachable; expected the "
-            f"radii less than {m.actuator_max * 1e3:g} mm apart")
     angles = m.leg_angles
     for radius, name, ends, end in ((m.base_radius, "base_radius", "B", "base"),
                                     (m.platform_radius, "platform_radius", "A", "platform")):

@@ -34,7 +34,7 @@ from common.leg_profile import MIN_PART_DIAMETERS, MIN_ROD_GAP
 from common.settings import MIN_PART
 from common.stiffness import MIN_SPRING
 
-from .architecture import is_prs, leg_length_range
+from .architectures import leg_length_range, of
 from .params import Manipulator
 from .platform import platform_mass
 from .pose_batch import pose_batch
@@ -287,7 +287,7 @@ def _check_weight(m: Manipulator, batch, names) -> tuple[str, ...]:
         return ()
     k, leg = (int(i) for i in np.unravel_index(int(np.nanargmax(ratio)), ratio.shape))
     worst = float(ratio[k, leg])
-    kind = "slider link" if is_prs(m) else "leg"
+    kind = of(m).leg_word
     where = (f"{kind} {leg + 1} at {_where(batch, names, k)}, "
              f"{batch.leg_lengths[k, leg] * 1e3:.1f} mm long")
     if m.payload.mass > 0.0:

@@ -16,7 +16,7 @@ import numpy as np
 
 from common.rigid_body import cross
 
-from .architecture import actuation, height_reach, leg_ends
+from .architectures import actuation, height_reach, leg_ends
 from .kinematics import CLEARANCE_TOLERANCE, PoseGeometry, clearances, pose_geometry
 from .params import Manipulator, Pose
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from common.errors import InputError
 
-from .architecture import actuation, height_reach, is_prs, rail_shortfall
+from .architectures import actuation, height_reach, of
 from .kinematics import PoseError, clearances, pose_geometry
 from .params import Manipulator, Pose
 from .pose_batch import pose_batch
@@ -86,8 +86,8 @@ def violations(m: Manipulator, heights, azimuths, tilts) -> dict[str, np.ndarray
         "s_joint_max_deg": np.abs(b.s_joint_angles).max(axis=1) / m.s_joint_max - 1,
         "r_joint_max_deg": np.abs(b.r_joint_angles).max(axis=1) / m.r_joint_max - 1,
     }
-    if is_prs(m):  # a leg too short to reach its platform joint from the rail's line
-        out["leg_length_mm"] = rail_shortfall(m, b.platform_points) / scale
+    for key, beyond in of(m).limits(m, b.platform_points).items():  # its own limits
+        out[key] = beyond / scale
     apart = clearances(m, b.base_points, b.platform_points, b.rotation, b.platform_centre)
     out.update({f"{name} clearance": -value / scale for name, value in apart.items()})
     return out

@@ -15,6 +15,12 @@ WORD_LIMIT = 240
 LINE_LIMIT = 600
 
 
+def short(value: object, limit: int = 80) -> str:
+    """A value as a message quotes it: its repr, cut to `limit` characters."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
 def _cut(text: str, limit: int) -> str:
     if len(text) <= limit:
         return text

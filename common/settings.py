@@ -22,6 +22,7 @@ from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 from typing import Any
 
 from .errors import InputError
+from .messages import short
 from .paths import INVISIBLE
 
 # edge unit -> (scene-key suffix, SI value of one edge unit, SI unit name)
@@ -250,7 +251,7 @@ def check_settings(obj) -> None:
         why = spec.problem(value)
         if why is not None:
             unit = UNITS[spec.unit][2]
-            shown = _short(value) + (f" {unit}" if unit and spec.kind is float
+            shown = short(value) + (f" {unit}" if unit and spec.kind is float
                                      and isinstance(value, float) else "")
             raise InputError(f"{name} = {shown}: {why}")
 
@@ -267,11 +268,6 @@ def spec_of(cls_or_obj, name: str) -> Setting:
         if n == name:
             return spec
     raise KeyError(name)
-
-
-def _short(value: Any, limit: int = 80) -> str:
-    text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def as_dict(obj) -> dict:

@@ -32,7 +32,8 @@ from common.settings import MAX_MODES, setting, spec_of, text_problem
 from scene import Scene
 from scene.address import Address, edited_text, resolve, with_values
 from scene.cases import CaseSettings
-from scene.load import SceneError, _short, _Table, parse_scene, read_toml
+from scene.load import SceneError, parse_scene
+from scene.toml_table import Table, read_toml, short
 
 from . import uff
 from .ema import EmaError, EmaSettings, identify_modes
@@ -185,7 +186,7 @@ def _relative(top: Path, text: str, where: str) -> Path:
     they lead somewhere; a link loop is returned as it is, for its reader to refuse)."""
     why = text_problem(text)
     if why is not None or not text.strip():
-        raise SceneError(f"{where} = {_short(text)}: {why or 'empty'}")
+        raise SceneError(f"{where} = {short(text)}: {why or 'empty'}")
     path = Path(os.path.abspath(top / text))
     try:
         return path.resolve()
@@ -201,7 +202,7 @@ class _PoseEntry:
     geometry: PoseGeometry
 
 
-def _pose_entry(table: _Table, scene: Scene) -> _PoseEntry:
+def _pose_entry(table: Table, scene: Scene) -> _PoseEntry:
     """A [[pose]] read and its reach checked (no file read yet)."""
     spec = table.settings(PoseSettings)
     table.done()
@@ -222,7 +223,7 @@ def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaSettings 
     """A pose's test data read (its modes identified from FRFs) and its nodes placed."""
     spec, where = entry.spec, entry.where
     path = _relative(campaign_dir, spec.data, f"{where}.data")
-    typed = f"{where}.data = {_short(spec.data)}"  # every refusal of the file names the key
+    typed = f"{where}.data = {short(spec.data)}"  # every refusal of the file names the key
     try:
         return _read_pose(entry, path, typed, scene, ema, tolerance)
     except (uff.UffError, EmaError) as exc:
@@ -292,7 +293,7 @@ def _varies_alone(parameter: Parameter, raw_scene: dict, scene: Scene, text: str
                          f"[{address.table}]")
 
 
-def _parameters(ident: _Table, settings: IdentifySettings, scene: Scene, raw_scene: dict,
+def _parameters(ident: Table, settings: IdentifySettings, scene: Scene, raw_scene: dict,
                 text: str, where: str) -> tuple[Parameter, ...]:
     bounds_t = ident.table("bounds", {})
     bounds_t.used.update(bounds_t.data)
@@ -323,15 +324,15 @@ def _parameters(ident: _Table, settings: IdentifySettings, scene: Scene, raw_sce
                     or not all(isinstance(b, (int, float)) and not isinstance(b, bool)
                                and math.isfinite(b) for b in given)
                     or not 0.0 < given[0] < given[1]):
-                raise SceneError(f"{where}.bounds.{key} = {_short(given)}: expected [low, high], "
+                raise SceneError(f"{where}.bounds.{key} = {short(given)}: expected [low, high], "
                                  "two finite positive numbers, low below high")
             for b in given:
                 why = address.problem(b)
                 if why is not None:
-                    raise SceneError(f"{where}.bounds.{key} = {_short(given)}: {b!r} {why}")
+                    raise SceneError(f"{where}.bounds.{key} = {short(given)}: {b!r} {why}")
             low, high = float(given[0]), float(given[1])
             if initial > 0.0 and not low <= initial <= high:
-                raise SceneError(f"{where}.bounds.{key} = {_short(given)}: excludes the initial "
+                raise SceneError(f"{where}.bounds.{key} = {short(given)}: excludes the initial "
                                  f"value {initial:g} {address.unit} the scene gives")
         parameter = Parameter(address, initial, low, high)
         _varies_alone(parameter, raw_scene, scene, text, f"{where}.keys: {key!r}")
@@ -351,7 +352,7 @@ def load_campaign(path: str | Path, need_keys: bool = False,
     path = Path(path)
     raw = read_toml(path, "campaign file")
     where = str(path)
-    top = _Table(raw, where)
+    top = Table(raw, where)
     settings = top.settings(CampaignSettings)
     for name in ("name",):
         why = text_problem(getattr(settings, name))
@@ -381,18 +382,18 @@ def load_campaign(path: str | Path, need_keys: bool = False,
         ema = EmaSettings(lower_hz=ema_table.lower, upper_hz=ema_table.upper,
                           model_order=ema_table.model_order)
 
-    pose_list = top._get("pose", None)
+    pose_list = top.get("pose", None)
     if not isinstance(pose_list, list) or not pose_list:
         raise SceneError(f"{where}.pose: missing: give at least one [[pose]] with its data")
     if len(pose_list) > MAX_POSES:
         raise SceneError(f"{where}.pose: {len(pose_list)} poses; at most {MAX_POSES}")
-    entries = [_pose_entry(_Table(entry, f"{where}.pose[{k}]"), scene)
+    entries = [_pose_entry(Table(entry, f"{where}.pose[{k}]"), scene)
                for k, entry in enumerate(pose_list)]
     names = [e.spec.name for e in entries]
     for name in names:
         why = text_problem(name)
         if why is not None or not name.strip():
-            raise SceneError(f"{where}.pose: name {_short(name)}: {why or 'empty'}")
+            raise SceneError(f"{where}.pose: name {short(name)}: {why or 'empty'}")
     if len(set(names)) != len(names):
         raise SceneError(f"{where}.pose: names {names} repeat; each pose needs its own name")
 

@@ -234,6 +234,7 @@ def pairing_record(settings: CorrelationSettings) -> PairingRecord:
 
 def correlation(campaign: Campaign, poses: list[PoseCorrelation], model: ModelRecord,
                 seconds: float) -> Correlation:
-    return Correlation(schema=SCHEMA, campaign=campaign.path, scene=campaign.scene_path,
-                       model=model, pairing=pairing_record(campaign.correlation), poses=poses,
+    return Correlation(record="correlation", schema=SCHEMA, campaign=campaign.path,
+                       scene=campaign.scene_path, model=model,
+                       pairing=pairing_record(campaign.correlation), poses=poses,
                        summary=summary(poses), seconds=seconds)

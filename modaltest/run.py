@@ -9,10 +9,11 @@ from pathlib import Path
 import numpy as np
 
 from analytical.params import ModelOptions
-from common.atomic import write_json_atomic, write_text_atomic
+from common.atomic import write_text_atomic
 from common.errors import ComputeError
 from results.campaign_records import SCHEMA, Correlation, Identification, ModelRecord
 from results.declare import csv_text
+from results.outputs import CORRELATION, IDENTIFICATION
 from scene.address import edited_text
 from scene.load import SceneError
 
@@ -103,7 +104,7 @@ def run_identification(campaign: Campaign, options: ModelOptions,
     validation, validation_note = validate(campaign, options, at_scene, fitted, noise)
     seconds = time.perf_counter() - start
     record = Identification(
-        schema=SCHEMA, campaign=campaign.path, scene=campaign.scene_path,
+        record="identification", schema=SCHEMA, campaign=campaign.path, scene=campaign.scene_path,
         identified_scene="identified.toml", identified_scene_check=check, model=model,
         parameters=records,
         residual_rms_percent_before=ident.rms_percent(fit.residuals_before),
@@ -151,7 +152,7 @@ def unpaired_rows(data: Correlation) -> list[dict]:
 def write_correlation(data: Correlation, directory: Path) -> list[Path]:
     """correlation.json, tables/correlation-pairs.csv and -unpaired.csv (the page is the
     report room's, `reports.campaign_pages`)."""
-    out = [write_json_atomic(directory / "correlation.json", data)]
+    out = [CORRELATION.write(directory, data)]  # checked against its declaration
     tables = directory / "tables"
     tables.mkdir(exist_ok=True)
     out.append(write_text_atomic(tables / "correlation-pairs.csv", csv_text(pair_rows(data))))
@@ -162,7 +163,7 @@ def write_correlation(data: Correlation, directory: Path) -> list[Path]:
 
 def write_identification(data: Identification, identified: str, directory: Path) -> list[Path]:
     """identification.json, identified.toml, tables/identification-*.csv."""
-    out = [write_json_atomic(directory / "identification.json", data),
+    out = [IDENTIFICATION.write(directory, data),  # checked against its declaration
            write_text_atomic(directory / "identified.toml", identified)]
     tables = directory / "tables"
     tables.mkdir(exist_ok=True)

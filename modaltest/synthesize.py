@@ -22,7 +22,8 @@ from analytical.kinematics import PoseGeometry, pose_geometry
 from analytical.params import Manipulator, Pose
 from scene import Scene
 from scene.address import resolve, with_values
-from scene.load import parse_scene, read_toml
+from scene.load import parse_scene
+from scene.toml_table import read_toml
 
 from . import uff
 from .models import analytical_field, fem_field

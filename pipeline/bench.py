@@ -48,7 +48,6 @@ from analytical.model import analyse
 from analytical.params import Pose
 from analytical.substructure import assemble
 from analytical.workspace import default_workers, frequency_map
-from common.atomic import write_json_atomic
 from common.locations import default_scene
 from runtime.places import path_argument
 from scene import load_scene
@@ -69,6 +68,7 @@ from .bench_history import (
 )
 from .bench_kernel import MAP_GRID, bench_best_model, map_poses
 from .bench_records import (
+    BENCH,
     DynamicMapBench,
     EstimatedErrors,
     FemTiming,
@@ -379,7 +379,7 @@ def main(argv: list[str] | None = None) -> int:
         result["previous"] = against(headline(result), previous_run(
             history, result["machine"], result["commit"]))
         result["reference"] = reference_ratios(result)
-        write_json_atomic(args.out, result)
+        BENCH.write_to(args.out, result)  # checked against its declaration
         record(history, result)
     except (ValueError, RuntimeError, OSError) as exc:
         print(f"error: {' '.join(str(exc).split())}", file=sys.stderr)

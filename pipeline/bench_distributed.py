@@ -27,9 +27,10 @@ import tempfile
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Mapping, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
+from typing_extensions import TypedDict
 
 from analytical.params import Manipulator, ModelOptions
 from runtime.cache import ResultCache, content_key
@@ -67,7 +68,23 @@ class PoseTask:
     log: str | None = None
 
 
-def pose_frequencies(task: PoseTask) -> dict:
+class TaskFrequencies(TypedDict):
+    """One task's answer, as the sweep caches it."""
+    frequencies_hz: list[list[float] | None]  # per pose; None out of reach
+    seconds: float
+
+
+class KilledSweep(TypedDict):
+    """The cluster's sweep with a worker killed part-way (`killed_worker_sweep`)."""
+    results: list[Any]  # each task's TaskFrequencies (or what run_sweep says of a failure)
+    before_kill: list[int]  # tasks stored before the kill
+    computed: list[int]  # how often each task was computed
+    rerun_to_compute: int  # what the same sweep on the same cache computes again
+    killed_pid: int
+    worker_pids_after: list[int]
+
+
+def pose_frequencies(task: PoseTask) -> TaskFrequencies:
     """The lowest `options.modes` frequencies (Hz) of each pose of the task, None where a pose
     is out of reach, and the seconds it took; logs the computation (its index) first."""
     from analytical.batch_model import CHUNK, assemble_batch, frequencies
@@ -84,8 +101,9 @@ def pose_frequencies(task: PoseTask) -> dict:
         index = reached[start:start + CHUNK]
         model = assemble_batch(task.manipulator, poses.take(index), task.options)
         hz[index] = frequencies(model, task.options.modes)
-    return {"frequencies_hz": [None if np.isnan(row[0]) else row.tolist() for row in hz],
-            "seconds": time.perf_counter() - began}
+    return TaskFrequencies(
+        frequencies_hz=[None if np.isnan(row[0]) else row.tolist() for row in hz],
+        seconds=time.perf_counter() - began)
 
 
 def sweep_tasks(scene, grid: tuple[int, int, int] = POSE_GRID, per_task: int = PER_TASK,
@@ -108,7 +126,7 @@ def computations(log: Path) -> list[int]:
 
 
 def killed_worker_sweep(tasks: list[PoseTask], payloads: list[dict], address: str,
-                        cache: ResultCache, log: Path, kill_at: int) -> dict:
+                        cache: ResultCache, log: Path, kill_at: int) -> KilledSweep:
     """The sweep on the local cluster at `address` (its workers are processes of this machine)
     with one worker killed once `kill_at` results are in (each cached as it arrived); how often
     each task was computed, which were in before the kill, and what a rerun on the same cache
@@ -135,9 +153,9 @@ def killed_worker_sweep(tasks: list[PoseTask], payloads: list[dict], address: st
               announce=plans.append)
     with Client(address, timeout="10s") as client:
         after = sorted(client.run(os.getpid).values())
-    return {"results": results, "before_kill": before_kill, "computed": counts.tolist(),
-            "rerun_to_compute": plans[0].to_compute, "killed_pid": pids[0],
-            "worker_pids_after": after}
+    return KilledSweep(results=results, before_kill=before_kill, computed=counts.tolist(),
+                       rerun_to_compute=plans[0].to_compute, killed_pid=pids[0],
+                       worker_pids_after=after)
 
 
 def difference(a: Sequence[Mapping], b: Sequence[Mapping]) -> float:

@@ -19,9 +19,11 @@ from __future__ import annotations
 import json
 import subprocess
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping, cast
 
 from common.locations import checkout_root
+
+from .bench_records import HistoryLine, Machine, Previous, Reference, Revision
 
 REFERENCE = Path(__file__).with_name("bench_reference.json")
 HISTORY = "history.jsonl"
@@ -37,12 +39,12 @@ def default_out() -> Path:
     return (root if root is not None else Path.cwd()) / "bench" / "bench.json"
 
 
-def revision() -> dict[str, Any]:
+def revision() -> Revision:
     """The checkout's commit and whether its tracked files differ from it (None outside a
     checkout or without git)."""
     root = checkout_root()
     if root is None:
-        return {"commit": None, "changed": None}
+        return Revision(commit=None, changed=None)
     try:
         commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, check=True,
                                 capture_output=True, text=True, timeout=10).stdout.strip()
@@ -50,8 +52,8 @@ def revision() -> dict[str, Any]:
                                  cwd=root, check=True, capture_output=True, text=True,
                                  timeout=10).stdout.strip() != ""
     except (OSError, subprocess.SubprocessError):
-        return {"commit": None, "changed": None}
-    return {"commit": commit, "changed": changed}
+        return Revision(commit=None, changed=None)
+    return Revision(commit=commit, changed=changed)
 
 
 def cpu_model(cpuinfo: Path = Path("/proc/cpuinfo")) -> str | None:
@@ -65,31 +67,31 @@ def cpu_model(cpuinfo: Path = Path("/proc/cpuinfo")) -> str | None:
     return None
 
 
-def machine() -> dict[str, Any]:
+def machine() -> Machine:
     """This machine as the timing records name it: two records compare only on one machine."""
     import os
     import platform
     import sys
 
-    return {"python": sys.version.split()[0], "platform": platform.platform(),
-            "processor": platform.processor() or platform.machine(),
-            "cpu_model": cpu_model(), "cpu_count": os.cpu_count()}
+    return Machine(python=sys.version.split()[0], platform=platform.platform(),
+                   processor=platform.processor() or platform.machine(),
+                   cpu_model=cpu_model(), cpu_count=os.cpu_count())
 
 
-def _same_machine(a: dict, b: dict) -> bool:
+def _same_machine(a: Mapping[str, Any], b: Mapping[str, Any]) -> bool:
     keys = ("processor", "cpu_model", "cpu_count", "platform")
     return all(a.get(k) == b.get(k) for k in keys)
 
 
-def headline(result: dict) -> dict[str, float]:
+def headline(result: Mapping[str, Any]) -> dict[str, float]:
     return {k: result[k] for k in HEADLINE if isinstance(result.get(k), (int, float))}
 
 
-def previous_run(history: Path, machine: dict, commit: str | None) -> dict | None:
+def previous_run(history: Path, machine: Machine, commit: str | None) -> HistoryLine | None:
     """The newest run in `history` of another commit on the same machine."""
     if not history.is_file():
         return None
-    found = None
+    found: HistoryLine | None = None
     for line in history.read_text().splitlines():
         try:
             entry = json.loads(line)
@@ -97,11 +99,11 @@ def previous_run(history: Path, machine: dict, commit: str | None) -> dict | Non
             continue
         if (isinstance(entry, dict) and _same_machine(entry.get("machine", {}), machine)
                 and entry.get("commit") != commit):
-            found = entry
+            found = cast(HistoryLine, entry)  # as `record` wrote it (older lines lack keys)
     return found
 
 
-def against(now: dict[str, float], then: dict | None) -> dict | None:
+def against(now: dict[str, float], then: HistoryLine | None) -> Previous | None:
     """Each headline figure now / then, for the figures both runs have."""
     if then is None:
         return None
@@ -112,7 +114,8 @@ def against(now: dict[str, float], then: dict | None) -> dict | None:
                        if isinstance(figures.get(k), (int, float)) and figures[k] > 0}}
 
 
-def reference_ratios(result: dict, reference: Path = REFERENCE) -> dict | None:
+def reference_ratios(result: Mapping[str, Any], reference: Path = REFERENCE
+                     ) -> Reference | None:
     """The per-pose model against each stored release: (pose / plain eigh) now over then."""
     if not reference.is_file():
         return None
@@ -126,7 +129,7 @@ def reference_ratios(result: dict, reference: Path = REFERENCE) -> dict | None:
     return {"measured": stored.get("measured"), "now_over_then": out}
 
 
-def record(history: Path, result: dict) -> None:
+def record(history: Path, result: Mapping[str, Any]) -> None:
     """Append this run's line to `history`."""
     entry = {"date": result.get("date"), "commit": result.get("commit"),
              "changed": result.get("changed"), "machine": result.get("machine"),

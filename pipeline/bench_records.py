@@ -2,9 +2,16 @@
 seconds (medians of repeated runs), mesh sizes in mm."""
 from __future__ import annotations
 
-from typing_extensions import TypedDict
+from typing import Any
+
+from pydantic import with_config
+from typing_extensions import NotRequired, TypedDict  # pydantic reads it on Python < 3.12
+
+from results.outputs import Output
+from results.types import STRICT
 
 
+@with_config(STRICT)
 class Timing(TypedDict):
     median_seconds: float
     min_seconds: float
@@ -16,6 +23,7 @@ class Timing(TypedDict):
 Timings = dict[str, Timing]  # setting ("s=3", "s=5, solid ends") -> its time per pose
 
 
+@with_config(STRICT)
 class Peak(TypedDict):
     """One core's peak double-precision rate: clock times flops a cycle."""
     gflops: float
@@ -24,6 +32,7 @@ class Peak(TypedDict):
     vector_units: str  # the flags that set it ("avx2 fma")
 
 
+@with_config(STRICT)
 class BestModel(TypedDict):
     """The most accurate analytical setting, batched over the map's poses on one core, per
     stage (pipeline/bench_kernel.py), with its flops and the ratio to the flop floor."""
@@ -49,6 +58,7 @@ class BestModel(TypedDict):
     vs_floor: float | None  # pose_seconds / floor_pose_seconds
 
 
+@with_config(STRICT)
 class DynamicMapBench(TypedDict):
     """The least dynamic stiffness at the tool over the 10,000-pose map's reachable poses (the
     scene's modes, LINES lines) against the frequency map of the same grid, both on one core,
@@ -69,6 +79,7 @@ class DynamicMapBench(TypedDict):
     vs_frequencies_only: float
 
 
+@with_config(STRICT)
 class Grid(TypedDict):
     heights: int
     rings: int
@@ -77,6 +88,7 @@ class Grid(TypedDict):
     distinct_poses: int
 
 
+@with_config(STRICT)
 class MapBench(TypedDict):
     """The 10,000-pose map against as many plain eigh calls, timed alternately."""
     grid: Grid
@@ -97,6 +109,7 @@ class MapBench(TypedDict):
     runs: int
 
 
+@with_config(STRICT)
 class FemTiming(TypedDict):
     mesh_size_mm: float
     dofs: int
@@ -109,6 +122,7 @@ class FemTiming(TypedDict):
 FemTimings = dict[str, FemTiming]  # "<h>mm" -> the FEM's time per pose at that mesh size
 
 
+@with_config(STRICT)
 class SweepBench(TypedDict):
     """The CI-size workspace-validation sweep from an empty cache, per worker count (keyed by
     the count, "1", "2"; until schema 14's change it was workers_<n>_median_seconds)."""
@@ -123,6 +137,7 @@ class SweepBench(TypedDict):
 EstimatedErrors = dict[str, float]  # "<h>mm" -> the refinement study's worst estimated error, %
 
 
+@with_config(STRICT)
 class UncertaintyBench(TypedDict):
     """One model run of the input-uncertainty propagation against one pose of the batched
     frequencies of the scene's own machine, at the case; medians of alternate runs."""
@@ -138,6 +153,7 @@ class UncertaintyBench(TypedDict):
     run_vs_batched_pose: float
 
 
+@with_config(STRICT)
 class KilledWorker(TypedDict):
     """The cluster's sweep with one worker killed part-way (pipeline/bench_distributed.py)."""
     kill_after_results: int
@@ -149,6 +165,7 @@ class KilledWorker(TypedDict):
     rerun_to_compute: int  # the same sweep again on the same cache: must be 0
 
 
+@with_config(STRICT)
 class DistributedBench(TypedDict):
     """A 10^5-pose sweep in tasks of >= 1,000 poses: one process against a local Dask cluster
     (each from an empty cache), and the cluster with a worker killed."""
@@ -169,3 +186,94 @@ class DistributedBench(TypedDict):
     dask_overhead: float  # workers * cluster_seconds / cluster_task_seconds - 1
     difference: float  # largest relative difference from the one-process results
     killed: KilledWorker
+
+
+@with_config(STRICT)
+class Machine(TypedDict):
+    """The machine a timing was taken on (two runs compare only on one machine)."""
+    python: str
+    platform: str
+    processor: str
+    cpu_model: str | None
+    cpu_count: int | None
+
+
+@with_config(STRICT)
+class Revision(TypedDict):
+    """The checkout's commit and whether its tracked files differ from it (None outside a
+    checkout or without git)."""
+    commit: str | None
+    changed: bool | None
+
+
+@with_config(STRICT)
+class HistoryLine(Revision):
+    """One run of `make bench` in bench/history.jsonl."""
+    date: str | None
+    machine: Machine
+    figures: dict[str, float]  # the headline figures
+
+
+@with_config(STRICT)
+class Previous(TypedDict):
+    """Each headline figure now over the newest earlier run of another commit, same machine."""
+    commit: str | None
+    changed: bool | None
+    date: str | None
+    ratios: dict[str, float]
+
+
+@with_config(STRICT)
+class Reference(TypedDict):
+    """The per-pose model against each stored release (pipeline/bench_reference.json)."""
+    measured: Any
+    now_over_then: dict[str, dict[str, float]]
+
+
+@with_config(STRICT)
+class BenchFile(TypedDict):
+    record: str
+    schema: int
+    machine: Machine
+    date: str
+    case: str
+    analytical: Timings
+    analytical_pose_seconds_median: float
+    analytical_runs: int
+    analytical_pose_vs_plain_eigh: float
+    map: MapBench
+    map_vs_plain_eigh: float
+    map_scene_modes: MapBench
+    map_scene_modes_vs_plain_eigh: float
+    map_one_core: MapBench
+    map_one_core_vs_plain_eigh: float
+    best_model: BestModel
+    best_model_pose_seconds: float
+    dynamic_map: DynamicMapBench
+    dynamic_map_vs_frequency_map: float
+    uncertainty: NotRequired[UncertaintyBench]  # a scene with [uncertainty]
+    uncertainty_run_vs_batched_pose: NotRequired[float]
+    fem: NotRequired[FemTimings]  # without --skip-fem
+    fem_pose_seconds_median: NotRequired[float]
+    fem_runs: NotRequired[int]
+    fem_legs: NotRequired[str]
+    fem_tetrahedra: NotRequired[FemTimings]  # harmonic legs: the tetrahedra timed beside
+    fem_pose_seconds_vs_tetrahedra: NotRequired[float]
+    sweep: NotRequired[SweepBench]
+    sweep_speedup: NotRequired[float]
+    fem_estimated_error_percent: NotRequired[EstimatedErrors]  # a validation's, if left
+    distributed: NotRequired[DistributedBench]
+    distributed_overhead: NotRequired[float]
+    commit: str | None
+    changed: bool | None
+    previous: Previous | None
+    reference: Reference | None
+
+
+BENCH = Output("bench.json", "bench", 1, BenchFile, "make bench",
+               "Timings (medians of repeated runs, one core unless said) of the analytical "
+               "model per pose against a plain eigh of its own matrices, the 10,000-pose maps, "
+               "the best model's stages and flops, the dynamic-stiffness map, the uncertainty "
+               "propagation, the FEM per mesh size and the distributed sweep; each headline "
+               "figure against the previous commit's run on the same machine. Beside it, "
+               "history.jsonl, one line a run.")

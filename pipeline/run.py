@@ -26,7 +26,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 import results as schema
 import studies
-from analytical.architecture import actuation, is_prs, leg_length_range
+from analytical.architectures import actuation, leg_length_range, of
 from analytical.kinematics import pose_geometry
 from common.paths import distinct_stems, inside
 from common.settings import edge_values, spec_of
@@ -101,7 +101,7 @@ def scene_summary(scene: Scene, path: str) -> schema.SceneSummary:
             "actuator": act.quantity,
             "actuator_range_mm": [edge(m, "actuator_min", x) for x in (act.low, act.high)],
             "leg_length_range_mm": [edge(m, "leg_length", x) for x in leg_length_range(m)],
-            "rail_angle_deg": edge(m, "rail_angle", m.rail_angle) if is_prs(m) else None,
+            "rail_angle_deg": edge(m, "rail_angle", m.rail_angle) if of(m).rails else None,
             **edge_values(m.material), "poisson_ratio": m.material.poisson_ratio,
             "payload": edge_values(m.payload), "leg": edge_values(m.leg),
             "stiffness": edge_values(m.stiffness)}),

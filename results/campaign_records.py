@@ -2,11 +2,15 @@
 edge as in every output (`rps correlate`, `rps identify`)."""
 from __future__ import annotations
 
-from typing_extensions import TypedDict
+from pydantic import with_config
+from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
-SCHEMA = 2  # 2: identification.json's V&V 20 rows
+from .types import STRICT
+
+SCHEMA = 3  # 2: identification.json's V&V 20 rows; 3: the "record" key, checked on write
 
 
+@with_config(STRICT)
 class PairRecord(TypedDict):
     test_mode: int  # 1-based
     model_mode: int  # 1-based
@@ -17,17 +21,20 @@ class PairRecord(TypedDict):
     repeated: bool  # the model mode belongs to a group of (near-)repeated frequencies
 
 
+@with_config(STRICT)
 class UnpairedTest(TypedDict):
     test_mode: int
     test_hz: float
     reason: str
 
 
+@with_config(STRICT)
 class UnpairedModel(TypedDict):
     model_mode: int
     model_hz: float
 
 
+@with_config(STRICT)
 class NodeRecord(TypedDict):
     id: int
     xyz_mm: list[float]
@@ -36,6 +43,7 @@ class NodeRecord(TypedDict):
     directions: list[str]
 
 
+@with_config(STRICT)
 class MachineRecord(TypedDict):
     base_joints_mm: list[list[float]]
     platform_joints_mm: list[list[float]]
@@ -45,6 +53,7 @@ class MachineRecord(TypedDict):
     leg_diameter_mm: float
 
 
+@with_config(STRICT)
 class PoseCorrelation(TypedDict):
     name: str
     height_mm: float
@@ -63,17 +72,20 @@ class PoseCorrelation(TypedDict):
     machine: MachineRecord
 
 
+@with_config(STRICT)
 class ModelRecord(TypedDict):
     kind: str  # "analytical" or "fem"
     description: str
 
 
+@with_config(STRICT)
 class PairingRecord(TypedDict):
     min_mac: float
     max_frequency_ratio: float
     rule: str
 
 
+@with_config(STRICT)
 class CorrelationSummary(TypedDict):
     pairs: int
     unpaired_test_modes: int
@@ -82,7 +94,9 @@ class CorrelationSummary(TypedDict):
     min_mac: float | None
 
 
+@with_config(STRICT)
 class Correlation(TypedDict):
+    record: str  # "correlation" (results.outputs.CORRELATION)
     schema: int
     campaign: str
     scene: str
@@ -93,6 +107,7 @@ class Correlation(TypedDict):
     seconds: float
 
 
+@with_config(STRICT)
 class ParameterRecord(TypedDict):
     key: str
     unit: str
@@ -106,6 +121,7 @@ class ParameterRecord(TypedDict):
     reason: str
 
 
+@with_config(STRICT)
 class FitMode(TypedDict):
     test_mode: int
     test_hz: float
@@ -116,17 +132,20 @@ class FitMode(TypedDict):
     mac_after: float
 
 
+@with_config(STRICT)
 class FitPose(TypedDict):
     pose: str
     modes: list[FitMode]
 
 
+@with_config(STRICT)
 class NoiseRecord(TypedDict):
     frequency_percent: float | None
     source: str  # "stated" or "residuals"
     degrees_of_freedom: int
 
 
+@with_config(STRICT)
 class ValidationRecord(TypedDict):
     """V&V 20 for one fitted test mode (solvers/vv20.py): the scene's model (its values as
     given) against the test, standard uncertainties in %."""
@@ -144,7 +163,9 @@ class ValidationRecord(TypedDict):
     verdict: str
 
 
+@with_config(STRICT)
 class Identification(TypedDict):
+    record: str  # "identification" (results.outputs.IDENTIFICATION)
     schema: int
     campaign: str
     scene: str

@@ -31,6 +31,7 @@ from pydantic import PydanticUserError, TypeAdapter, ValidationError
 from typing_extensions import get_type_hints, is_typeddict  # its TypedDicts (pydantic's)
 
 from common.errors import InputError
+from common.messages import short
 
 from .types import STRICT
 
@@ -120,7 +121,7 @@ def refusal(exc: ValidationError, where: str, loc: tuple = ()) -> InputError:
     errors = exc.errors(include_url=False)
     first = errors[0]
     more = f" (and {len(errors) - 1} more)" if len(errors) > 1 else ""
-    value = "" if first["type"] == "missing" else f", got {_short(first.get('input'))}"
+    value = "" if first["type"] == "missing" else f", got {short(first.get('input'), 60)}"
     message = first["msg"].removeprefix("Value error, ")
     return InputError(f"{where}: {location(loc + tuple(first['loc']))}: "
                       f"{message[:1].lower()}{message[1:]}{value}{more}")
@@ -131,11 +132,6 @@ def location(loc) -> str:
     for token in loc:
         text += f"[{token}]" if isinstance(token, int) else (f".{token}" if text else token)
     return text
-
-
-def _short(value, limit: int = 60) -> str:
-    text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 @lru_cache(maxsize=None)

@@ -33,7 +33,7 @@ from common.errors import InputError
 from common.paths import UnsafeName, distinct_stems
 
 from .case_records import Case, CaseCore, Environment, SceneSummary
-from .declare import Record, Scope, check, in_scope, location, refusal
+from .declare import Record, Scope, check, in_scope, location, refusal, stub
 from .study_records import Fidelity, Studies
 from .types import MAX_BYTES, MAX_DEPTH, MAX_TEXT, SCHEMA_VERSION, STRICT, Profile
 
@@ -61,11 +61,13 @@ def study_type(scope: Scope, key: str) -> Any:
 
 
 def validated(results: Mapping[str, object], records: Sequence[Record],
-              where: str = "results") -> Results:
+              where: str = "results", complete: bool = False) -> Results:
     """The results checked against the schema and every study record against its declared
     type (`records`: the registry, `studies.RECORDS`); InputError with one line naming the
-    first offending field (and its value). A study key the registry does not declare, or a
-    declared one missing, is refused like any other field."""
+    first offending field (and its value). A study key the registry does not declare is
+    refused like any other field; a declared one missing is refused too, unless `complete`:
+    then it is read as its empty value (the study did not run: a file written before the study
+    was declared, such as the report's test fixture)."""
     version = results.get("schema") if isinstance(results, dict) else None
     if version != SCHEMA_VERSION:
         raise InputError(f"{where}: results schema {version!r}, this version reads schema "
@@ -76,6 +78,8 @@ def validated(results: Mapping[str, object], records: Sequence[Record],
         raise InputError(f"{where}: {location(loc)}: a text of {size:,} characters, more than "
                          f"the {MAX_TEXT:,} a results file holds in one field")
     scene, case = in_scope(records, "scene"), in_scope(records, "case")
+    if complete:
+        results = _completed(results, scene, case)
     core, held = _split(results, {r.key for r in scene}, {r.key for r in case}, where)
     try:
         out = _RESULTS.validate_python(core)
@@ -93,6 +97,19 @@ def validated(results: Mapping[str, object], records: Sequence[Record],
         for r in case:
             entry[r.key] = check(r, held[("cases", i, r.key)], where,  # type: ignore[literal-required]
                                  ("cases", i, r.key))
+    return out
+
+
+def _completed(results: Mapping[str, object], scene: Sequence[Record],
+               case: Sequence[Record]) -> dict:
+    """The results with every declared record they lack at its empty value (a copy)."""
+    out: dict[str, Any] = dict(results)
+    studies, cases = out.get("studies"), out.get("cases")
+    if isinstance(studies, dict):
+        out["studies"] = {**stub(scene, "scene"), **studies}
+    if isinstance(cases, list):
+        out["cases"] = [{**stub(case, "case"), **c} if isinstance(c, dict) else c
+                        for c in cases]
     return out
 
 
@@ -124,8 +141,9 @@ def _split(results: Mapping[str, object], scene_keys: set[str], case_keys: set[s
 
 
 def read(path, records: Sequence[Record]) -> Results:
-    """Load and check a results file (`records`: the registry of study records); InputError
-    (one line, naming the path) otherwise."""
+    """Load and check a results file (`records`: the registry of study records; a declared
+    study the file lacks is read as not run, its empty value); InputError (one line, naming
+    the path) otherwise."""
     path = Path(path)
     try:
         info = path.stat()
@@ -163,7 +181,7 @@ def read(path, records: Sequence[Record]) -> Results:
                          f"{exc.msg})") from None
     if not isinstance(raw, dict):
         raise InputError(f"{path}: expected a JSON object at the top level")
-    return validated(raw, records, str(path))
+    return validated(raw, records, str(path), complete=True)
 
 
 def nesting_depth(text: str) -> int:

@@ -9,10 +9,12 @@ from __future__ import annotations
 from pydantic import FiniteFloat, with_config
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
+from .tool_records import OutputPose
 from .types import STRICT
 
-__all__ = ["PathPose", "SobolRow", "UncertainInputRecord", "UncertaintyCase",
-           "UncertaintyMode", "UncertaintyPath", "UncertaintyStiffness", "ValidationRow"]
+__all__ = ["FrequencyStatistics", "PathPose", "SobolRow", "StiffnessStatistics",
+           "UncertainInputRecord", "UncertaintyCase", "UncertaintyFile", "UncertaintyMode",
+           "UncertaintyPath", "UncertaintyRecord", "UncertaintyStiffness", "ValidationRow"]
 
 
 @with_config(STRICT)
@@ -118,3 +120,73 @@ class UncertaintyPath(TypedDict):
     poses: list[PathPose]
     skipped: list[str]  # a pose of the path where a sample cannot reach it: no band there
     seconds: FiniteFloat
+
+
+Indices = dict[str, FiniteFloat | None]  # input key -> a Sobol' index (null: no variation)
+
+
+@with_config(STRICT)
+class FrequencyStatistics(TypedDict):
+    """The k-th lowest frequency over the samples: statistics, each with its 95 % sampling
+    error (a half-width), and the first-order and total Sobol' index of every input."""
+    mode: int
+    nominal_hz: FiniteFloat  # at the scene's values
+    mean_hz: FiniteFloat
+    std_hz: FiniteFloat
+    q025_hz: FiniteFloat
+    q975_hz: FiniteFloat
+    mean_error_hz: FiniteFloat
+    std_error_hz: FiniteFloat
+    q025_error_hz: FiniteFloat
+    q975_error_hz: FiniteFloat
+    cv_percent: FiniteFloat | None
+    sobol_first: Indices
+    sobol_first_error: Indices
+    sobol_total: Indices
+    sobol_total_error: Indices
+
+
+@with_config(STRICT)
+class StiffnessStatistics(TypedDict):
+    """The least dynamic stiffness at the tool along one direction over the samples."""
+    nominal_n_per_m: FiniteFloat
+    mean_n_per_m: FiniteFloat
+    std_n_per_m: FiniteFloat
+    q025_n_per_m: FiniteFloat
+    q975_n_per_m: FiniteFloat
+    mean_error_n_per_m: FiniteFloat
+    std_error_n_per_m: FiniteFloat
+    q025_error_n_per_m: FiniteFloat
+    q975_error_n_per_m: FiniteFloat
+    cv_percent: FiniteFloat | None
+    sobol_first: Indices
+    sobol_first_error: Indices
+    sobol_total: Indices
+    sobol_total_error: Indices
+
+
+@with_config(STRICT)
+class UncertaintyRecord(TypedDict):
+    """The scene's [uncertainty] propagated at one pose (solvers.uncertainty.propagate)."""
+    inputs: list[UncertainInputRecord]
+    design: str  # the sampling design, in words
+    samples: int  # base points N
+    runs: int  # model runs, N (d + 2)
+    model: str  # the model propagated through
+    modes: list[FrequencyStatistics]
+    least_dynamic_stiffness: dict[str, StiffnessStatistics] | None  # per x, y, z; null
+    # without [tool] or [damping]
+    model_seconds: FiniteFloat
+    statistics_seconds: FiniteFloat
+
+
+@with_config(STRICT)
+class UncertaintyFile(UncertaintyRecord):
+    record: str
+    schema: int
+    scene: str
+    case: str
+    pose: OutputPose
+    settings_from: str  # where the model's settings come from
+    seconds: FiniteFloat
+    warnings: list[str]

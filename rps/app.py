@@ -1,6 +1,6 @@
-"""Command line: `rps` (or `python -m rps`) with the subcommands analytical, fem, workspace,
-validate, cache, and the developer commands check-baselines, update-baselines, readme,
-scene-docs. Lengths in mm and angles in degrees at this edge; SI inside.
+"""Command line: `rps` (or `python -m rps`) and its commands, each a module of `rps.commands`
+registered once (the help's list of commands is made from the registry). Lengths in mm and
+angles in degrees at this edge; SI inside.
 
 Every expected failure (bad scene value, unreachable pose, solver failure) prints one line on
 stderr naming the offending value and exits with status 2, without a traceback. The commands
@@ -65,15 +65,35 @@ class _Version(argparse.Action):
         parser.exit(0)
 
 
+def description() -> str:
+    """What `rps --help` says above its options: what the commands are, from the registry."""
+    users = textwrap.fill("commands: " + ", ".join(c.name for c in COMMANDS
+                                                  if not c.developer), 92)
+    developers = textwrap.fill("developer commands (in a checkout): " + ", ".join(
+        c.name for c in COMMANDS if c.developer), 92)
+    return textwrap.dedent("""\
+        Elastodynamics of a 3-RPS or 3-PRS parallel manipulator: a fast analytical model,
+        validated against a 3D solid FEM. Lengths in mm and angles in degrees here; SI inside.
+
+        {users}
+        {developers}
+
+        `rps COMMAND --help` shows a command's options with their defaults and units. Bad input
+        is one line on stderr naming what was typed, exit status 2, nothing written.""").format(
+        users=users, developers=developers)
+
+
 def build_parser(prog: str = "rps") -> argparse.ArgumentParser:
-    parser = _Parser(prog=prog, description=__doc__, formatter_class=_Help)
+    parser = _Parser(prog=prog, description=description(), formatter_class=_Help)
     parser.add_argument("--version", action=_Version,
                         help="print the project's version and git commit, and exit")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser,
                                 metavar="COMMAND", title="commands")
     for command in COMMANDS:
-        command.add_arguments(sub.add_parser(command.name, help=command.help,
-                                             description=command.help, formatter_class=_Help))
+        p = sub.add_parser(command.name, help=command.help, description=command.help,
+                           formatter_class=_Help)
+        command.add_arguments(p)
+        p.set_defaults(registry=COMMANDS)  # the registry, for a command that lists the others
     return parser
 
 
@@ -101,8 +121,7 @@ def main(argv: list[str] | None = None) -> int:
         _check_places(args)
         return COMMANDS_BY_NAME[args.command].run(args)
     except ModuleNotFoundError as exc:
-        extras = ("fem,report" if args.command in ("validate", "report") else
-                  "modal-test" if args.command in ("correlate", "identify", "modes") else "fem")
+        extras = COMMANDS_BY_NAME[args.command].extras
         print(f"error: {exc.name} is not installed; `{prog} {args.command}` needs "
               f"pip install '{DISTRIBUTION}[{extras}]'", file=sys.stderr)
         return EXIT_BAD_INPUT

@@ -9,7 +9,7 @@ import re
 import sys
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
 from common.errors import InputError
 from common.locations import DISTRIBUTION, cache_root, checkout_root, default_scene
@@ -17,6 +17,9 @@ from runtime.places import path_argument
 
 from . import human
 from .options import declared_option, typed
+
+if TYPE_CHECKING:
+    from results.tool_records import OutputPose
 
 
 def scene_option(p: argparse.ArgumentParser) -> None:
@@ -137,10 +140,12 @@ def with_choice(options, chosen: Mapping[str, Any] | None, args: argparse.Namesp
             f"the run's choice, {chosen['analytical']['setting']} ({args.from_results})")
 
 
-def pose_payload(pose) -> dict:
-    return {"height_mm": round(pose.height * 1e3, 9),
-            "azimuth_deg": round(math.degrees(pose.azimuth), 9),
-            "tilt_deg": round(math.degrees(pose.tilt), 9)}
+def pose_payload(pose) -> OutputPose:
+    """A pose as every command's output gives it (mm, degrees)."""
+    from results.tool_records import OutputPose
+    return OutputPose(height_mm=round(pose.height * 1e3, 9),
+                      azimuth_deg=round(math.degrees(pose.azimuth), 9),
+                      tilt_deg=round(math.degrees(pose.tilt), 9))
 
 
 def load(args: argparse.Namespace):
@@ -149,7 +154,7 @@ def load(args: argparse.Namespace):
     return load_scene(args.scene)
 
 
-def emit(payload: dict, as_json: bool) -> None:
+def emit(payload: Mapping[str, Any], as_json: bool) -> None:
     """The command's result on stdout; its "warnings" (the scene's, analytical.plausibility)
     stay in the JSON object and are printed on stderr after the result."""
     warnings = payload.get("warnings") or []
@@ -157,7 +162,7 @@ def emit(payload: dict, as_json: bool) -> None:
         print(json.dumps(payload, indent=None))
     else:
         print("\n".join(human.payload_lines({k: v for k, v in payload.items()
-                                             if k != "warnings"})))
+                                             if k not in ("warnings", "record", "schema")})))
     warn(warnings)
 
 

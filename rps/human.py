@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypedDict
 
 if TYPE_CHECKING:  # results (and pydantic, an extra) only when a run has results
     from results import Case, Results
@@ -73,7 +73,19 @@ def _percent(x: float | None) -> str:
     return DASH if x is None else f"{significant(x, 3)} %"
 
 
-def case_summary(case: Case) -> dict:
+class CaseSummary(TypedDict):
+    """One row of the table a validation prints at its end."""
+    name: str
+    low_range: str  # "f1-f6"
+    high_range: str
+    low_percent: float | None  # worst |error| of the analytical model in that range
+    high_percent: float | None
+    fem_error_percent: float | None  # the FEM's own worst estimated error
+    lowest_mac: float | None
+    verdict: str
+
+
+def case_summary(case: Case) -> CaseSummary:
     """The numbers of one summary row: worst |error| of the analytical model against the FEM
     per mode range, the FEM's own worst estimated error, the lowest MAC and a verdict."""
     from results.verdict import grade  # the report's own wording of agreement
@@ -83,7 +95,7 @@ def case_summary(case: Case) -> dict:
     low = _worst(p["error_percent"] for p in pairs if p["fem_mode"] <= LOW_MODES)
     high = _worst(p["error_percent"] for p in pairs if p["fem_mode"] > LOW_MODES)
     worst = _worst(p["error_percent"] for p in pairs)
-    return {
+    return CaseSummary(**{
         "name": case["name"],
         "low_range": f"f1–f{min(LOW_MODES, modes[-1])}" if modes else "",
         "high_range": f"f{LOW_MODES + 1}–f{modes[-1]}" if modes and modes[-1] > LOW_MODES
@@ -93,7 +105,7 @@ def case_summary(case: Case) -> dict:
         "fem_error_percent": _worst(case.get("fem_estimated_error_percent") or []),
         "lowest_mac": min((p["mac"] for p in pairs), default=None),
         "verdict": DASH if worst is None else grade(worst),
-    }
+    })
 
 
 def summary(results: Results, out: Path, report: bool) -> str:

@@ -39,7 +39,8 @@ from common.errors import InputError
 from common.settings import MAX_MODES, Setting, setting, text_problem
 
 from .address import resolve
-from .load import Scene, SceneError, _short, _Table, parse_scene, read_toml
+from .load import Scene, SceneError, parse_scene
+from .toml_table import Table, read_toml, short
 
 OBJECTIVES = ("moving_mass", "lowest_frequency", "dynamic_stiffness")
 DIRECTIONS = ("x", "y", "z")
@@ -140,12 +141,12 @@ def load_design(path: str | Path) -> DesignSpec:
     path = Path(path)
     raw = read_toml(path, "design file")
     where = str(path)
-    top = _Table(raw, where)
-    name = top._get("name", "design study")
+    top = Table(raw, where)
+    name = top.get("name", "design study")
     why = "expected a string" if not isinstance(name, str) else text_problem(name)
     if why is not None:
-        raise SceneError(f"{where}.name = {_short(name)}: {why}")
-    scene_ref = top._get("scene", None)
+        raise SceneError(f"{where}.name = {short(name)}: {why}")
+    scene_ref = top.get("scene", None)
     if not isinstance(scene_ref, str) or not scene_ref:
         raise SceneError(f"{where}.scene: missing (the scene file the design varies, relative "
                          "to the design file)")
@@ -178,7 +179,7 @@ def load_design(path: str | Path) -> DesignSpec:
     c, minimise = parts["constraints"], parts["objective"].minimise
     if ("directions" in typed["constraints"] and not c.min_dynamic_stiffness
             and minimise != "dynamic_stiffness"):
-        raise SceneError(f"{where}.constraints.directions = {_short(list(c.directions))}: "
+        raise SceneError(f"{where}.constraints.directions = {short(list(c.directions))}: "
                          "the directions of the dynamic stiffness, but the design asks for "
                          "none (no min_dynamic_stiffness_n_per_um, objective minimise = "
                          f"{minimise!r}); give min_dynamic_stiffness_n_per_um or leave "

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import MISSING
 from pathlib import Path
 
-from analytical.architecture import ARCHITECTURE_REQUIRED
+from analytical.architectures import ARCHITECTURES
 from analytical.params import Manipulator, Material, ModelOptions
 from analytical.plausibility import RULES
 from common.frf import Damping, Tool
@@ -129,9 +129,9 @@ def _edge(spec: Setting, value) -> str:
 def _default(name: str, spec: Setting, default) -> str:
     if name in GEOMETRY_DEFAULTS_TEXT:
         return GEOMETRY_DEFAULTS_TEXT[name]
-    for architecture, keys in ARCHITECTURE_REQUIRED.items():
-        if spec.scene_key(name) in keys:
-            return f"required ({architecture})"
+    for architecture in ARCHITECTURES.values():
+        if spec.scene_key(name) in architecture.required:
+            return f"required ({architecture.name})"
     if default is MISSING or spec.scene_required:
         return "required"
     if default is None:

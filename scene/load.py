@@ -6,15 +6,13 @@ naming the key and the offending value.
 """
 from __future__ import annotations
 
-import difflib
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
 from analytical import plausibility
-from analytical.architecture import ARCHITECTURE_KEYS, ARCHITECTURE_REQUIRED
+from analytical.architectures import ARCHITECTURES, NAMES
 from analytical.params import (
     Manipulator,
     Material,
@@ -29,20 +27,18 @@ from common.paths import UnsafeName, distinct_stems
 from common.payload import Payload
 from common.settings import (
     MAX_LENGTH,
-    MISSING,
-    Setting,
     declared,
-    nested,
     setting,
 )
 from common.stiffness import Stiffness
 from fem_reference.convergence import sequence_problem
-from fem_reference.model import FemError, FemOptions, FemRuntime, legs_for
+from fem_reference.model import FemOptions, FemRuntime, legs_for
 from meshing.geometry import MIN_MESH_SIZE
 
 from .cases import CaseSettings, HeightCalibration, check_paper_rows
 from .errors import SceneError
 from .fidelity import FidelitySettings
+from .toml_table import Table, found_instead, read_toml, scene_keys, short
 
 
 @dataclass(frozen=True)
@@ -146,152 +142,29 @@ class Scene:
         return self.cases[name]
 
 
-class _Table:
-    """Typed access to one TOML table that remembers which keys were read."""
-
-    def __init__(self, data: Any, where: str):
-        if not isinstance(data, dict):
-            raise SceneError(f"{where} = {_short(data)}: expected a table")
-        self.data, self.where = data, where
-        self.used: set[str] = set()
-
-    def _get(self, key: str, default: Any) -> Any:
-        self.used.add(key)
-        if key not in self.data:
-            if default is _REQUIRED:
-                raise SceneError(f"{self.where}.{key}: missing")
-            return default
-        return self.data[key]
-
-    def table(self, key: str, default: Any = None) -> "_Table":
-        value = self._get(key, _REQUIRED if default is None else default)
-        return _Table(value, f"{self.where}.{key}")
-
-    def settings(self, cls, defaults: dict | None = None, **given):
-        """Read every declared field of the dataclass `cls` (and of its nested settings) from
-        this table, in the field's edge unit, converted to SI once. `defaults` replace the
-        declared defaults (SI); `given` are values decided elsewhere (passed through)."""
-        defaults = defaults or {}
-        values = dict(given)
-        for name, sub in nested(cls):
-            if name not in values:
-                values[name] = self.settings(sub, defaults)
-        for name, spec, default in declared(cls):
-            if name in values or not spec.scene:
-                continue
-            default = defaults.get(name, default)
-            key = spec.scene_key(name)
-            if key not in self.data:
-                self.used.add(key)
-                if default is MISSING or spec.scene_required:
-                    raise SceneError(f"{self.where}.{key}: missing ({spec.doc}"
-                                     f"{', in ' + spec.unit if spec.unit else ''})"
-                                     + _found_instead(key, self.data, _scene_keys(cls)))
-                values[name] = default
-                continue
-            values[name] = self.value(key, spec)
-        try:
-            return cls(**values)
-        except (ValueError, FemError) as exc:
-            raise SceneError(f"{self.where}: {exc}") from None
-
-    def value(self, key: str, spec: Setting):
-        """One declared value, checked in the edge unit and returned in SI."""
-        raw = typed = self._get(key, _REQUIRED)
-        if spec.kind is tuple:
-            if not isinstance(raw, list) or not raw:
-                raise SceneError(f"{self.where}.{key} = {_short(raw)}: expected a non-empty list")
-            raw = tuple(raw)
-        if spec.kind is float and isinstance(raw, int) and not isinstance(raw, bool):
-            raw = float(raw)
-        si: Any
-        if spec.kind is tuple and all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                      for v in raw):
-            si = tuple(float(v) * spec.scale for v in raw)
-        elif spec.kind is float and isinstance(raw, float):
-            si = raw * spec.scale
-        else:
-            si = raw
-        why = spec.problem(si, edge=True)
-        if why is not None:
-            raise SceneError(f"{self.where}.{key} = {_short(typed)}: {why}")
-        return si
-
-    def done(self) -> None:
-        unknown = sorted(set(self.data) - self.used)
-        if unknown:
-            raise SceneError(f"{self.where}: unknown key {_short(unknown[0])}"
-                             + _did_you_mean(unknown[0], self.used)
-                             + (f" (and {len(unknown) - 1} more)" if len(unknown) > 1 else ""))
-
-
-def _did_you_mean(key: str, known) -> str:
-    """'; did you mean youngs_modulus_gpa?' for the closest known key (case ignored), or ''."""
-    by_lower = {k.lower(): k for k in sorted(known)}
-    close = difflib.get_close_matches(str(key).lower(), list(by_lower), n=1, cutoff=0.6)
-    return f"; did you mean {by_lower[close[0]]}?" if close else ""
-
-
-def _scene_keys(cls) -> set[str]:
-    """The scene keys of every declared field of `cls` and of its nested settings."""
-    keys = {spec.scene_key(name) for name, spec, _ in declared(cls)}
-    for _, sub in nested(cls):
-        keys |= _scene_keys(sub)
-    return keys
-
-
-def _found_instead(key: str, data: dict, known=()) -> str:
-    """'; found Youngs_Modulus_GPa: did you mean youngs_modulus_gpa?' for a misspelt key (a
-    key of its own, `known`, is not one: slider_min_mm is no typo of slider_max_mm)."""
-    typo = next((k for k in sorted(data, key=str)
-                 if k not in known and _did_you_mean(k, [key])), None)
-    return f"; found {_short(typo)}: did you mean {key}?" if typo is not None else ""
-
-
-_REQUIRED = object()
-
-
-def _short(value: Any, limit: int = 80) -> str:
-    text = repr(value)
-    return text if len(text) <= limit else text[:limit - 3] + "..."
 MM = 1e-3
 DEG = math.pi / 180.0
 
 
-def _architecture_keys(man: _Table, where: str) -> dict:
+def _architecture_keys(man: Table, where: str) -> dict:
     """Check the keys of the scene's architecture; values decided here (SI) for the fields
     the other architecture's keys would set."""
     spec = next(s for n, s, _ in declared(Manipulator) if n == "architecture")
-    arch = man.value("architecture", spec) if "architecture" in man.data else "3-RPS"
-    for other, keys in ARCHITECTURE_KEYS.items():
-        given = [k for k in keys if k in man.data]
-        if other != arch and given:
-            raise SceneError(f"{where}.manipulator.{given[0]} = {_short(man.data[given[0]])} "
-                             f"with architecture = {arch!r}: the key belongs to a {other}")
-    for key in ARCHITECTURE_REQUIRED[arch]:
+    name = man.value("architecture", spec) if "architecture" in man.data else NAMES[0]
+    arch = ARCHITECTURES[name]
+    for other in ARCHITECTURES.values():
+        given = [k for k in other.keys if k in man.data]
+        if other is not arch and given:
+            raise SceneError(f"{where}.manipulator.{given[0]} = {short(man.data[given[0]])} "
+                             f"with architecture = {name!r}: the key belongs to a {other.name}")
+    for key in arch.required:
         if key not in man.data:
-            name = key.rsplit("_", 1)[0]
-            doc = next(s for n, s, _ in declared(Manipulator) if n == name).doc
-            raise SceneError(f"{where}.manipulator.{key}: missing ({doc}, in mm; a {arch} "
-                             "needs it)" + _found_instead(key, man.data,
-                                                          _scene_keys(Manipulator)))
-    if arch == "3-PRS":  # no actuator range of its own: its legs' one length (Manipulator)
-        man.used.update(ARCHITECTURE_KEYS["3-RPS"])
-        return {"actuator_min": 0.0, "actuator_max": 0.0}
-    return {}
-
-
-def read_toml(path: str | Path, what: str = "scene file") -> dict:
-    """The tables of a TOML file; SceneError naming `what` and the path on any problem."""
-    path = Path(path)
-    try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise SceneError(f"{what} {str(path)!r} does not exist") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(f"{what} {str(path)!r} cannot be read: {exc}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{what} {str(path)!r} is not valid TOML: {exc}") from None
+            field_name = key.rsplit("_", 1)[0]
+            doc = next(s for n, s, _ in declared(Manipulator) if n == field_name).doc
+            raise SceneError(f"{where}.manipulator.{key}: missing ({doc}, in mm; a {name} "
+                             "needs it)" + found_instead(key, man.data,
+                                                          scene_keys(Manipulator)))
+    return dict(arch.fills)
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -300,31 +173,81 @@ def load_scene(path: str | Path) -> Scene:
 
 
 def parse_scene(raw: dict, where: str = "scene") -> Scene:
-    top = _Table(raw, where)
+    """A scene's tables read in the order they depend on one another (the machine, then what
+    acts on it, the fidelity, the FEM, the model, the cases), then the machine checked whole;
+    SceneError with one line naming the first problem."""
+    top = Table(raw, where)
     top_settings = top.settings(SceneSettings)
     name = top_settings.name
     if not name.strip():
         raise SceneError(f"{where}.name = {name!r}: empty; give the scene a title (or leave "
                          "the key out)")
+    manipulator, shape_reason = _machine(top, where)
+    damping = _read(top, "damping", Damping, _one_ratio_for_all)
+    if "damping" in raw:  # a table that damps nothing is refused, never read as the default
+        damping.check_table(raw["damping"], f"{where}.damping")
+    tool = _read(top, "tool", Tool)
+    uncertainty = None
+    if "uncertainty" in raw:  # after the machine: its inputs are around the scene's values
+        from .uncertainty import parse as parse_uncertainty
+        uncertainty = parse_uncertainty(top.table("uncertainty"), manipulator,
+                                        f"{where}.uncertainty")
+    fidelity = _read(top, "fidelity", FidelitySettings)
+    fem, study, runtime = _fem(top, manipulator, fidelity, where)
+    ana = top.table("analytical", {})
+    # solid joint ends model the FEM's joint faces unless the scene says otherwise
+    analytical = ana.settings(ModelOptions, {"joint_coupling": fem.coupling},
+                              modes=fidelity.modes)
+    ana.done()
+    calibrated, reason = _calibration(top, raw, where)
+    cases = _cases(top, calibrated, fidelity, where)
+    ci_cases = top_settings.ci_cases or tuple(cases)
+    if any(c not in cases for c in ci_cases):
+        raise SceneError(f"{where}.ci_cases = {short(list(ci_cases))}: every name must be a "
+                         f"case of the scene (it has: {', '.join(cases)})")
+    top.done()
+    try:  # the machine as a whole, before any work (the rules of analytical.plausibility)
+        warnings = plausibility.check(manipulator, [(n, c.pose) for n, c in cases.items()])
+        if "tool" in raw:
+            plausibility.check_tool(manipulator, tool.point)
+    except InputError as exc:
+        raise SceneError(f"{where}: {exc}") from None
+    return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
+                 reason, shape_reason, raw, tuple(ci_cases), fidelity, "analytical" in raw,
+                 "mesh_size_mm" in raw.get("fem", {}), warnings, damping, tool,
+                 "damping" in raw or "tool" in raw, uncertainty)
 
+
+def _read(top: Table, key: str, cls, prepare=None, required: bool = False):
+    """A table of one declared dataclass, optional unless `required` (`prepare` may rewrite
+    its raw data first)."""
+    t = top.table(key) if required else top.table(key, {})
+    if prepare is not None:
+        prepare(t)
+    value = t.settings(cls)
+    t.done()
+    return value
+
+
+def _one_ratio_for_all(damp: Table) -> None:
+    """[damping] modal_ratio = 0.03: one ratio for every mode (the declared list of one)."""
+    if isinstance(damp.data, dict) and isinstance(damp.data.get("modal_ratio"), (int, float)):
+        damp.data = {**damp.data, "modal_ratio": [damp.data["modal_ratio"]]}
+
+
+def _machine(top: Table, where: str) -> tuple[Manipulator, str]:
+    """[manipulator] with its [material], [payload], [leg] and [stiffness], checked as one
+    machine; and the reason given for the platform's shape."""
     man = top.table("manipulator")
-    mat = top.table("material")
-    material = mat.settings(Material)
-    mat.done()
-    pay = top.table("payload", {})
-    payload = pay.settings(Payload)
-    pay.done()
-    leg_t = top.table("leg", {})
-    leg = leg_t.settings(LegProfile)
-    leg_t.done()
-    stiff_t = top.table("stiffness", {})
-    stiffness = stiff_t.settings(Stiffness)
-    stiff_t.done()
-    parts = dict(material=material, payload=payload, leg=leg, stiffness=stiffness)
+    parts: dict[str, Any] = {
+        "material": _read(top, "material", Material, required=True),
+        "payload": _read(top, "payload", Payload), "leg": _read(top, "leg", LegProfile),
+        "stiffness": _read(top, "stiffness", Stiffness)}
+    leg = parts["leg"]
     if leg.stepped:  # the leg's diameter is its parts' (common.leg_profile)
         if "leg_diameter_mm" in man.data:
             raise SceneError(f"{where}.manipulator.leg_diameter_mm = "
-                             f"{_short(man.data['leg_diameter_mm'])} with a [leg] housing and "
+                             f"{short(man.data['leg_diameter_mm'])} with a [leg] housing and "
                              "rod: their diameters are the leg's; leave leg_diameter_mm out")
         parts["leg_diameter"] = leg.largest_diameter
     parts.update(_architecture_keys(man, where))
@@ -335,32 +258,15 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         check_manipulator(manipulator)
     except ValueError as exc:
         raise SceneError(f"{where}: {exc}") from None
+    return manipulator, shape_reason
 
-    damp = top.table("damping", {})
-    if isinstance(damp.data, dict) and isinstance(damp.data.get("modal_ratio"), (int, float)):
-        damp.data = {**damp.data, "modal_ratio": [damp.data["modal_ratio"]]}  # one for all
-    damping = damp.settings(Damping)
-    damp.done()
-    if "damping" in raw:  # a table that damps nothing is refused, never read as the default
-        damping.check_table(damp.data, f"{where}.damping")
-    tool_t = top.table("tool", {})
-    tool = tool_t.settings(Tool)
-    tool_t.done()
 
-    uncertainty = None
-    if "uncertainty" in raw:  # after the machine: its inputs are around the scene's values
-        from .uncertainty import parse as parse_uncertainty
-        uncertainty = parse_uncertainty(top.table("uncertainty"), manipulator,
-                                        f"{where}.uncertainty")
-
-    fid = top.table("fidelity", {})
-    fidelity = fid.settings(FidelitySettings)
-    fid.done()
-
+def _fem(top: Table, manipulator: Manipulator, fidelity: FidelitySettings,
+         where: str) -> tuple[FemOptions, FemStudy, FemRuntime]:
+    """[fem]: the solve's options at the scene's size, its refinement study, its runtime."""
     fem_t = top.table("fem", {})
-    fem_size_given = "mesh_size_mm" in fem_t.data
     defaults = geometry_defaults(manipulator)
-    given = {"modes": fidelity.modes}
+    given: dict[str, Any] = {"modes": fidelity.modes}
     legs = legs_for(fem_t.data.get("platform"), fem_t.data.get("legs"))
     if legs is not None and "legs" not in fem_t.data:
         given["legs"] = legs
@@ -376,28 +282,31 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
                          f"{why}")
     runtime = fem_t.settings(FemRuntime, defaults)
     fem_t.done()
+    return fem, study, runtime
 
-    analytical_given = "analytical" in raw
-    ana = top.table("analytical", {})
-    # solid joint ends model the FEM's joint faces unless the scene says otherwise
-    analytical = ana.settings(ModelOptions, {"joint_coupling": fem.coupling},
-                              modes=fidelity.modes)
-    ana.done()
 
-    calibrated, reason = None, ""
-    if "calibration" in raw:
-        cal = top.table("calibration")
-        h = cal.table("height")
-        cal_settings = h.settings(HeightCalibration)
-        calibrated, reason = cal_settings.value, cal_settings.reason.strip()
-        if not reason:
-            raise SceneError(f"{where}.calibration.height.reason: a calibrated value needs "
-                             "its reason")
-        h.done()
-        cal.done()
+def _calibration(top: Table, raw: dict, where: str) -> tuple[float | None, str]:
+    """[calibration.height]: a fitted height and its reason, or (None, "")."""
+    if "calibration" not in raw:
+        return None, ""
+    cal = top.table("calibration")
+    h = cal.table("height")
+    cal_settings = h.settings(HeightCalibration)
+    calibrated, reason = cal_settings.value, cal_settings.reason.strip()
+    if not reason:
+        raise SceneError(f"{where}.calibration.height.reason: a calibrated value needs its "
+                         "reason")
+    h.done()
+    cal.done()
+    return calibrated, reason
 
+
+def _cases(top: Table, calibrated: float | None, fidelity: FidelitySettings,
+           where: str) -> dict[str, Case]:
+    """[cases]: each named pose with its paper rows; case names become file names, so they
+    are checked by the one rule before any case is read."""
     cases_t = top.table("cases")
-    try:  # case names become file names: checked by the one rule before any case is read
+    try:
         distinct_stems(cases_t.data, "case name")
     except UnsafeName as exc:
         raise SceneError(f"{where}: {exc}") from None
@@ -419,30 +328,12 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
         except InputError as exc:
             raise SceneError(str(exc)) from None
         cases[case_name] = Case(
-            name=case_name,
-            description=(spec.description or case_name).strip(),
+            name=case_name, description=(spec.description or case_name).strip(),
             pose=Pose(height=spec.height, azimuth=spec.azimuth, tilt=spec.tilt),
-            height_origin=origin,
-            paper_fea_hz=spec.paper_fea_hz,
-            paper_theory_hz=spec.paper_theory_hz,
-            paper_error_percent=spec.paper_error_percent,
-        )
+            height_origin=origin, paper_fea_hz=spec.paper_fea_hz,
+            paper_theory_hz=spec.paper_theory_hz, paper_error_percent=spec.paper_error_percent)
         c.done()
     cases_t.done()
     if not cases:
         raise SceneError(f"{where}.cases: the scene defines no case")
-    ci_cases = top_settings.ci_cases or tuple(cases)
-    if any(c not in cases for c in ci_cases):
-        raise SceneError(f"{where}.ci_cases = {_short(list(ci_cases))}: every name must be a "
-                         f"case of the scene (it has: {', '.join(cases)})")
-    top.done()
-    try:  # the machine as a whole, before any work (the rules of analytical.plausibility)
-        warnings = plausibility.check(manipulator, [(n, c.pose) for n, c in cases.items()])
-        if "tool" in raw:
-            plausibility.check_tool(manipulator, tool.point)
-    except InputError as exc:
-        raise SceneError(f"{where}: {exc}") from None
-    return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
-                 reason, shape_reason, raw, tuple(ci_cases), fidelity, analytical_given,
-                 fem_size_given, warnings, damping, tool, "damping" in raw or "tool" in raw,
-                 uncertainty)
+    return cases

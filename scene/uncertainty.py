@@ -178,7 +178,7 @@ class Uncertainty:
 
 
 def parse(table: Any, manipulator, where: str) -> Uncertainty:
-    """[uncertainty] from its `_Table` (scene.load), around the values of `manipulator` (the
+    """[uncertainty] from its `Table` (scene.toml_table), around the values of `manipulator` (the
     scene's machine); SceneError in one line on any problem."""
     from .address import resolve
 

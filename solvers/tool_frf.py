@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import cast
 
 import numpy as np
 
@@ -46,6 +47,7 @@ from common.frf_peaks import (
     find_peaks,
     peak_windows,
 )
+from results.tool_records import FrfMode, FrfRecord, Receptance
 
 PAIRS = ("xx", "yy", "zz", "xy", "xz", "yz")
 
@@ -164,13 +166,13 @@ def _finite(value) -> float | None:
     return float(value) if math.isfinite(value) else None
 
 
-def _pair_values(h: np.ndarray) -> dict:
+def _pair_values(h: np.ndarray) -> dict[str, Receptance]:
     index = {"x": 0, "y": 1, "z": 2}
     return {p: {"re": h[:, index[p[0]], index[p[1]]].real.tolist(),
                 "im": h[:, index[p[0]], index[p[1]]].imag.tolist()} for p in PAIRS}
 
 
-def frf_record(tool: ToolModel, point_mm, damping: Damping, lines_hz) -> dict:
+def frf_record(tool: ToolModel, point_mm, damping: Damping, lines_hz) -> FrfRecord:
     """frf.json's physics (the command adds the scene, case and pose)."""
     h = tool.receptance(lines_hz)
     least = tool.least(lines_hz=lines_hz)
@@ -192,7 +194,7 @@ def frf_record(tool: ToolModel, point_mm, damping: Damping, lines_hz) -> dict:
         "static_compliance_m_per_n": static.tolist(),
         "modes_superposed": int(len(tool.modes.omega)),
         "residual_flexibility_m_per_n": tool.residual.tolist(),
-        "modes": tool.table(),
+        "modes": cast(list[FrfMode], tool.table()),  # common.frf.modal_table's rows
         "peaks": {DIRECTIONS[d]: [{"frequency_hz": p.frequency_hz,
                                    "magnitude_m_per_n": p.magnitude_m_per_n,
                                    "mode": p.mode + 1} for p in tool.peaks(d)]

@@ -14,12 +14,18 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
 
 from analytical.params import Manipulator, ModelOptions, Pose
 from common.errors import InputError
 from common.frf import DIRECTIONS, LINES
+from results.uncertainty_records import (
+    FrequencyStatistics,
+    StiffnessStatistics,
+    UncertaintyRecord,
+)
 
 from .sensitivity import Statistics, design, statistics
 
@@ -154,8 +160,10 @@ def nominal(scene, options: ModelOptions, pose: Pose, modes: int, tool: bool) ->
     return Sampled(f, s, time.perf_counter() - start)
 
 
-def _entry(stats: Statistics, names: list[str], unit: str) -> dict:
-    def keyed(values) -> dict:
+def _entry(stats: Statistics, names: list[str], unit: str) -> dict[str, Any]:
+    """The statistics of one output under its unit's field names (FrequencyStatistics or
+    StiffnessStatistics, less the nominal value)."""
+    def keyed(values) -> dict[str, float | None]:
         return dict(zip(names, values))
 
     return {f"mean_{unit}": stats.mean, f"std_{unit}": stats.std, f"q025_{unit}": stats.q025,
@@ -201,7 +209,8 @@ class OverBudget(InputError):
 
 
 def propagate(scene, options: ModelOptions, pose: Pose, modes: int,
-              budget_seconds: float | None = None, samples: int | None = None) -> dict:
+              budget_seconds: float | None = None, samples: int | None = None
+              ) -> UncertaintyRecord:
     """The uncertainty of one pose: every statistic of every output (module docstring), as the
     record `rps uncertainty` writes (uncertainty.json) and the run's case study keeps. Every
     sample is checked first; with `budget_seconds`, a pilot solve estimates the whole and
@@ -221,16 +230,16 @@ def propagate(scene, options: ModelOptions, pose: Pose, modes: int,
     at_scene = nominal(scene, options, pose, modes, tool)
     start = time.perf_counter()
     names = u.names
-    out_modes = []
+    out_modes: list[FrequencyStatistics] = []
     for k in range(modes):
         entry = _entry(statistics(sampled.frequencies_hz[:, k], n, d, seed), names, "hz")
-        out_modes.append({"mode": k + 1, "nominal_hz": float(at_scene.frequencies_hz[0, k]),
-                          **entry})
-    least = None
+        out_modes.append(cast(FrequencyStatistics, {
+            "mode": k + 1, "nominal_hz": float(at_scene.frequencies_hz[0, k]), **entry}))
+    least: dict[str, StiffnessStatistics] | None = None
     if sampled.least_n_per_m is not None and at_scene.least_n_per_m is not None:
-        least = {name: {"nominal_n_per_m": float(at_scene.least_n_per_m[0, j]),
-                        **_entry(statistics(sampled.least_n_per_m[:, j], n, d, seed), names,
-                                 "n_per_m")}
+        least = {name: cast(StiffnessStatistics, {
+            "nominal_n_per_m": float(at_scene.least_n_per_m[0, j]),
+            **_entry(statistics(sampled.least_n_per_m[:, j], n, d, seed), names, "n_per_m")})
                  for j, name in enumerate(DIRECTIONS)}
     return {"inputs": [{"key": i.name, "distribution": i.spec.distribution,
                         "described": i.describe(), "unit": i.address.unit,

@@ -29,7 +29,7 @@ import numpy as np
 from scipy.optimize import differential_evolution, minimize
 from typing_extensions import NotRequired, TypedDict
 
-from analytical.architecture import leg_length_range
+from analytical.architectures import leg_length_range
 from analytical.kinematics import pose_geometry
 from analytical.minimum import grid_frequencies, workspace_minimum
 from analytical.params import Manipulator, Pose
@@ -37,6 +37,7 @@ from analytical.platform import platform_mass
 from analytical.reach import level_band, max_tilts
 from common.errors import InputError, RpsError
 from common.settings import as_dict
+from results.tool_records import LeastPose
 from runtime.cache import ResultCache
 from scene import Case
 from scene.design_file import DesignSpec, design_scene
@@ -59,7 +60,7 @@ class DesignPoint(TypedDict):
     min_frequency_hz: NotRequired[float]  # least f_mode over the workspace
     worst_pose: NotRequired[PoseAt]  # where
     min_dynamic_stiffness_n_per_m: NotRequired[float]  # least over the regular workspace and
-    dynamic_worst: NotRequired[dict[str, Any]]  # the constraint's directions; where, which way
+    dynamic_worst: NotRequired[LeastPose]  # the constraint's directions; where, which way
     on_boundary: NotRequired[bool]
 
 
@@ -169,7 +170,14 @@ def needs_dynamic(spec: DesignSpec) -> bool:
             or spec.objective.minimise == "dynamic_stiffness")
 
 
-def least_dynamic(spec: DesignSpec, scene) -> dict:
+class DynamicOutcome(TypedDict, total=False):
+    """A design's least dynamic stiffness and where, or why it has none."""
+    refused: str
+    min_dynamic_stiffness_n_per_m: float
+    dynamic_worst: LeastPose
+
+
+def least_dynamic(spec: DesignSpec, scene) -> DynamicOutcome:
     """The least dynamic stiffness at the scene's tool over a coarse map of the regular
     workspace (DYNAMIC_GRID; studies.dynamic_stiffness), in the weakest of the constraint's
     directions, and where."""
@@ -182,12 +190,12 @@ def least_dynamic(spec: DesignSpec, scene) -> dict:
                                   azimuths, lines)
     rows = [r for r in found["least"] if r["direction"] in spec.constraints.directions]
     if not rows:  # the tool never moves along these directions
-        return {"refused": "the tool point does not move along "
-                           f"{', '.join(spec.constraints.directions)} in any mode summed: no "
-                           "dynamic stiffness to take there"}
+        return DynamicOutcome(refused="the tool point does not move along "
+                              f"{', '.join(spec.constraints.directions)} in any mode summed: "
+                              "no dynamic stiffness to take there")
     worst = min(rows, key=lambda r: r["stiffness_n_per_m"])
-    return {"min_dynamic_stiffness_n_per_m": worst["stiffness_n_per_m"],
-            "dynamic_worst": dict(worst)}
+    return DynamicOutcome(min_dynamic_stiffness_n_per_m=worst["stiffness_n_per_m"],
+                          dynamic_worst=worst)
 
 
 def meets(spec: DesignSpec, record: DesignPoint, frequency: bool = True) -> bool:

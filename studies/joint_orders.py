@@ -5,7 +5,7 @@ The same machine and poses are solved in each order by both models (the paper-fa
 best beam model, and the FEM at the scene's mesh size), modes paired by shape. It shows that
 the seam between kinematics and models holds for either order: the two models should agree
 with each other as closely in one order as in the other. A 3-PRS has one order (its R joint
-on the slider, `analytical.architecture.JOINT_ORDERS`): the study shows it alone.
+on the slider, `Architecture.joint_orders`): the study shows it alone.
 """
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from dataclasses import replace
 from typing import Any
 
 import results
-from analytical.architecture import JOINT_ORDERS
+from analytical.architectures import of
 from analytical.kinematics import pose_geometry
 from runtime.cache import ResultCache
 from scene import Scene
@@ -44,7 +44,7 @@ def joint_order_study(scene: Scene, case_names,
     for name in case_names:
         case = scene.case(name)
         readings = []
-        for base, top in JOINT_ORDERS[scene.manipulator.architecture]:
+        for base, top in of(scene.manipulator).joint_orders:
             m = replace(scene.manipulator, base_joint=base, platform_joint=top,
                         stiffness=with_joints(scene.manipulator, base, top))
             ordered = replace(scene, manipulator=m)

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 import results as schema
-from analytical.architecture import height_reach
+from analytical.architectures import height_reach
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.reach import (
     LAYER_INSET,

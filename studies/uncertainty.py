@@ -10,10 +10,14 @@ model's frequency standard deviation over the inputs, no u_D, and the verdict.
 from __future__ import annotations
 
 import time
+from typing import Any, Mapping, cast
+
+from typing_extensions import TypedDict
 
 import results
 from common.frf import DIRECTIONS
 from results import Section, Table
+from results.uncertainty_records import UncertaintyRecord
 from solvers import vv20
 
 from .registry import CaseContext, Context, Study, own
@@ -40,7 +44,7 @@ def validation_rows(pairs: list, modes: list) -> list[results.ValidationRow]:
     return rows
 
 
-def case_uncertainty(scene, case, cache) -> dict:
+def case_uncertainty(scene, case, cache) -> UncertaintyRecord | Refused:
     """The propagation's record (solvers.uncertainty.propagate) at the case, through the
     result cache; {"refused": why} where it cannot run (the model, the budget, a sample out of
     reach): written in the record, never fatal, and a refusal is not cached (the budget's
@@ -68,15 +72,20 @@ def case_uncertainty(scene, case, cache) -> dict:
             modules=("solvers.uncertainty", "solvers.sensitivity", "analytical.sample_batch",
                      "analytical.batch_model", "scene.uncertainty", "scene.address"))
     except InputError as exc:  # OverBudget, a sample out of reach or refused as a machine
-        return {"refused": str(exc)}
-    return value
+        return Refused(refused=str(exc))
+    return cast(UncertaintyRecord, value)  # the cache returns what `propagate` stored
 
 
 MODE_KEYS = ("mode", "nominal_hz", "mean_hz", "mean_error_hz", "std_hz", "std_error_hz",
              "cv_percent", "q025_hz", "q025_error_hz", "q975_hz", "q975_error_hz")
 
 
-def _sobol(output: str, entry: dict) -> list[results.SobolRow]:
+class Refused(TypedDict):
+    """Why a pose's propagation did not run (written in the record, never fatal)."""
+    refused: str
+
+
+def _sobol(output: str, entry: Mapping[str, Any]) -> list[results.SobolRow]:
     return [results.SobolRow(output=output, key=key, first=entry["sobol_first"][key],
                              first_error=entry["sobol_first_error"][key],
                              total=entry["sobol_total"][key],
@@ -98,21 +107,24 @@ def run(ctx: Context, cc: CaseContext) -> results.UncertaintyCase | None:
         unit=i.address.unit, nominal=i.nominal, support=list(i.support),
         followers=[a.name for a, _ in i.followers], source=i.spec.source.strip())
         for i in scene.uncertainty.inputs]
-    if "modes" not in record:
+    if "modes" not in record:  # refused
         return results.UncertaintyCase(
             inputs=inputs, design="", model=scene.analytical.describe(), runs=0,
-            refused=record["refused"], modes=[], least=[], sobol=[], validation=[],
-            seconds=time.perf_counter() - start)
-    modes = [results.UncertaintyMode(**{k: m[k] for k in MODE_KEYS})  # type: ignore[typeddict-item]
-             for m in record["modes"]]
+            refused=cast(Refused, record)["refused"], modes=[], least=[], sobol=[],
+            validation=[], seconds=time.perf_counter() - start)
+    record = cast(UncertaintyRecord, record)
+    rows: list[Mapping[str, Any]] = list(record["modes"])
+    modes = [cast(results.UncertaintyMode, {k: m[k] for k in MODE_KEYS}) for m in rows]
     sobol = [row for m in record["modes"] for row in _sobol(f"f{m['mode']}", m)]
     least = []
-    for d in DIRECTIONS if record["least_dynamic_stiffness"] else ():
-        s = record["least_dynamic_stiffness"][d]
+    stiffness = record["least_dynamic_stiffness"] or {}
+    for d in DIRECTIONS if stiffness else ():
+        s = stiffness[d]
         least.append(results.UncertaintyStiffness(
             direction=d, nominal_n_per_m=s["nominal_n_per_m"], mean_n_per_m=s["mean_n_per_m"],
             mean_error_n_per_m=s["mean_error_n_per_m"], std_n_per_m=s["std_n_per_m"],
-            cv_percent=s["cv_percent"], q025_n_per_m=s["q025_n_per_m"],
+            cv_percent=cast(float, s["cv_percent"]),  # a stiffness's mean is positive
+            q025_n_per_m=s["q025_n_per_m"],
             q975_n_per_m=s["q975_n_per_m"]))
         sobol += _sobol(f"least {d}", s)
     a = analytical_case(scene, cc.case, scene.analytical)

@@ -29,7 +29,7 @@ from scipy.stats import qmc
 from typing_extensions import TypedDict
 
 import results
-from analytical.architecture import actuation
+from analytical.architectures import actuation
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.params import Manipulator, ModelOptions, Pose
 from analytical.reach import layer_band, max_tilts, regular_radii

@@ -49,7 +49,7 @@ def pose(name: str, height: float, shift: float) -> dict:
 
 
 def correlation() -> dict:
-    return {"schema": SCHEMA, "campaign": "campaigns/bench/campaign.toml",
+    return {"record": "correlation", "schema": SCHEMA, "campaign": "campaigns/bench/campaign.toml",
             "scene": "scenes/actuator-legs.toml",
             "model": {"kind": "analytical", "description": "Timoshenko beams, s = 5"},
             "pairing": {"min_mac": 0.6, "max_frequency_ratio": 1.5,
@@ -66,7 +66,8 @@ def identification() -> dict:
         {"test_mode": 2, "test_hz": 43.5, "before_hz": 46.2, "after_hz": 43.4,
          "error_before_percent": 6.21, "error_after_percent": -0.23, "mac_after": 0.92}]}
         for p in ("mid", "high")]
-    return {"schema": SCHEMA, "campaign": "campaigns/bench/campaign.toml",
+    return {"record": "identification", "schema": SCHEMA,
+            "campaign": "campaigns/bench/campaign.toml",
             "scene": "scenes/actuator-legs.toml", "identified_scene": "identified.toml",
             "identified_scene_check": "accepted",
             "parameters": [

@@ -48,6 +48,23 @@ def test_every_package_of_the_tree_is_in_the_wheel():
     assert found <= listed, sorted(found - listed)
 
 
+def test_every_room_is_in_every_list_that_names_the_rooms():
+    """The rooms are declared once (tests/test_architecture.py's ROOMS); the lists a tool
+    reads from pyproject.toml (the wheel's packages, the type checker's, the linter's first
+    party) name every room, and no package that is not one."""
+    from tests.test_architecture import ROOMS
+
+    rooms = set(ROOMS)
+    tool = PYPROJECT["tool"]
+    lists = {"setuptools packages": {p for p in tool["setuptools"]["packages"] if "." not in p},
+             "mypy packages": set(tool["mypy"]["packages"]),
+             "ruff known-first-party": set(tool["ruff"]["lint"]["isort"]["known-first-party"])}
+    for name, listed in lists.items():
+        assert listed == rooms, (name, sorted(rooms - listed), sorted(listed - rooms))
+    on_disk = {p.parent.name for p in ROOT.glob("*/__init__.py")} - {"tests"}
+    assert on_disk == rooms, (sorted(on_disk - rooms), sorted(rooms - on_disk))
+
+
 def test_installed_scene_paths_match_the_package_layout(tmp_path):
     """Installed (no checkout beside the packages), the scenes are where pyproject.toml puts
     them: pipeline/scenes inside the package."""

@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from analytical.architecture import actuation, height_reach
+from analytical.architectures import actuation, height_reach
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.modal import solve_modes
 from analytical.model import natural_frequencies

@@ -148,3 +148,40 @@ def test_the_stub_and_the_tables_of_a_case_study_come_from_its_declaration():
                                      {"name": "b", "first_mode": None}]}
     assert table_rows(record, record.tables[0], held) == [
         {"": "/cases/0/first_mode", "case": "a", "hz": 12.5}]
+
+
+def test_the_stored_report_fixture_reads_a_study_declared_after_it_as_not_run(registered):
+    """A new study needs no full run to regenerate tests/fixtures/report_results.json: a
+    declared study the stored file lacks is read as its empty value (it did not run), and the
+    report built from it names the study among those not run; a study nobody declared is
+    still refused."""
+    import results
+    from reports.document import section_order
+    from tests.conftest import REPORT_FIXTURE
+
+    raw = json.loads(REPORT_FIXTURE.read_text(encoding="utf-8"))
+    assert "leg_slenderness" not in raw["studies"]
+    held = results.read(REPORT_FIXTURE, studies.RECORDS)
+    assert held["studies"]["leg_slenderness"] == []
+    record = registered.STUDY.record
+    assert table_rows(record, record.tables[0], held) == []  # no rows: a table left out
+    assert ("slenderness", record.section) in section_order(studies.RECORDS)
+    raw["studies"]["leg_slenderness"] = []
+    others = tuple(r for r in studies.RECORDS if r.key != "leg_slenderness")
+    with pytest.raises(InputError, match="leg_slenderness: not a field of the results"):
+        results.validated(raw, others)
+
+
+def test_the_studies_room_lists_every_registered_study():
+    """studies/README.md's table names the module of every registered study (the registry,
+    `studies.STUDIES`, is the one list; the README is held to it)."""
+    from pathlib import Path
+
+    import sys
+
+    text = (Path(studies.__file__).parent / "README.md").read_text(encoding="utf-8")
+    where = {id(getattr(m, "STUDY", None)): name for name, m in list(sys.modules.items())
+             if name.startswith("studies.")}
+    for study in studies.STUDIES:
+        name = where[id(study)].split(".")[1]  # the module (or package) declaring it
+        assert f"`{name}.py`" in text or f"`{name}/`" in text, name

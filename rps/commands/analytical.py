@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import time
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 from analytical.beam import SHEAR_COEFFICIENTS
 from analytical.params import (
@@ -32,10 +33,16 @@ from ..args import (
 from ..options import declared_option, typed
 from .registry import Command
 
+if TYPE_CHECKING:
+    from results.outputs import AnalyticalAnswer
 
-def cmd_analytical(args: argparse.Namespace) -> dict:
+
+def cmd_analytical(args: argparse.Namespace) -> AnalyticalAnswer:
+    """The analytical model at one pose: the --json answer, checked against its declaration
+    (results.outputs.ANALYTICAL_ANSWER)."""
     from analytical.modal import ModalError
     from analytical.model import analyse
+    from results.outputs import ANALYTICAL_ANSWER
 
     scene = load(args)
     case, _ = pose_case(scene, args)
@@ -59,7 +66,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
         what = typed(args, "end_zone", "elements") if "end_zone" in str(exc) else ""
         raise InputError(f"{what}: {exc}" if what else str(exc)) from None
     seconds = time.perf_counter() - start
-    return {
+    return ANALYTICAL_ANSWER.checked(ANALYTICAL_ANSWER.payload({
         "case": case.name,
         "pose": pose_payload(case.pose),
         "warnings": list(scene.warnings),
@@ -77,7 +84,7 @@ def cmd_analytical(args: argparse.Namespace) -> dict:
         "actuation_mm": [float(x) * 1e3 for x in result.geometry.actuation],
         "dofs": int(result.model.stiffness.shape[0]),
         "seconds": seconds,
-    }
+    }))
 
 
 def add_arguments(a: argparse.ArgumentParser) -> None:

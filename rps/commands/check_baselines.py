@@ -24,4 +24,4 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMAND = Command("check-baselines", "recompute the CI error tables and compare them with "
-            "tests/baselines (checkout only)", add_arguments, run)
+            "tests/baselines (checkout only)", add_arguments, run, developer=True)

@@ -50,4 +50,4 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMAND = Command("correlate", "a modal test campaign against the model: MAC, pairs, "
-                  "frequency errors", add_arguments, run)
+                  "frequency errors", add_arguments, run, extras="modal-test")

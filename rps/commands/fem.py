@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import time
 from dataclasses import replace
+from typing import TYPE_CHECKING, Any
 
 from common.errors import InputError
 from meshing.geometry import MeshSettings
@@ -25,6 +26,9 @@ from ..args import (
 )
 from ..options import declared_option, typed
 from .registry import Command
+
+if TYPE_CHECKING:
+    from results.outputs import FemAnswer
 
 
 def fem_size(args: argparse.Namespace, scene) -> tuple[float, str]:
@@ -56,7 +60,9 @@ def source_key(source: str) -> str:
     return "" if source.startswith(("--", "the run's")) else "fem.mesh_size_mm"
 
 
-def cmd_fem(args: argparse.Namespace) -> dict:
+def cmd_fem(args: argparse.Namespace) -> FemAnswer:
+    """The solid FEM at one pose: the --json answer, checked against its declaration
+    (results.outputs.FEM_ANSWER)."""
     from fem_reference import solve_pose
     from fem_reference.convergence import sequence_around
     from fem_reference.model import FemError, check_mesh_size
@@ -98,7 +104,7 @@ def cmd_fem(args: argparse.Namespace) -> dict:
     seconds = time.perf_counter() - start
     if args.vtu:
         result.write_vtu(args.vtu, pvd=True)
-    payload = {
+    payload: dict[str, Any] = {
         "case": case.name,
         "pose": pose_payload(case.pose),
         "warnings": list(scene.warnings),
@@ -125,7 +131,8 @@ def cmd_fem(args: argparse.Namespace) -> dict:
         payload["estimated_error_percent"] = study["estimated_error_percent"][k]
         payload["extrapolated_hz"] = study["extrapolated_hz"]
         payload["observed_order"] = study["observed_order"]
-    return payload
+    from results.outputs import FEM_ANSWER
+    return FEM_ANSWER.checked(FEM_ANSWER.payload(payload))
 
 
 def add_arguments(f: argparse.ArgumentParser) -> None:

@@ -154,9 +154,11 @@ def run(args: argparse.Namespace) -> int:
     payload = {"scene": scene.name, "case": case.name, "pose": pose_payload(case.pose),
                **settings, **record, "point_base_mm": (point_base * 1e3).tolist(),
                "seconds": time.perf_counter() - start, "warnings": list(scene.warnings)}
-    with staged_output(args.out) as stage:
-        from common.atomic import write_text_atomic
-        write_text_atomic(stage / "frf.json", json.dumps(payload, indent=1, allow_nan=False))
+    from results.outputs import FRF
+
+    payload = FRF.payload(payload)
+    with staged_output(args.out) as stage:  # frf.json checked against its declaration
+        FRF.write(stage, payload)
         write_uff(stage / "frf.unv", payload, point_base)
     if args.json:
         print(json.dumps(payload))
@@ -180,4 +182,5 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMAND = Command("frf", "the dynamic compliance at the tool of one pose: receptance, modal "
-                  "stiffness per mode, least dynamic stiffness", add_arguments, run)
+                  "stiffness per mode, least dynamic stiffness", add_arguments, run,
+                  extras="fem,modal-test")

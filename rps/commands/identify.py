@@ -48,4 +48,4 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMAND = Command("identify", "fit scene keys (springs, masses, moduli) to a modal test "
-                  "campaign, with 95 %% intervals", add_arguments, run)
+                  "campaign, with 95 %% intervals", add_arguments, run, extras="modal-test")

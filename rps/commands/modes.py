@@ -104,4 +104,4 @@ def run(args: argparse.Namespace) -> int:
 
 COMMAND = Command("modes", "the model's modes at chosen points as a Universal File, and "
                   "sensor positions by effective independence (pre-test planning)",
-                  add_arguments, run)
+                  add_arguments, run, extras="modal-test")

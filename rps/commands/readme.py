@@ -1,4 +1,5 @@
-"""`rps readme`: refresh README.md's results block from a results.json (checkout only)."""
+"""`rps readme`: refresh README.md's results block from a results.json, or (--timings) its
+timings block from the newest records of `make` and `make test` (checkout only)."""
 from __future__ import annotations
 
 import argparse
@@ -65,5 +66,6 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-COMMAND = Command("readme", "refresh README.md's results block from results.json (checkout "
-            "only)", add_arguments, run)
+COMMAND = Command("readme", "refresh README.md's results block from results.json, or with "
+                  "--timings its timings block (checkout only)", add_arguments, run,
+                  developer=True)

@@ -32,4 +32,4 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMAND = Command("report", "rebuild the HTML and PDF report from a results file",
-                  add_arguments, run)
+                  add_arguments, run, extras="fem,report")

@@ -54,10 +54,11 @@ def run(args: argparse.Namespace) -> int:
     payload = {"scene": scene.name, "case": case.name, "pose": pose_payload(case.pose),
                "settings_from": source or "the scene's", **record,
                "seconds": time.perf_counter() - start, "warnings": list(scene.warnings)}
-    with staged_output(args.out) as stage:
-        from common.atomic import write_text_atomic
-        write_text_atomic(stage / "uncertainty.json",
-                          json.dumps(payload, indent=1, allow_nan=False))
+    from results.outputs import UNCERTAINTY
+
+    payload = UNCERTAINTY.payload(payload)
+    with staged_output(args.out) as stage:  # checked against its declaration
+        UNCERTAINTY.write(stage, payload)
     if args.json:
         print(json.dumps(payload))
     else:
@@ -78,4 +79,4 @@ def run(args: argparse.Namespace) -> int:
 
 COMMAND = Command("uncertainty", "input uncertainty through the fast model at one pose: "
                   "frequency statistics and Sobol' indices of the scene's [uncertainty]",
-                  add_arguments, run)
+                  add_arguments, run, extras="uncertainty")

@@ -18,4 +18,4 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMAND = Command("update-baselines", "rewrite tests/baselines from a fresh CI run (checkout "
-            "only)", add_arguments, run)
+            "only)", add_arguments, run, developer=True)

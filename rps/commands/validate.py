@@ -53,4 +53,4 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMAND = Command("validate", "run the whole validation of a scene: results, tables, report",
-                  add_arguments, run)
+                  add_arguments, run, extras="fem,report")

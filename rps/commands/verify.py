@@ -13,7 +13,7 @@ from runtime.places import path_argument
 from ..args import cache_dir, cache_option
 from .registry import Command
 
-RECORD = "verification.json"
+RECORD = "verification.json"  # results.outputs.VERIFICATION.file
 
 if TYPE_CHECKING:  # results (and pydantic, an extra) only when the benchmarks run
     from results import FemVerification
@@ -52,7 +52,6 @@ def table_lines(record: FemVerification) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from common.atomic import write_json_atomic
     from runtime.cache import ResultCache
     from runtime.outdir import check_output_dir, staged_output
     from studies.fem_verification import verification_record
@@ -64,8 +63,10 @@ def run(args: argparse.Namespace) -> int:
     record = verification_record(cache,
                                  progress=lambda name: print(f"benchmark {name} ...",
                                                              file=sys.stderr, flush=True))
+    from results.outputs import VERIFICATION
+
     with staged_output(args.out, keep=lambda name: name != RECORD) as stage:
-        write_json_atomic(stage / RECORD, record)
+        VERIFICATION.write(stage, record)  # checked against its declaration
     path = args.out / RECORD
     if args.json:
         print(json.dumps(record))

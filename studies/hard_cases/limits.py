@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from analytical.architecture import actuation, height_reach
+from analytical.architectures import actuation, height_reach
 from analytical.kinematics import PoseError
 from analytical.model import analyse, natural_frequencies
 from analytical.params import Manipulator, Pose
