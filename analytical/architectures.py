@@ -6,6 +6,8 @@ from typing import Any
 
 import numpy as np
 
+from common.errors import InputError
+
 from .architecture import Actuation, Architecture, LegEnds, radial_directions
 from .prs import PRS
 from .rps import RPS
@@ -16,7 +18,11 @@ NAMES = tuple(ARCHITECTURES)  # the scene's choices, the default first
 
 def of(m: Any) -> Architecture:
     """The architecture of a manipulator (its `architecture` name, checked by its setting)."""
-    return ARCHITECTURES[m.architecture]
+    try:
+        return ARCHITECTURES[m.architecture]
+    except KeyError:
+        raise InputError(f"architecture = {m.architecture!r}: expected one of "
+                         f"{', '.join(NAMES)}") from None
 
 
 def actuation(m) -> Actuation:

@@ -70,10 +70,11 @@ RULES = (
     ("payload above the base", "the payload's centre above the base plane (z > 0) at every "
      f"pose of the level band ({BAND_HEIGHTS} heights, each level and at its largest tilt in "
      f"{BAND_AZIMUTHS} directions)"),
-    ("tool envelope", f"the [tool]'s point_mm, like the payload's centre, within "
-     f"{PAYLOAD_REACH:g} platform radii of the platform centre, and above the base plane "
-     "(z > 0) at every pose of the level band: a tool that would pass through the base is "
-     "no tool"),
+    ("tool envelope", "the [tool]'s point_mm within the machine's reach of the platform "
+     "centre (its longest leg plus the platform's radius), above the base plane (z > 0) at "
+     "every case, and above it at some pose of the level band; where it passes below the base "
+     "plane at some poses of the band the scene runs with a warning (a ring-shaped base may "
+     "clear it)"),
     ("springs", "each [stiffness] key is 0 (rigid) or at least "
      f"{MIN_SPRING / 1e6:g} N/um (N m/urad for a rotation): a softer bearing or drive carries "
      "no machine; at most its declared maximum, rigid to every digit of a double"),
@@ -117,40 +118,67 @@ def _checked(m: Manipulator, poses: tuple) -> tuple[str, ...]:
     return _check_weight(m, *found)
 
 
-def check_tool(m: Manipulator, point) -> None:
-    """Refuse (InputError, one line naming the key and the rule 'tool envelope') a tool point
-    (platform frame, m) beyond the payload's envelope or below the base plane at a pose of the
-    level band."""
-    _tool_checked(m, tuple(float(v) for v in point))
+def check_tool(m: Manipulator, point, poses=()) -> tuple[str, ...]:
+    """The rule 'tool envelope' for a tool point (platform frame, m): refused (InputError,
+    one line naming the key and the rule) beyond the machine's reach, below the base plane at
+    a case (`poses`: (name, Pose)), or below it at every pose of the level band (it would pass
+    through the base wherever the machine goes); a warning where it passes below the base
+    plane at some poses of the band only (a ring-shaped base may clear it: the scene says
+    nothing of the base's shape)."""
+    return _tool_checked(m, tuple(float(v) for v in point),
+                         tuple((str(name), pose) for name, pose in poses))
+
+
+def tool_reach(m: Manipulator) -> float:
+    """How far a tool point may lie from the platform centre (m): the machine's own length,
+    its longest leg and the platform's radius."""
+    return leg_length_range(m)[1] + m.platform_radius
 
 
 @lru_cache(maxsize=64)
-def _tool_checked(m: Manipulator, point: tuple[float, float, float]) -> None:
+def _tool_checked(m: Manipulator, point: tuple[float, float, float],
+                  poses: tuple) -> tuple[str, ...]:
     shown = [float(f"{c * 1e3:.6g}") for c in point]
-    reach = PAYLOAD_REACH * m.platform_radius
+    reach = tool_reach(m)
     distance = math.dist(point, (0.0, 0.0, 0.0))
     if distance > reach:
         raise InputError(
             f"tool.point_mm = {shown}: {distance * 1e3:.6g} mm from the platform centre, "
-            f"beyond {PAYLOAD_REACH:g} platform radii (platform_radius_mm = "
-            f"{_mm(m.platform_radius)}: at most {reach * 1e3:.6g} mm, rule 'tool envelope')")
+            f"beyond the machine's reach (its longest leg and the platform's radius: at most "
+            f"{reach * 1e3:.6g} mm, rule 'tool envelope')")
     try:
-        band = level_band(m)
+        low = level_band(m).low
     except WorkspaceError:  # no level pose: the run's own workspace check names the limit
-        return
-    if distance < band.low:  # the platform centre is at least band.low above the base
-        return
-    found = _poses(m, (), BAND_GRID)
+        low = 0.0
+    if distance < low and not poses:  # the platform centre is at least that high
+        return ()
+    found = _poses(m, poses, BAND_GRID if distance >= low else (0, 0, 1.0))
     if found is None:
-        return
+        return ()
     batch, names = found
     heights = batch.platform_centre[:, 2] + batch.rotation[:, 2, :] @ np.asarray(point)
-    k = int(np.argmin(heights))
-    if heights[k] <= 0.0:
+    below = heights <= 0.0
+    at_case = [k for k in np.flatnonzero(below) if names[k] is not None]
+    if at_case:
+        k = int(at_case[0])
         raise InputError(
-            f"tool.point_mm = {shown}: the tool point reaches {heights[k] * 1e3:.1f} mm, below "
-            f"the base plane, at {_where(batch, names, k)} (rule 'tool envelope': it would "
-            "pass through the base)")
+            f"tool.point_mm = {shown}: the tool point is {-heights[k] * 1e3:.1f} mm below "
+            f"the base plane at {_where(batch, names, k)} (rule 'tool envelope')")
+    band = [k for k, name in enumerate(names) if name is None]
+    if band and all(below[k] for k in band):
+        k = int(band[int(np.argmax(heights[band]))])
+        raise InputError(
+            f"tool.point_mm = {shown}: the tool point stays below the base plane at every "
+            f"pose of the level band (at best {heights[k] * 1e3:.1f} mm, at "
+            f"{_where(batch, names, k)}; rule 'tool envelope': it would pass through the "
+            "base wherever the machine goes)")
+    if any(below[k] for k in band):
+        k = int(band[int(np.argmin(heights[band]))])
+        return (f"tool.point_mm = {shown}: the tool point passes {-heights[k] * 1e3:.1f} mm "
+                f"below the base plane at {_where(batch, names, k)} (rule 'tool envelope'): "
+                "the base must leave it room there (a ring), or those poses are not "
+                "usable",)
+    return ()
 
 
 def _weight(m: Manipulator) -> float:
@@ -175,7 +203,7 @@ def _poses(m: Manipulator, poses, grid: tuple[int, int, float]):
     theta: list[float] = []
     names: list[str | None] = []
     try:
-        band = level_band(m)
+        band = level_band(m) if count > 0 else None  # count 0: the cases alone
     except WorkspaceError:  # no level pose: the run's own workspace check names the limit
         band = None
     if band is not None:

@@ -20,7 +20,6 @@ each key to identify and its bounds. Units at this edge as in scenes; SI inside.
 from __future__ import annotations
 
 import math
-import os
 import tomllib
 from dataclasses import MISSING, dataclass, field, replace
 from pathlib import Path
@@ -187,7 +186,7 @@ def _relative(top: Path, text: str, where: str) -> Path:
     why = text_problem(text)
     if why is not None or not text.strip():
         raise SceneError(f"{where} = {short(text)}: {why or 'empty'}")
-    path = Path(os.path.abspath(top / text))
+    path = (top / text).absolute()  # ".." left for resolve(): after the links, as the OS does
     try:
         return path.resolve()
     except (RuntimeError, OSError):  # a symbolic link loop (RuntimeError before Python 3.13)

@@ -72,15 +72,12 @@ def _cache_empty() -> bool:
 
 def setup_end(folder: Path) -> None:
     begun = folder / ".setup-begin"
-    if not begun.is_file():
-        return
     now = time.time()
     try:
         seconds = now - float(begun.read_text())
-    except ValueError:  # `date` without %N (not GNU): no figure rather than a wrong one
         begun.unlink()
+    except (OSError, ValueError):  # none, or `date` without %N: no figure, not a wrong one
         return
-    begun.unlink()
     (folder / ".setup.json").write_text(json.dumps({"seconds": seconds, "end": now}))
 
 
@@ -105,10 +102,11 @@ def begin(folder: Path, target: str) -> None:
 def end(folder: Path, target: str) -> TimingRecord | None:
     """Append the record of `target`, begun by `begin`, to bench/timings.jsonl."""
     begun = folder / f".begin-{target}.json"
-    if not begun.is_file():
+    try:  # another `make` may have taken it (two at once): then that one records itself
+        start = json.loads(begun.read_text())
+        begun.unlink()
+    except (OSError, ValueError):
         return None
-    start = json.loads(begun.read_text())
-    begun.unlink()
     entry = TimingRecord(target=target, seconds=time.time() - start["start"],
                          cold=start["cold"], setup_seconds=start["setup_seconds"],
                          **revision(), machine=machine(), date=time.strftime("%Y-%m-%d"))
@@ -165,7 +163,7 @@ def render(records: Mapping[str, Mapping[str, Any]]) -> str:
         r = records.get(k)
         if r is None:
             continue
-        setup = r.get("setup_seconds") or 0.0  # a fresh clone's wall time includes it
+        setup = (r.get("setup_seconds") or 0.0) if k == "fresh" else 0.0  # its wall time's
         commit = (r.get("commit") or "?")[:8] + (" with changes" if r.get("changed") else "")
         lines.append(f"| {what[k].format(setup=_duration(setup))} | "
                      f"{_duration(r['seconds'] + setup)} | {r['date']}, {commit} |")

@@ -2,7 +2,7 @@
 edge as in every output (`rps correlate`, `rps identify`)."""
 from __future__ import annotations
 
-from pydantic import with_config
+from pydantic import FiniteFloat, with_config
 from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
 
 from .types import STRICT
@@ -14,57 +14,57 @@ SCHEMA = 3  # 2: identification.json's V&V 20 rows; 3: the "record" key, checked
 class PairRecord(TypedDict):
     test_mode: int  # 1-based
     model_mode: int  # 1-based
-    test_hz: float
-    model_hz: float
-    error_percent: float  # 100 (f_model / f_test - 1)
-    mac: float  # or, against a repeated model group, the test shape's share in its subspace
+    test_hz: FiniteFloat
+    model_hz: FiniteFloat
+    error_percent: FiniteFloat  # 100 (f_model / f_test - 1)
+    mac: FiniteFloat  # or, against a repeated model group, the test shape's share in its subspace
     repeated: bool  # the model mode belongs to a group of (near-)repeated frequencies
 
 
 @with_config(STRICT)
 class UnpairedTest(TypedDict):
     test_mode: int
-    test_hz: float
+    test_hz: FiniteFloat
     reason: str
 
 
 @with_config(STRICT)
 class UnpairedModel(TypedDict):
     model_mode: int
-    model_hz: float
+    model_hz: FiniteFloat
 
 
 @with_config(STRICT)
 class NodeRecord(TypedDict):
     id: int
-    xyz_mm: list[float]
+    xyz_mm: list[FiniteFloat]
     body: str
-    distance_mm: float  # outside the body (0: inside)
+    distance_mm: FiniteFloat  # outside the body (0: inside)
     directions: list[str]
 
 
 @with_config(STRICT)
 class MachineRecord(TypedDict):
-    base_joints_mm: list[list[float]]
-    platform_joints_mm: list[list[float]]
-    platform_centre_mm: list[float]
-    platform_normal: list[float]
-    platform_radius_mm: float
-    leg_diameter_mm: float
+    base_joints_mm: list[list[FiniteFloat]]
+    platform_joints_mm: list[list[FiniteFloat]]
+    platform_centre_mm: list[FiniteFloat]
+    platform_normal: list[FiniteFloat]
+    platform_radius_mm: FiniteFloat
+    leg_diameter_mm: FiniteFloat
 
 
 @with_config(STRICT)
 class PoseCorrelation(TypedDict):
     name: str
-    height_mm: float
-    azimuth_deg: float
-    tilt_deg: float
+    height_mm: FiniteFloat
+    azimuth_deg: FiniteFloat
+    tilt_deg: FiniteFloat
     source: str
     data: str
-    test_hz: list[float]
-    test_damping_ratio: list[float] | None
-    model_hz: list[float]
-    mac: list[list[float]]  # rows: test modes, columns: model modes
+    test_hz: list[FiniteFloat]
+    test_damping_ratio: list[FiniteFloat] | None
+    model_hz: list[FiniteFloat]
+    mac: list[list[FiniteFloat]]  # rows: test modes, columns: model modes
     pairs: list[PairRecord]
     unpaired_test_modes: list[UnpairedTest]
     unpaired_model_modes: list[UnpairedModel]
@@ -80,8 +80,8 @@ class ModelRecord(TypedDict):
 
 @with_config(STRICT)
 class PairingRecord(TypedDict):
-    min_mac: float
-    max_frequency_ratio: float
+    min_mac: FiniteFloat
+    max_frequency_ratio: FiniteFloat
     rule: str
 
 
@@ -89,9 +89,9 @@ class PairingRecord(TypedDict):
 class CorrelationSummary(TypedDict):
     pairs: int
     unpaired_test_modes: int
-    mean_abs_error_percent: float | None
-    max_abs_error_percent: float | None
-    min_mac: float | None
+    mean_abs_error_percent: FiniteFloat | None
+    max_abs_error_percent: FiniteFloat | None
+    min_mac: FiniteFloat | None
 
 
 @with_config(STRICT)
@@ -104,32 +104,32 @@ class Correlation(TypedDict):
     pairing: PairingRecord
     poses: list[PoseCorrelation]
     summary: CorrelationSummary
-    seconds: float
+    seconds: FiniteFloat
 
 
 @with_config(STRICT)
 class ParameterRecord(TypedDict):
     key: str
     unit: str
-    initial: float
-    value: float
-    ci95: list[float]
-    bounds: list[float]
+    initial: FiniteFloat
+    value: FiniteFloat
+    ci95: list[FiniteFloat]
+    bounds: list[FiniteFloat]
     identifiable: bool
     at_bound: bool
-    relative_std_percent: float | None
+    relative_std_percent: FiniteFloat | None
     reason: str
 
 
 @with_config(STRICT)
 class FitMode(TypedDict):
     test_mode: int
-    test_hz: float
-    before_hz: float
-    after_hz: float
-    error_before_percent: float
-    error_after_percent: float
-    mac_after: float
+    test_hz: FiniteFloat
+    before_hz: FiniteFloat
+    after_hz: FiniteFloat
+    error_before_percent: FiniteFloat
+    error_after_percent: FiniteFloat
+    mac_after: FiniteFloat
 
 
 @with_config(STRICT)
@@ -140,7 +140,7 @@ class FitPose(TypedDict):
 
 @with_config(STRICT)
 class NoiseRecord(TypedDict):
-    frequency_percent: float | None
+    frequency_percent: FiniteFloat | None
     source: str  # "stated" or "residuals"
     degrees_of_freedom: int
 
@@ -152,14 +152,16 @@ class ValidationRecord(TypedDict):
     pose: str
     test_mode: int
     model_mode: int
-    test_hz: float
-    model_hz: float
-    e_percent: float  # the scene's model against the test
-    e_identified_percent: float  # the identified model (fitted to these data: not a validation)
-    u_num_percent: float | None  # the beam model's change with its elements doubled, / sqrt(3)
-    u_input_percent: float | None  # the scene's [uncertainty] at the pose; None without one
-    u_d_percent: float | None  # the identification's frequency noise
-    u_val_percent: float
+    test_hz: FiniteFloat
+    model_hz: FiniteFloat
+    e_percent: FiniteFloat  # the scene's model against the test
+    e_identified_percent: FiniteFloat  # the identified model (fitted to these data: not a
+    # validation)
+    u_num_percent: FiniteFloat | None  # the beam model's change with its elements doubled,
+    # / sqrt(3)
+    u_input_percent: FiniteFloat | None  # the scene's [uncertainty] at the pose; None without one
+    u_d_percent: FiniteFloat | None  # the identification's frequency noise
+    u_val_percent: FiniteFloat
     verdict: str
 
 
@@ -173,14 +175,14 @@ class Identification(TypedDict):
     identified_scene_check: str  # "accepted", with its warnings, or why the scene refuses it
     model: ModelRecord
     parameters: list[ParameterRecord]
-    residual_rms_percent_before: float
-    residual_rms_percent_after: float
+    residual_rms_percent_before: FiniteFloat
+    residual_rms_percent_after: FiniteFloat
     noise: NoiseRecord
-    singular_values: list[float]
-    parameter_correlation: list[list[float]]
+    singular_values: list[FiniteFloat]
+    parameter_correlation: list[list[FiniteFloat]]
     fit: list[FitPose]
     evaluations: int
-    seconds: float
+    seconds: FiniteFloat
     optimiser: str
     correlation_after: Correlation
     validation: list[ValidationRecord]

@@ -71,7 +71,12 @@ class Output:
         """`body` with its header, checked, then written atomically to `path`."""
         value = self.payload(body)
         self.checked(value, f"{self.file} (as written by {self.command})")
-        write_text_atomic(path, json.dumps(value, indent=1, allow_nan=False) + "\n")
+        try:
+            text = json.dumps(value, indent=1, allow_nan=False) + "\n"
+        except ValueError as exc:  # a NaN or infinity in a field declared a float
+            raise InputError(f"{self.file} (as written by {self.command}): {exc}; not "
+                             "written") from None
+        write_text_atomic(path, text)
         return path
 
     def read(self, path: str | Path) -> Any:

@@ -102,7 +102,10 @@ def validated(results: Mapping[str, object], records: Sequence[Record],
 
 def _completed(results: Mapping[str, object], scene: Sequence[Record],
                case: Sequence[Record]) -> dict:
-    """The results with every declared record they lack at its empty value (a copy)."""
+    """The results with every declared record they lack at its empty value (a copy); a
+    record that is never empty (a study that always runs) is left missing, to be refused as
+    such."""
+    scene, case = [r for r in scene if _may_be_empty(r)], [r for r in case if _may_be_empty(r)]
     out: dict[str, Any] = dict(results)
     studies, cases = out.get("studies"), out.get("cases")
     if isinstance(studies, dict):
@@ -111,6 +114,14 @@ def _completed(results: Mapping[str, object], scene: Sequence[Record],
         out["cases"] = [{**stub(case, "case"), **c} if isinstance(c, dict) else c
                         for c in cases]
     return out
+
+
+def _may_be_empty(record: Record) -> bool:
+    try:
+        check(record, record.empty, "results")
+    except InputError:
+        return False
+    return True
 
 
 def _split(results: Mapping[str, object], scene_keys: set[str], case_keys: set[str], where: str):

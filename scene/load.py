@@ -209,7 +209,8 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     try:  # the machine as a whole, before any work (the rules of analytical.plausibility)
         warnings = plausibility.check(manipulator, [(n, c.pose) for n, c in cases.items()])
         if "tool" in raw:
-            plausibility.check_tool(manipulator, tool.point)
+            warnings += plausibility.check_tool(manipulator, tool.point,
+                                                [(n, c.pose) for n, c in cases.items()])
     except InputError as exc:
         raise SceneError(f"{where}: {exc}") from None
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,

@@ -123,6 +123,23 @@ def test_a_uff_file_cut_short_is_refused_not_read_in_part(capsys, tmp_path, mode
                           "cut short")
 
 
+@pytest.mark.parametrize("variant", ["crlf", "cr", "no final newline", "nul padding",
+                                     "ctrl-z", "blank lines"])
+def test_a_whole_uff_file_as_other_software_ends_it_is_read(tmp_path, modes_campaign, variant):
+    """Line endings and end-of-file padding as Windows tools, old systems and FAT copies
+    leave them are not a file cut short; the same file cut inside a dataset still is."""
+    whole = (modes_campaign.parent / f"{POSE.name}.unv").read_bytes()
+    text = {"crlf": whole.replace(b"\n", b"\r\n"), "cr": whole.replace(b"\n", b"\r"),
+            "no final newline": whole.rstrip(b"\n"), "nul padding": whole + b"\0" * 512,
+            "ctrl-z": whole + b"\x1a", "blank lines": whole + b"\n   \n\n"}[variant]
+    (tmp_path / "whole.unv").write_bytes(text)
+    expected = uff.read_uff(modes_campaign.parent / f"{POSE.name}.unv").modes.frequencies_hz
+    assert np.array_equal(uff.read_uff(tmp_path / "whole.unv").modes.frequencies_hz, expected)
+    (tmp_path / "cut.unv").write_bytes(text[:int(len(text) * 0.7)])
+    with pytest.raises(uff.UffError, match="cut short"):
+        uff.read_uff(tmp_path / "cut.unv")
+
+
 def _modes_file(tmp_path: Path, campaign: Path, edit) -> Path:
     content = uff.read_uff(campaign.parent / f"{POSE.name}.unv")
     modes = content.modes
@@ -204,8 +221,8 @@ def test_a_cache_that_is_a_file_is_refused_by_every_command_that_takes_it(capsys
 
 # ---------------------------------------------------------------- scenes: tool, damping, radii
 @pytest.mark.parametrize("point, needles", [
-    ("[0.0, 0.0, 100000.0]", ("tool.point_mm = [0.0, 0.0, 100000.0]", "beyond 4 platform radii",
-                              "rule 'tool envelope'")),
+    ("[0.0, 0.0, 100000.0]", ("tool.point_mm = [0.0, 0.0, 100000.0]",
+                              "beyond the machine's reach", "rule 'tool envelope'")),
     ("[0.0, 0.0, -700.0]", ("tool.point_mm = [0.0, 0.0, -700.0]", "below the base plane",
                             "rule 'tool envelope'")),
 ])
@@ -219,6 +236,15 @@ def test_a_tool_point_within_the_envelope_runs(capsys, tmp_path):
     scene = scene_with(tmp_path, PAPER_SCENE, "\n[tool]\npoint_mm = [50.0, 0.0, -150.0]\n")
     assert run(["frf", "--scene", scene, "--out", tmp_path / "out", "--lines", "200"]) == 0
     capsys.readouterr()
+
+
+def test_a_tool_below_the_base_at_the_lowest_poses_only_runs_with_a_warning(capsys, tmp_path):
+    """Above the base plane at every case but below it at the level band's lowest poses: a
+    ring-shaped base may clear it, so the scene runs, and says so."""
+    scene = scene_with(tmp_path, PAPER_SCENE, "\n[tool]\npoint_mm = [0.0, 0.0, -400.0]\n")
+    assert run(["analytical", "--scene", scene]) == 0
+    err = capsys.readouterr().err
+    assert "below the base plane" in err and "rule 'tool envelope'" in err
 
 
 @pytest.mark.parametrize("table", [

@@ -175,9 +175,8 @@ def test_the_stored_report_fixture_reads_a_study_declared_after_it_as_not_run(re
 def test_the_studies_room_lists_every_registered_study():
     """studies/README.md's table names the module of every registered study (the registry,
     `studies.STUDIES`, is the one list; the README is held to it)."""
-    from pathlib import Path
-
     import sys
+    from pathlib import Path
 
     text = (Path(studies.__file__).parent / "README.md").read_text(encoding="utf-8")
     where = {id(getattr(m, "STUDY", None)): name for name, m in list(sys.modules.items())

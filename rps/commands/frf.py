@@ -68,13 +68,13 @@ def _holds_a_resonance(top_hz: float, tool) -> None:
         return
     j = int(moving[0])
     f = float(omega[j]) / (2.0 * math.pi)
-    needed = f * (1.0 + float(zeta[j]))
+    needed = min(f * (1.0 + float(zeta[j])), tool.band_top_hz)  # the band may stop there
     if top_hz < needed:
         raise InputError(f"--top-hz {top_hz:g}: below the first resonance at the tool (mode "
-                         f"{j + 1}, {f:.6g} Hz, with its half-power band up to {needed:.6g} "
-                         "Hz): the band would hold no mode, and its least dynamic stiffness "
-                         "would be the quasi-static one at the band's edge; give at least "
-                         f"{needed:.6g} Hz or leave --top-hz out")
+                         f"{j + 1}, {f:.6g} Hz, with its half-power band up to "
+                         f"{f * (1.0 + float(zeta[j])):.6g} Hz): the band would hold no mode, "
+                         "and its least dynamic stiffness would be the quasi-static one at the "
+                         f"band's edge; give at least {needed:.6g} Hz or leave --top-hz out")
 
 
 def write_uff(path, record: dict, point_base_m) -> None:

@@ -79,4 +79,4 @@ def run(args: argparse.Namespace) -> int:
 
 COMMAND = Command("uncertainty", "input uncertainty through the fast model at one pose: "
                   "frequency statistics and Sobol' indices of the scene's [uncertainty]",
-                  add_arguments, run, extras="uncertainty")
+                  add_arguments, run, extras="fem")
