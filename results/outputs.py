@@ -220,7 +220,8 @@ def _fields(kind: Any) -> list[tuple[str, str, bool, list[Any]]]:
 def markdown(outputs: Iterable[Output]) -> str:
     """docs/outputs.md: every declared output file, its fields and the objects they hold."""
     lines = ["# Output files", "",
-             "Generated from the declarations (`results/outputs.py`, `pipeline/bench_records.py`)"
+             "Generated from the declarations (`results/outputs.py`, `studies/design.py`, "
+             "`pipeline/bench_records.py`)"
              " by `rps scene-docs`; do not edit by hand. Every file below starts with "
              '`"record"` (its name here) and `"schema"` (its version, bumped when a field '
              "changes), is checked against this declaration when written, and can be read "

@@ -37,8 +37,9 @@ def outputs_markdown() -> str:
     """docs/outputs.md: every declared output file (results.outputs, and the bench's)."""
     from pipeline.bench_records import BENCH
     from results.outputs import OUTPUTS, markdown
+    from studies.design import DESIGN
 
-    return markdown((*OUTPUTS, BENCH))
+    return markdown((*OUTPUTS, DESIGN, BENCH))
 
 
 def write_outputs(path: Path = OUTPUTS_DOC) -> Path:

@@ -37,6 +37,7 @@ from analytical.platform import platform_mass
 from analytical.reach import level_band, max_tilts
 from common.errors import InputError, RpsError
 from common.settings import as_dict
+from results.outputs import Output
 from results.tool_records import LeastPose
 from runtime.cache import ResultCache
 from scene import Case
@@ -102,6 +103,21 @@ class DesignStudy(TypedDict):
     designs: list[DesignPoint]
     fem_check: FemCheck | None
     optimum_map: BoundaryMap | None
+
+
+class DesignFile(DesignStudy):
+    """What `rps design` writes: the study, its header and the plausibility warnings."""
+    record: str
+    schema: int
+    warnings: list[str]  # of the design file's scene and of the optimum's
+
+
+DESIGN = Output(
+    "design.json", "design", 1, DesignFile, "rps design",
+    "A design study: the variables and their bounds, the constraints and the objective, every "
+    "design solved (its values, moving mass, least frequency over the workspace and where, or "
+    "why it was refused), the Pareto front, the optimum with its boundary map and the FEM at "
+    "its worst pose. Written with --out FILE, and as design.json beside the design report.")
 
 
 PENALTY = 1e9  # objective of an infeasible design: above every feasible one, by how far it fails

@@ -16,10 +16,6 @@ from .registry import Command
 if TYPE_CHECKING:  # the study's modules only when it runs
     from studies.design import DesignStudy
 
-    class DesignOutput(DesignStudy):
-        """What `rps design` writes: the study and the plausibility warnings."""
-        warnings: list[str]
-
 
 def add_arguments(d: argparse.ArgumentParser) -> None:
     d.add_argument("--design", metavar="TOML", required=True,
@@ -84,11 +80,10 @@ def check_output_file(path: Path) -> None:
 def run(args: argparse.Namespace) -> int:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    from common.atomic import write_json_atomic
     from runtime.cache import ResultCache
     from runtime.outdir import check_output_dir
     from scene.design_file import load_design
-    from studies.design import run_design
+    from studies.design import DESIGN, run_design
 
     spec = load_design(args.design)  # every check before the first design is solved
     if args.report is not None:  # where the study goes, before it starts (it takes minutes)
@@ -101,9 +96,10 @@ def run(args: argparse.Namespace) -> int:
         task = progress.add_task("designs", total=spec.search.designs)
         result = run_design(spec, cache, lambda done, total: progress.update(task,
                                                                             completed=done))
-    output: DesignOutput = {**result, "warnings": design_warnings(spec, result)}
+    output = DESIGN.checked(DESIGN.payload({**result,
+                                            "warnings": design_warnings(spec, result)}))
     if args.out is not None:
-        write_json_atomic(args.out, output)
+        DESIGN.write_to(args.out, output)
     if args.report is not None:
         from reports.design_report import render_design_report
         from runtime.outdir import staged_output

@@ -68,8 +68,8 @@ def run(args: argparse.Namespace) -> int:
     with staged_output(args.out, keep=lambda name: name != RECORD) as stage:
         VERIFICATION.write(stage, record)  # checked against its declaration
     path = args.out / RECORD
-    if args.json:
-        print(json.dumps(record))
+    if args.json:  # the file's content, header included
+        print(json.dumps(VERIFICATION.payload(record)))
     else:
         print("\n".join(table_lines(record)))
         print(f"wrote {path}")
