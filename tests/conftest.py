@@ -99,3 +99,27 @@ def pytest_collection_modifyitems(config, items):
     slow = {item.module.__name__ for item in items
             if item.get_closest_marker("slow") is not None and item.module is not None}
     items.sort(key=lambda item: (item.module is None or item.module.__name__ not in slow))
+
+
+def refused(capsys, argv, *needles: str, seconds: float = 5.0) -> str:
+    """The one stderr line of a refused command (run in this process), holding every needle,
+    within `seconds`: exit status 2, nothing on stdout, no traceback, no warning printed (the
+    probe suites also turn every warning into an error)."""
+    import time
+
+    from rps import app as cli
+
+    start = time.perf_counter()
+    try:
+        status = cli.main([str(a) for a in argv])
+    except SystemExit as exc:
+        status = exc.code
+    took = time.perf_counter() - start
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert status == 2, err
+    assert out == "" and len(lines) == 1 and lines[0].startswith("error: "), err
+    assert "Traceback" not in err and "Warning" not in err
+    assert all(n in lines[0] for n in needles), lines[0]
+    assert took < seconds, f"refused after {took:.1f} s"
+    return lines[0]

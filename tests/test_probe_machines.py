@@ -23,7 +23,7 @@ from analytical import plausibility
 from common.errors import InputError
 from rps import app as cli
 from scene import parse_scene
-from tests.conftest import PAPER_SCENE, REPORT_FIXTURE, ROOT
+from tests.conftest import PAPER_SCENE, REPORT_FIXTURE, ROOT, refused
 
 # warnings of numpy or any library never reach the user raw: each is an error here
 pytestmark = pytest.mark.filterwarnings("error")
@@ -45,23 +45,6 @@ def edited(tmp_path: Path, source: Path, *changes: tuple[str, str]) -> str:
 def everything_under(folder: Path) -> list[str]:
     return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*"))
 
-
-def refused(capsys, argv, *needles: str, seconds: float = 5.0) -> str:
-    """The one stderr line of a refused command, holding every needle, within `seconds`."""
-    start = time.perf_counter()
-    try:
-        status = cli.main(argv)
-    except SystemExit as exc:
-        status = exc.code
-    took = time.perf_counter() - start
-    out, err = capsys.readouterr()
-    lines = err.strip().splitlines()
-    assert status == 2, err
-    assert out == "" and len(lines) == 1 and lines[0].startswith("error: "), err
-    assert "Traceback" not in err and "Warning" not in err
-    assert all(n in lines[0] for n in needles), lines[0]
-    assert took < seconds, f"refused after {took:.1f} s"
-    return lines[0]
 
 
 # ---------------------------------------------------------------- machines that cannot exist
