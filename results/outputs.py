@@ -51,8 +51,8 @@ class Output:
                 **{k: v for k, v in body.items() if k not in ("record", "schema")}}
 
     def checked(self, value: Any, where: str | None = None) -> Any:
-        """`value` (the whole file) checked against the declaration; InputError naming
-        `where` (default: the file's name) and the first offending field."""
+        """`value` (the whole file) checked against the declaration and returned as it is;
+        InputError naming `where` (default: the file's name) and the first offending field."""
         where = where or self.file
         if not isinstance(value, dict) or value.get("record") != self.record:
             found = value.get("record") if isinstance(value, dict) else None
@@ -61,7 +61,8 @@ class Output:
         if value.get("schema") != self.schema:
             raise InputError(f"{where}: {self.file} of schema {value.get('schema')!r}; this "
                              f"version reads schema {self.schema}: write it again")
-        return check_type(self.type, value, where)
+        check_type(self.type, value, where)
+        return value  # as computed, its header first (the checked copy reorders fields)
 
     def write(self, folder: Path, body: Mapping[str, Any]) -> Path:
         """folder/<file>: `body` with its header, checked, then written atomically."""

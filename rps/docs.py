@@ -39,7 +39,8 @@ def outputs_markdown() -> str:
     from results.outputs import OUTPUTS, markdown
     from studies.design import DESIGN
 
-    return markdown((*OUTPUTS, DESIGN, BENCH))
+    from .answers import ANSWERS
+    return markdown((*OUTPUTS, DESIGN, BENCH, *ANSWERS))
 
 
 def write_outputs(path: Path = OUTPUTS_DOC) -> Path:

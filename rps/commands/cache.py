@@ -27,7 +27,8 @@ def run(args: argparse.Namespace) -> int:
         return 0
     info = cache_info(args.cache if args.cache is not None else cache_root())  # read only
     if args.json:
-        print(json.dumps(info))
+        from ..answers import CACHE_ANSWER
+        print(json.dumps(CACHE_ANSWER.checked(CACHE_ANSWER.payload(info))))
         return 0
     print(f"cache: {info['directory']}" + ("" if info["exists"] else " (empty, not created)"))
     for kind, part in info["kinds"].items():

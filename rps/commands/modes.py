@@ -91,7 +91,8 @@ def run(args: argparse.Namespace) -> int:
         write_text_atomic(sensors, csv_text(rows))
         payload["sensors"] = str(sensors)
     if args.json:
-        print(json.dumps(payload))
+        from ..answers import MODES_ANSWER
+        print(json.dumps(MODES_ANSWER.checked(MODES_ANSWER.payload(payload))))
     else:
         print(f"wrote {args.out}: {len(points)} points, {modes} modes "
               f"({', '.join(f'{f:.2f}' for f in predicted.frequencies_hz)} Hz)")

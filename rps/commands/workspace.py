@@ -8,7 +8,7 @@ import json
 import math
 import time
 from dataclasses import replace
-from typing import TYPE_CHECKING, Iterable, TypedDict, cast
+from typing import TYPE_CHECKING, Any, Iterable, cast
 
 from common.errors import InputError
 from scene import FidelitySettings
@@ -17,37 +17,9 @@ from ..args import cache_option, load, scene_option, warn, zone_cache
 from ..options import MAX_MAP_POSES, MapGrid, declared_option, typed
 from .registry import Command
 
-if TYPE_CHECKING:  # results (and pydantic, an extra) only where the map is drawn
-    from results import Workspace
-
-    class WorkspaceOutput(Workspace):
-        """What `rps workspace` writes: the map, its time and the scene's warnings."""
-        seconds: float
-        warnings: list[str]
-
-
-class MinimumPose(TypedDict):
-    height_mm: float
-    azimuth_deg: float
-    tilt_deg: float
-
-
-class Minimum(TypedDict):
-    """The least f_K over the reachable workspace (`--minimum K`) and where it is."""
-    mode: int
-    frequency_hz: float
-    pose: MinimumPose
-    on_boundary: bool
-    at_band_end: bool
-    coarse_grid_hz: float
-    poses_solved: int
-    settings: str
-    seconds: float
-
-
-class MinimumOutput(Minimum):
-    """What `rps workspace --minimum K` writes: the minimum and the scene's warnings."""
-    warnings: list[str]
+if TYPE_CHECKING:  # results (and pydantic, an extra) only where JSON is printed
+    from ..answers import MinimumAnswer as MinimumOutput
+    from ..answers import WorkspaceAnswer as WorkspaceOutput
 
 
 def cmd_workspace(args: argparse.Namespace) -> WorkspaceOutput | MinimumOutput:
@@ -59,7 +31,9 @@ def cmd_workspace(args: argparse.Namespace) -> WorkspaceOutput | MinimumOutput:
     scene = load(args)
     scene = replace(scene, analytical=zone_cache(args, scene.analytical))
     if args.minimum is not None:
-        return {**_minimum(scene, args), "warnings": list(scene.warnings)}
+        from ..answers import MINIMUM_ANSWER
+        return MINIMUM_ANSWER.checked(MINIMUM_ANSWER.payload(
+            {**_minimum(scene, args), "warnings": list(scene.warnings)}))
     poses = args.layers * args.rings * args.azimuths
     if poses > MAX_MAP_POSES:
         raise InputError(f"{typed(args, 'layers', 'rings', 'azimuths') or 'the grid'}: "
@@ -73,11 +47,14 @@ def cmd_workspace(args: argparse.Namespace) -> WorkspaceOutput | MinimumOutput:
     start = time.perf_counter()
     fmap = workspace_map(scene, args.layers, args.rings, args.azimuths, args.modes)
     seconds = time.perf_counter() - start
-    return {**fmap, "seconds": seconds, "warnings": list(scene.warnings)}
+    from ..answers import WORKSPACE_ANSWER
+    return WORKSPACE_ANSWER.checked(WORKSPACE_ANSWER.payload(
+        {**fmap, "seconds": seconds, "warnings": list(scene.warnings)}))
 
 
-def _minimum(scene, args: argparse.Namespace) -> Minimum:
-    """The least f_K over the reachable workspace, with the scene's analytical model."""
+def _minimum(scene, args: argparse.Namespace) -> dict[str, Any]:
+    """The fields of a MinimumAnswer (rps/answers.py) but its header and warnings."""
+    # the least f_K over the reachable workspace, with the scene's analytical model
     from dataclasses import replace
 
     from analytical.minimum import workspace_minimum
