@@ -12,7 +12,6 @@ from analytical.params import ModelOptions
 from common.atomic import write_text_atomic
 from common.errors import ComputeError
 from results.campaign_records import SCHEMA, Correlation, Identification, ModelRecord
-from results.declare import csv_text
 from results.outputs import CORRELATION, IDENTIFICATION
 from scene.address import edited_text
 from scene.load import SceneError
@@ -137,43 +136,14 @@ def _residuals_at_scene(problem: ident.Problem) -> np.ndarray:
     return out
 
 
-def pair_rows(data: Correlation) -> list[dict]:
-    return [{"pose": pose["name"], **{k: p[k] for k in ("test_mode", "model_mode", "test_hz",
-                                                          "model_hz", "error_percent", "mac",
-                                                          "repeated")}}
-            for pose in data["poses"] for p in pose["pairs"]]
+def write_correlation(data: Correlation, directory: Path) -> Path:
+    """correlation.json and its declared tables (tables/correlation-*.csv), checked against
+    results.outputs.CORRELATION (the page is the report room's, `reports.campaign_pages`)."""
+    return CORRELATION.write(directory, data)
 
 
-def unpaired_rows(data: Correlation) -> list[dict]:
-    return [{"pose": pose["name"], "test_mode": u["test_mode"], "test_hz": u["test_hz"],
-             "reason": u["reason"]} for pose in data["poses"] for u in pose["unpaired_test_modes"]]
-
-
-def write_correlation(data: Correlation, directory: Path) -> list[Path]:
-    """correlation.json, tables/correlation-pairs.csv and -unpaired.csv (the page is the
-    report room's, `reports.campaign_pages`)."""
-    out = [CORRELATION.write(directory, data)]  # checked against its declaration
-    tables = directory / "tables"
-    tables.mkdir(exist_ok=True)
-    out.append(write_text_atomic(tables / "correlation-pairs.csv", csv_text(pair_rows(data))))
-    out.append(write_text_atomic(tables / "correlation-unpaired.csv",
-                                 csv_text(unpaired_rows(data))))
-    return out
-
-
-def write_identification(data: Identification, identified: str, directory: Path) -> list[Path]:
-    """identification.json, identified.toml, tables/identification-*.csv."""
-    out = [IDENTIFICATION.write(directory, data),  # checked against its declaration
-           write_text_atomic(directory / "identified.toml", identified)]
-    tables = directory / "tables"
-    tables.mkdir(exist_ok=True)
-    out.append(write_text_atomic(tables / "identification-parameters.csv", csv_text(
-        [{**{k: v for k, v in p.items() if k not in ("ci95", "bounds")},
-          "ci95_low": p["ci95"][0], "ci95_high": p["ci95"][1], "low": p["bounds"][0],
-          "high": p["bounds"][1]} for p in data["parameters"]])))
-    out.append(write_text_atomic(tables / "identification-fit.csv", csv_text(
-        [{"pose": pose["pose"], **m} for pose in data["fit"] for m in pose["modes"]])))
-    out.append(write_text_atomic(tables / "identification-validation.csv",
-                                 csv_text([dict(row) for row in data["validation"]])))
-    return out
-
+def write_identification(data: Identification, identified: str, directory: Path) -> Path:
+    """identification.json and its declared tables (tables/identification-*.csv), checked
+    against results.outputs.IDENTIFICATION, and identified.toml."""
+    write_text_atomic(directory / "identified.toml", identified)
+    return IDENTIFICATION.write(directory, data)

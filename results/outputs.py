@@ -27,11 +27,45 @@ from common.errors import InputError
 
 from .campaign_records import SCHEMA as CAMPAIGN_SCHEMA
 from .campaign_records import Correlation, Identification
-from .declare import check_type
+from .declare import check_type, csv_text
 from .study_records import FemVerification
 from .tool_records import FrfFile, OutputPose
 from .types import STRICT
 from .uncertainty_records import UncertaintyFile
+
+
+@dataclass(frozen=True)
+class Rows:
+    """A CSV table of an output file, declared: one row per item reached by `each` (field
+    names and "*" for every item of a list: "poses/*/pairs/*"), one column per (header,
+    pointer) of `columns`, the pointer relative to the item ("ci95/0": a list's first item;
+    "../name": a field of the item's parent). Written as tables/<record>-<name>.csv."""
+
+    name: str
+    each: str
+    columns: tuple[tuple[str, str], ...]
+
+    def rows(self, value: Any) -> list[dict[str, Any]]:
+        """The table's rows over a file's content (every item `each` reaches, in order)."""
+        items: list[tuple[Any, tuple[Any, ...]]] = [(value, ())]  # (item, enclosing objects)
+        for token in filter(None, self.each.split("/")):
+            items = ([(x, up) for item, up in items for x in item] if token == "*"
+                     else [(item[token], (*up, item)) for item, up in items])
+        return [{header: _at(item, up, pointer) for header, pointer in self.columns}
+                for item, up in items]
+
+
+def _at(item: Any, enclosing: tuple[Any, ...], pointer: str) -> Any:
+    """The value `pointer` names from `item` (each leading "../" climbs to the next object
+    enclosing it)."""
+    tokens = pointer.split("/")
+    up = 0
+    while tokens and tokens[0] == "..":
+        tokens, up = tokens[1:], up + 1
+    value = item if up == 0 else enclosing[-up]
+    for token in tokens:
+        value = value[int(token)] if isinstance(value, list) else value[token]
+    return value
 
 
 @dataclass(frozen=True)
@@ -44,6 +78,7 @@ class Output:
     type: Any  # the TypedDict of the whole file, "record" and "schema" included
     command: str  # what writes it
     doc: str  # what it holds, one paragraph
+    tables: tuple[Rows, ...] = ()  # its CSV tables, written beside it by `write`
 
     def payload(self, body: Mapping[str, Any]) -> dict[str, Any]:
         """The file's content: its record name and schema first, then `body`."""
@@ -65,8 +100,15 @@ class Output:
         return value  # as computed, its header first (the checked copy reorders fields)
 
     def write(self, folder: Path, body: Mapping[str, Any]) -> Path:
-        """folder/<file>: `body` with its header, checked, then written atomically."""
-        return self.write_to(Path(folder) / self.file, body)
+        """folder/<file>: `body` with its header, checked, then written atomically; and its
+        declared tables as folder/tables/<record>-<name>.csv."""
+        path = self.write_to(Path(folder) / self.file, body)
+        if self.tables:
+            (Path(folder) / "tables").mkdir(exist_ok=True)
+        for table in self.tables:
+            write_text_atomic(Path(folder) / "tables" / f"{self.record}-{table.name}.csv",
+                              csv_text(table.rows(self.payload(body))))
+        return path
 
     def write_to(self, path: Path, body: Mapping[str, Any]) -> Path:
         """`body` with its header, checked, then written atomically to `path`."""
@@ -152,17 +194,38 @@ UNCERTAINTY = Output(
     "The scene's [uncertainty] propagated through the fast model at one pose: per mode the "
     "statistics of the frequency and the Sobol' indices of every input, each with its "
     "sampling error (and the same for the least dynamic stiffness at the tool).")
+def _columns(*names: str) -> tuple[tuple[str, str], ...]:
+    """Columns named as the fields they hold."""
+    return tuple((n, n) for n in names)
+
+
 CORRELATION = Output(
     "correlation.json", "correlation", CAMPAIGN_SCHEMA, Correlation, "rps correlate",
     "A modal test campaign against the model: per pose the test's and the model's modes, the "
     "MAC matrix, the pairs by shape and frequency with their errors, the unpaired modes with "
-    "the reason, the nodes on their bodies. Beside it, tables/correlation-*.csv.")
+    "the reason, the nodes on their bodies. Beside it, tables/correlation-*.csv.",
+    (Rows("pairs", "poses/*/pairs/*", (("pose", "../name"), *_columns(
+        "test_mode", "model_mode", "test_hz", "model_hz", "error_percent", "mac",
+        "repeated"))),
+     Rows("unpaired", "poses/*/unpaired_test_modes/*", (("pose", "../name"), *_columns(
+         "test_mode", "test_hz", "reason")))))
 IDENTIFICATION = Output(
     "identification.json", "identification", CAMPAIGN_SCHEMA, Identification, "rps identify",
     "Scene keys fitted to a campaign's paired test frequencies: each key's value with its 95 % "
     "interval and whether the data determine it, the fit per mode before and after, the V&V "
     "20 rows, and the correlation after the fit. Beside it, identified.toml (the scene with the "
-    "fitted values) and tables/identification-*.csv.")
+    "fitted values) and tables/identification-*.csv.",
+    (Rows("parameters", "parameters/*", (*_columns(
+        "key", "unit", "initial", "value", "identifiable", "at_bound", "relative_std_percent",
+        "reason"), ("ci95_low", "ci95/0"), ("ci95_high", "ci95/1"), ("low", "bounds/0"),
+        ("high", "bounds/1"))),
+     Rows("fit", "fit/*/modes/*", (("pose", "../pose"), *_columns(
+         "test_mode", "test_hz", "before_hz", "after_hz", "error_before_percent",
+         "error_after_percent", "mac_after"))),
+     Rows("validation", "validation/*", _columns(
+         "pose", "test_mode", "model_mode", "test_hz", "model_hz", "e_percent",
+         "e_identified_percent", "u_num_percent", "u_input_percent", "u_d_percent",
+         "u_val_percent", "verdict"))))
 VERIFICATION = Output(
     "verification.json", "verification", 1, VerificationFile, "rps verify",
     "The solid FEM against published free-vibration benchmarks, each at three mesh sizes: "
@@ -233,6 +296,9 @@ def markdown(outputs: Iterable[Output]) -> str:
         lines += [f"## `{output.file}`", "",
                   f"Record `{output.record}`, schema {output.schema}; written by "
                   f"`{output.command}`. {output.doc}", ""]
+        lines += [f"- `tables/{output.record}-{t.name}.csv`: one row per `{t.each}`; columns "
+                  + ", ".join(f"`{h}`" + ("" if h == p else f" (`{p}`)") for h, p in t.columns)
+                  for t in output.tables] + ([""] if output.tables else [])
         done: set[Any] = set()
         queue = [output.type]
         while queue:

@@ -65,3 +65,19 @@ def test_errors_are_read_in_two_mode_ranges_against_the_best_reference():
     assert schema.worst_by_mode_range(pairs) == (1.0, 4.4)  # vs the h -> 0 limit
     assert schema.worst_by_mode_range([_pair(1, -0.5), _pair(2, 0.2)]) == (0.5, None)
     assert schema.mode_ranges(pairs) == ("f1–f3", "f4–f6")
+
+
+def test_an_output_s_declared_table_is_one_row_per_item_with_its_parent_s_fields():
+    """results.outputs.Rows: "*" walks every item of a list, "../" reaches the object that
+    encloses it, an index reaches into a list; rows in the file's order."""
+    from results.outputs import Rows
+
+    data = {"poses": [{"name": "low", "pairs": [{"f": 1.0, "ci": [0.9, 1.1]},
+                                                 {"f": 2.0, "ci": [1.8, 2.2]}]},
+                      {"name": "high", "pairs": []},
+                      {"name": "mid", "pairs": [{"f": 3.0, "ci": [2.7, 3.3]}]}]}
+    table = Rows("pairs", "poses/*/pairs/*", (("pose", "../name"), ("f_hz", "f"),
+                                              ("low", "ci/0")))
+    assert table.rows(data) == [{"pose": "low", "f_hz": 1.0, "low": 0.9},
+                                {"pose": "low", "f_hz": 2.0, "low": 1.8},
+                                {"pose": "mid", "f_hz": 3.0, "low": 2.7}]
