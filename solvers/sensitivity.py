@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
 
@@ -33,8 +34,16 @@ CONFIDENCE = 0.95
 QUANTILES = (0.025, 0.975)
 
 
-def _problem(d: int) -> dict:
-    return {"num_vars": d, "names": [f"x{k}" for k in range(d)], "bounds": [[0.0, 1.0]] * d}
+class Problem(TypedDict):
+    """SALib's description of the inputs: d unit variables (scene values are mapped from
+    them by the scene's distributions)."""
+    num_vars: int
+    names: list[str]
+    bounds: list[list[float]]
+
+
+def _problem(d: int) -> Problem:
+    return Problem(num_vars=d, names=[f"x{k}" for k in range(d)], bounds=[[0.0, 1.0]] * d)
 
 
 def design(d: int, n: int, seed: int) -> np.ndarray:
