@@ -100,7 +100,6 @@ class Architecture:
     height_range: Callable[[Any], tuple[float, float]]  # heights to scan for a level platform
     leg_length_range: Callable[[Any], tuple[float, float]]  # (shortest, longest), joint to joint
     height_reach: Callable[[Any], float]  # the greatest height a platform joint can have
-    base_normals: Callable[[Any, np.ndarray], np.ndarray]  # (3, 3) from the radial directions
     leg_ends: Callable[[Any, np.ndarray, np.ndarray], LegEnds]  # (m, A_i (N,3,3), radial)
     out_of_range: Callable[[int, float], str]  # "leg 2 would be 1012.0 mm long"
     prepare: Callable[[Any], None]  # Manipulator.__post_init__: refusals and derived fields

@@ -153,7 +153,13 @@ class Manipulator:
             raise InputError(f"base_joint = {self.base_joint!r}, platform_joint = "
                              f"{self.platform_joint!r}: a 3-RPS leg has one R and one S joint "
                              "(R-P-S or S-P-R)")
-        of(self).prepare(self)  # its own refusals and derived fields (analytical/prs.py)
+        arch = of(self)
+        if (self.base_joint, self.platform_joint) not in arch.joint_orders:
+            admitted = " or ".join(f"({b}, {p})" for b, p in arch.joint_orders)
+            raise InputError(f"base_joint = {self.base_joint!r}, platform_joint = "
+                             f"{self.platform_joint!r} with architecture = {arch.name!r}: it "
+                             f"admits only {admitted} ({arch.doc})")
+        arch.prepare(self)  # its derived fields (analytical/prs.py)
 
     def leg_parts(self, length: float) -> tuple[LegPart, ...]:
         """The parts of a leg `length` long, base joint first (`common.leg_profile`)."""

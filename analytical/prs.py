@@ -72,12 +72,7 @@ def _limits(m, platform_points: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def _prepare(m) -> None:
-    """Its revolute joint sits on the slider, the spherical one on the platform; its legs have
-    one length, so their length range is [L, L]."""
-    if (m.base_joint, m.platform_joint) != ("R", "S"):
-        raise InputError(f"base_joint = {m.base_joint!r}, platform_joint = "
-                         f"{m.platform_joint!r} with architecture = '3-PRS': its revolute "
-                         "joint sits on the slider, the spherical joint on the platform (R, S)")
+    """Its legs have one length, so their length range is [L, L]."""
     object.__setattr__(m, "actuator_min", m.leg_length)
     object.__setattr__(m, "actuator_max", m.leg_length)
 
@@ -95,7 +90,7 @@ PRS = Architecture(
     keys=("rail_angle_deg", "leg_length_mm", "slider_min_mm", "slider_max_mm"),
     required=("leg_length_mm", "slider_max_mm"),
     fills={"actuator_min": 0.0, "actuator_max": 0.0},  # its legs' one length (prepare)
-    joint_orders=(("R", "S"),),
+    joint_orders=(("R", "S"),),  # the revolute joint on the slider, the spherical one above
     leg_word="slider link",
     stroke=("slider_min", "slider_max"),
     positive=("leg_length", "slider_max"),
@@ -106,7 +101,6 @@ PRS = Architecture(
     height_range=lambda m: (m.slider_min * math.sin(m.rail_angle), _height_reach(m)),
     leg_length_range=lambda m: (m.leg_length, m.leg_length),
     height_reach=_height_reach,
-    base_normals=_rails,
     leg_ends=_leg_ends,
     out_of_range=lambda i, value: f"slider {i + 1} would travel {value * 1e3:.1f} mm",
     prepare=_prepare,

@@ -17,18 +17,14 @@ def _actuation(m) -> Actuation:
                      "actuator_max_mm", "actuator range")
 
 
-def _base_normals(m, radial: np.ndarray) -> np.ndarray:
-    return np.broadcast_to([0.0, 0.0, 1.0], radial.shape).copy()
-
-
 def _leg_ends(m, platform_points: np.ndarray, radial: np.ndarray) -> LegEnds:
     a = np.asarray(platform_points, float)
     feet = m.base_radius * radial
     legs = a - feet
     lengths = np.linalg.norm(legs, axis=2)
     drive = legs / np.where(lengths > 0, lengths, 1.0)[..., None]
-    normals = np.broadcast_to(_base_normals(m, radial), a.shape)
-    return LegEnds(np.broadcast_to(feet, a.shape).copy(), drive, lengths, normals.copy(),
+    normals = np.broadcast_to([0.0, 0.0, 1.0], a.shape)  # the base's z (a read-only view)
+    return LegEnds(np.broadcast_to(feet, a.shape).copy(), drive, lengths, normals,
                    np.ones(len(a), bool))
 
 
@@ -62,7 +58,6 @@ RPS = Architecture(
     height_range=lambda m: (m.actuator_min, m.actuator_max),  # level legs are about that long
     leg_length_range=lambda m: (m.actuator_min, m.actuator_max),
     height_reach=lambda m: m.actuator_max,
-    base_normals=_base_normals,
     leg_ends=_leg_ends,
     out_of_range=lambda i, value: f"leg {i + 1} would be {value * 1e3:.1f} mm long",
     prepare=lambda m: None,

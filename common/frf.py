@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
+from .messages import short
 from .rigid_body import skew
 from .settings import MAX_LENGTH, check_settings, setting
 
@@ -89,7 +90,7 @@ class Damping:
         structure's response is infinite at every resonance, and the default is for a scene
         without the table."""
         if not self.declared:
-            keys = ", ".join(f"{k} = {v!r}" for k, v in typed.items()) or "no key"
+            keys = ", ".join(f"{k} = {short(v)}" for k, v in typed.items()) or "no key"
             raise InputError(f"{where}: {keys}: the table declares no damping (an undamped "
                              "structure's response is infinite at every resonance); give "
                              "modal_ratio, or a positive rayleigh_alpha_per_s or "

@@ -246,9 +246,7 @@ def _modes(sets: _Sets, known: set[int]) -> Modes | None:
     hz, zeta, is_complex = (np.array(v) for v in zip(*info))
     if not (np.all(np.isfinite(full)) and np.all(np.isfinite(hz)) and np.all(np.isfinite(zeta))):
         raise UffError("non-finite numbers in a mode (dataset 55)")
-    measured = np.any(full != 0, axis=1)
-    if not np.any(measured):
-        raise UffError("every mode-shape component is zero (dataset 55)")
+    measured = np.any(full != 0, axis=1)  # not all zero: each mode's shape was checked above
     full = full[measured]
     shapes = np.column_stack([complex_to_real_shape(full[:, r]) if is_complex[r]
                               else full[:, r].real for r in range(len(columns))])

@@ -92,9 +92,9 @@ def begin(folder: Path, target: str) -> None:
             entry = json.loads(made.read_text())
             if now - float(entry["end"]) < SETUP_FRESH:
                 setup = float(entry["seconds"])
-        except (ValueError, KeyError, TypeError):
+        except (OSError, ValueError, KeyError, TypeError):
             pass
-        made.unlink()
+        made.unlink(missing_ok=True)
     (folder / f".begin-{target}.json").write_text(json.dumps(
         {"start": now, "cold": _cache_empty(), "setup_seconds": setup}))
 

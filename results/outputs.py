@@ -17,7 +17,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 from types import UnionType
-from typing import Any, Iterable, Mapping, Union, get_args, get_origin
+from typing import Annotated, Any, Iterable, Mapping, Union, get_args, get_origin
 
 from pydantic import FiniteFloat, with_config
 from typing_extensions import NotRequired, Required, TypedDict, get_type_hints, is_typeddict
@@ -105,9 +105,10 @@ class Output:
         path = self.write_to(Path(folder) / self.file, body)
         if self.tables:
             (Path(folder) / "tables").mkdir(exist_ok=True)
+            value = self.payload(body)
         for table in self.tables:
             write_text_atomic(Path(folder) / "tables" / f"{self.record}-{table.name}.csv",
-                              csv_text(table.rows(self.payload(body))))
+                              csv_text(table.rows(value)))
         return path
 
     def write_to(self, path: Path, body: Mapping[str, Any]) -> Path:
@@ -250,7 +251,7 @@ def _name(kind: Any) -> str:
 def describe(kind: Any) -> tuple[str, list[Any]]:
     """(the type in words, the TypedDicts it holds, to be described in turn)."""
     origin, args = get_origin(kind), get_args(kind)
-    if origin in (Required, NotRequired) or (origin is not None and _name(origin) == "Annotated"):
+    if origin in (Required, NotRequired, Annotated):  # FiniteFloat is an Annotated float
         return describe(args[0])
     if origin in (Union, UnionType):
         parts = [describe(a) for a in args if a is not type(None)]
@@ -268,7 +269,7 @@ def describe(kind: Any) -> tuple[str, list[Any]]:
     if kind is Any:
         return "any", []
     words = {float: "number", int: "integer", str: "text", bool: "true or false"}
-    return words.get(kind, _name(kind).lower().replace("finitefloat", "number")), []
+    return words.get(kind, _name(kind).lower()), []
 
 
 def _fields(kind: Any) -> list[tuple[str, str, bool, list[Any]]]:

@@ -159,12 +159,10 @@ def load_design(path: str | Path) -> DesignSpec:
     if not variables:
         raise SceneError(f"{where}.variables: the design varies nothing")
     parts = {}
-    typed: dict[str, dict] = {}
     for key, cls in (("constraints", Constraints), ("objective", Objective),
                      ("search", Search)):
         t = top.table(key, {})
         parts[key] = t.settings(cls)
-        typed[key] = t.data if isinstance(t.data, dict) else {}
         t.done()
     model_t = top.table("model", {})
     model = model_t.settings(ModelOptions, {"beam": "timoshenko", "shear": "hutchinson"},
@@ -177,7 +175,7 @@ def load_design(path: str | Path) -> DesignSpec:
                          "min_dynamic_stiffness_n_per_um): the lightest machine "
                          "without a frequency target is the smallest one the bounds allow")
     c, minimise = parts["constraints"], parts["objective"].minimise
-    if ("directions" in typed["constraints"] and not c.min_dynamic_stiffness
+    if ("directions" in raw.get("constraints", {}) and not c.min_dynamic_stiffness
             and minimise != "dynamic_stiffness"):
         raise SceneError(f"{where}.constraints.directions = {short(list(c.directions))}: "
                          "the directions of the dynamic stiffness, but the design asks for "

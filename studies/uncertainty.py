@@ -76,8 +76,7 @@ def case_uncertainty(scene, case, cache) -> UncertaintyRecord | Refused:
     return cast(UncertaintyRecord, value)  # the cache returns what `propagate` stored
 
 
-MODE_KEYS = ("mode", "nominal_hz", "mean_hz", "mean_error_hz", "std_hz", "std_error_hz",
-             "cv_percent", "q025_hz", "q025_error_hz", "q975_hz", "q975_error_hz")
+MODE_KEYS = tuple(results.UncertaintyMode.__annotations__)  # its record's fields
 
 
 class Refused(TypedDict):

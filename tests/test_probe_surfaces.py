@@ -308,16 +308,13 @@ def test_uncertainty_runs_again_into_its_own_output(capsys, tmp_path):
 
 
 def test_every_record_a_command_stages_marks_its_folder_as_an_output():
-    """A command that writes DIR/<record> can run again into DIR: each record staged at the
-    top of an output folder is one of runtime.outdir.OUTPUT_MARKERS."""
-    import re
-
+    """A command that writes DIR/<file> can run again into DIR: every declared output file
+    (results.outputs, the design's, the bench's) is one of runtime.outdir.OUTPUT_MARKERS."""
+    from pipeline.bench_records import BENCH
+    from results.outputs import OUTPUTS
     from runtime.outdir import OUTPUT_MARKERS
+    from studies.design import DESIGN
 
-    staged = set()
-    for path in [*ROOT.glob("rps/**/*.py"), *ROOT.glob("pipeline/*.py"),
-                 *ROOT.glob("reports/*.py")]:
-        staged |= set(re.findall(r'stage / "([\w.-]+\.json)"', path.read_text("utf-8")))
-        staged |= set(re.findall(r'^RECORD = "([\w.-]+\.json)"', path.read_text("utf-8"),
-                                 re.M))
-    assert staged and staged <= set(OUTPUT_MARKERS), staged - set(OUTPUT_MARKERS)
+    files = {o.file for o in (*OUTPUTS, DESIGN, BENCH) if o.file.endswith(".json")}
+    assert {"frf.json", "uncertainty.json", "verification.json"} <= files
+    assert files <= set(OUTPUT_MARKERS), files - set(OUTPUT_MARKERS)

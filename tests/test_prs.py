@@ -260,7 +260,7 @@ def test_scene_reads_a_prs_in_si():
     (dict(rail_angle_deg=5.0), "rail_angle_deg = 5.0: must be >= 20"),
     (dict(leg_length_mm=40.0), "leg_length_mm = 40 mm: the shortest leg is shorter than its "
      "diameter"),
-    (dict(base_joint="S", platform_joint="R"), "its revolute joint sits on the slider"),
+    (dict(base_joint="S", platform_joint="R"), r"it admits only \(R, S\)"),
     (dict(architecture="3-RRR"), "architecture = '3-RRR': expected one of 3-RPS, 3-PRS"),
 ])
 def test_scene_refuses_what_a_prs_cannot_be(change, message):

@@ -13,8 +13,6 @@ from runtime.places import path_argument
 from ..args import cache_dir, cache_option
 from .registry import Command
 
-RECORD = "verification.json"  # results.outputs.VERIFICATION.file
-
 if TYPE_CHECKING:  # results (and pydantic, an extra) only when the benchmarks run
     from results import FemVerification
 
@@ -65,9 +63,9 @@ def run(args: argparse.Namespace) -> int:
                                                              file=sys.stderr, flush=True))
     from results.outputs import VERIFICATION
 
-    with staged_output(args.out, keep=lambda name: name != RECORD) as stage:
+    with staged_output(args.out, keep=lambda name: name != VERIFICATION.file) as stage:
         VERIFICATION.write(stage, record)  # checked against its declaration
-    path = args.out / RECORD
+    path = args.out / VERIFICATION.file
     if args.json:  # the file's content, header included
         print(json.dumps(VERIFICATION.payload(record)))
     else:
