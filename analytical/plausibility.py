@@ -34,7 +34,7 @@ from common.leg_profile import MIN_PART_DIAMETERS, MIN_ROD_GAP
 from common.settings import MIN_PART
 from common.stiffness import MIN_SPRING
 
-from .architectures import leg_length_range, of
+from .architectures import height_reach, leg_length_range, of
 from .params import Manipulator
 from .platform import platform_mass
 from .pose_batch import pose_batch
@@ -70,8 +70,9 @@ RULES = (
     ("payload above the base", "the payload's centre above the base plane (z > 0) at every "
      f"pose of the level band ({BAND_HEIGHTS} heights, each level and at its largest tilt in "
      f"{BAND_AZIMUTHS} directions)"),
-    ("tool envelope", "the [tool]'s point_mm within the machine's reach of the platform "
-     "centre (its longest leg plus the platform's radius), above the base plane (z > 0) at "
+    ("tool envelope", "the [tool]'s point_mm within the machine's size of the platform "
+     "centre (the greatest height its platform joints reach, or its longest leg, plus the "
+     "platform's radius), above the base plane (z > 0) at "
      "every case, and above it at some pose of the level band; where it passes below the base "
      "plane at some poses of the band the scene runs with a warning (a ring-shaped base may "
      "clear it)"),
@@ -130,9 +131,10 @@ def check_tool(m: Manipulator, point, poses=()) -> tuple[str, ...]:
 
 
 def tool_reach(m: Manipulator) -> float:
-    """How far a tool point may lie from the platform centre (m): the machine's own length,
-    its longest leg and the platform's radius."""
-    return leg_length_range(m)[1] + m.platform_radius
+    """How far a tool point may lie from the platform centre (m): the machine's own size, the
+    greatest height its platform joints reach (a 3-RPS: its longest leg; a 3-PRS: the top of
+    its rails plus a link) and the platform's radius."""
+    return max(height_reach(m), leg_length_range(m)[1]) + m.platform_radius
 
 
 @lru_cache(maxsize=64)
@@ -144,8 +146,8 @@ def _tool_checked(m: Manipulator, point: tuple[float, float, float],
     if distance > reach:
         raise InputError(
             f"tool.point_mm = {shown}: {distance * 1e3:.6g} mm from the platform centre, "
-            f"beyond the machine's reach (its longest leg and the platform's radius: at most "
-            f"{reach * 1e3:.6g} mm, rule 'tool envelope')")
+            f"beyond the machine's reach (the highest its platform joints go, plus the "
+            f"platform's radius: at most {reach * 1e3:.6g} mm, rule 'tool envelope')")
     try:
         low = level_band(m).low
     except WorkspaceError:  # no level pose: the run's own workspace check names the limit
