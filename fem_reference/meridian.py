@@ -247,20 +247,55 @@ def harmonic_stiffness(radius: float, length: float, size: float, lam: float, mu
     return meridian_stiffness(_meridian(radius, length, size, inner).basis, lam, mu, n)
 
 
-def meridian_stiffness(basis: Basis, lam: float, mu: float, n: int) -> sp.csr_matrix:
-    """K_n = w_n int B^T D B r dr dz of harmonic n on any meridian (a P2 basis on a mesh of
-    r >= 0, x = r, y = z): dofs 3 s + c, c = (r, t, z); w_0 = 2 pi, w_n = pi."""
-    values, grads, r, w = _element_arrays(basis)
+def _elasticity(lam: float, mu: float) -> np.ndarray:
     d = np.zeros((6, 6))
     d[:3, :3] = lam
     d[[0, 1, 2], [0, 1, 2]] += 2 * mu
     d[[3, 4, 5], [3, 4, 5]] = mu
+    return d
+
+
+def _vector_dofs(basis: Basis) -> np.ndarray:
+    nodes = basis.element_dofs  # (6, ne) scalar nodes -> (18, ne) dofs 3 s + c, node-major
+    return (3 * nodes[:, None, :] + np.arange(3)[None, :, None]).reshape(-1, nodes.shape[1])
+
+
+def meridian_stiffness(basis: Basis, lam: float, mu: float, n: int) -> sp.csr_matrix:
+    """K_n = w_n int B^T D B r dr dz of harmonic n on any meridian (a P2 basis on a mesh of
+    r >= 0, x = r, y = z): dofs 3 s + c, c = (r, t, z); w_0 = 2 pi, w_n = pi."""
+    values, grads, r, w = _element_arrays(basis)
     b = _strain_operator(values, grads, r, n)
     weight = 2 * math.pi if n == 0 else math.pi
-    ke = weight * np.einsum("eqsa,st,eqtb,eq->eab", b, d, b, w, optimize=True)
-    nodes = basis.element_dofs  # (6, ne) scalar nodes -> (18, ne) dofs 3 s + c, node-major
-    dofs = (3 * nodes[:, None, :] + np.arange(3)[None, :, None]).reshape(-1, nodes.shape[1])
-    return _sparse(dofs, ke, 3 * basis.N)
+    ke = weight * np.einsum("eqsa,st,eqtb,eq->eab", b, _elasticity(lam, mu), b, w,
+                            optimize=True)
+    return _sparse(_vector_dofs(basis), ke, 3 * basis.N)
+
+
+def meridian_stiffness_terms(basis: Basis, lam: float, mu: float, n: int
+                             ) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix]:
+    """(K_a, K_b, K_c) of harmonic n such that the meridian stretched along its axis by sigma
+    (z -> sigma z, its nodes moved with it) has K_n(sigma) = sigma K_a + K_b + K_c / sigma
+    exactly, and M(sigma) = sigma M (`meridian_mass`). The strains split into B_a, the terms
+    without a z-derivative (rr, tt, rt, and the u / r and d/dr terms of tz and rz), and B_z,
+    the terms with one, which the stretch divides by sigma; the volume r dr dz is multiplied by
+    sigma. K_a = int B_a^T D B_a, K_b the two cross terms, K_c = int B_z^T D B_z, each with
+    w_n as `meridian_stiffness`: their sum is K_n at sigma = 1."""
+    values, grads, r, w = _element_arrays(basis)
+    across = grads.copy()
+    across[:, 1] = 0.0  # d/dz removed: the strains that do not scale with the stretch
+    b_a = _strain_operator(values, across, r, n)
+    b_z = _strain_operator(values, grads, r, n) - b_a  # linear in the gradients
+    weight = 2 * math.pi if n == 0 else math.pi
+    d = _elasticity(lam, mu)
+    dofs, size = _vector_dofs(basis), 3 * basis.N
+
+    def term(left, right):
+        return _sparse(dofs, weight * np.einsum("eqsa,st,eqtb,eq->eab", left, d, right, w,
+                                                optimize=True), size)
+
+    cross = weight * np.einsum("eqsa,st,eqtb,eq->eab", b_a, d, b_z, w, optimize=True)
+    return (term(b_a, b_a), _sparse(dofs, cross + np.swapaxes(cross, 1, 2), size),
+            term(b_z, b_z))
 
 
 @functools.lru_cache(maxsize=64)
@@ -396,11 +431,16 @@ def estimate_raw_dofs(assembly, size: float, harmonics=(0, 1)) -> int:
     """Raw harmonic dofs of the legs' parts of `assembly` (meshing.bodies.Assembly: its
     cylinders and tubes), estimated before meshing (the DOF guard's number,
     guard.check_mesh_size)."""
-    nodes = 0.0
-    for c in assembly.cylinders:
-        wall = c.radius - c.inner_radius
-        h = part_size(size, c.radius, c.inner_radius)
-        corners = 2.0 if c.inner_radius > 0 else 1.0
-        nodes += (NODES_PER_AREA * wall * c.length / h**2
-                  + corners * NODES_PER_CORNER * (wall / h) ** 2 + NODES_MIN)
+    nodes = sum(estimate_nodes(c.radius, c.length, size, c.inner_radius)
+                for c in assembly.cylinders)
     return int(3 * len(families(harmonics)) * nodes)
+
+
+def estimate_nodes(radius: float, length: float, size: float, inner: float = 0.0) -> float:
+    """P2 nodes of one part's graded meridian, estimated before meshing (the fit above; `size`
+    the global one, the part's own from `part_size`)."""
+    wall = radius - inner
+    h = part_size(size, radius, inner)
+    corners = 2.0 if inner > 0 else 1.0
+    return (NODES_PER_AREA * wall * length / h**2 + corners * NODES_PER_CORNER * (wall / h) ** 2
+            + NODES_MIN)

@@ -5,8 +5,10 @@
     part = leg_part(D, d, L, s, E, G, rho, (coupling, coupling))   # joint_ends.PartModel
 
 An end zone (`joint_ends = "solid"`) is the leg next to a coupled face, 12 x 12; a part
-(`legs = "solid"`) is a whole housing, rod or uniform leg on its s + 1 section nodes
-(`leg_part`, from the harmonic meridian of the FEM's legs, built in the process).
+(`legs = "solid"`) is a whole housing, rod or uniform leg on its s + 1 section nodes, from the
+harmonic meridian of the FEM's legs: a part of one length (`leg_part`), or a part whose length
+follows the pose as pieces of its stroke (`part_piece`: K and M interpolated in the length,
+built once per piece and cached on disk like the zones).
 
 The zone is built by `joint_ends.zone` (gmsh + scikit-fem, the FEM reference's machinery), once
 per content: the matrices are cached on disk (`joint_ends.cache`, in `joint_ends/` under the
@@ -18,11 +20,14 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from .leg_part import PartMesh, PartModel
+import numpy as np
+
+from .leg_part import PartMesh, PartModel, PartPiece
 from .superelement import EndZone
 from .zone import COUPLINGS, ZoneMesh
 
-__all__ = ["COUPLINGS", "EndZone", "PartMesh", "PartModel", "ZoneMesh", "end_zone", "leg_part"]
+__all__ = ["COUPLINGS", "EndZone", "PartMesh", "PartModel", "PartPiece", "ZoneMesh", "end_zone",
+           "leg_part", "missing_pieces", "part_piece"]
 
 
 def end_zone(diameter: float, length: float, youngs_modulus: float, shear_modulus: float,
@@ -51,22 +56,61 @@ def _memo(diameter, length, youngs_modulus, shear_modulus, density, coupling, me
 
 def leg_part(outer: float, inner: float, length: float, stations: int, youngs_modulus: float,
              shear_modulus: float, density: float, couplings: tuple[str, str],
-             mesh: PartMesh = PartMesh()) -> PartModel:
-    """A whole leg part condensed onto `stations` + 1 section nodes (`leg_part.build_part`),
-    remembered in this process (a part of fixed length is built once; a rod is built for each
-    leg length it takes). SI units; `inner` 0 for a solid part."""
+             mesh: PartMesh = PartMesh(), cache_dir=None) -> PartModel:
+    """A whole leg part of one length condensed onto `stations` + 1 section nodes
+    (`leg_part.build_part`; a housing, the same in every pose), cached on disk and remembered
+    in this process. SI units; `inner` 0 for a solid part."""
     return _part_memo(float(outer), float(inner), round(float(length), 12), int(stations),
                       float(youngs_modulus), float(shear_modulus), float(density),
-                      tuple(couplings), mesh)
+                      tuple(couplings), mesh, None if cache_dir is None else str(cache_dir))
 
 
-@lru_cache(maxsize=256)  # a batch of 64 poses takes 192 rods; the housing stays
+@lru_cache(maxsize=32)
 def _part_memo(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
-               couplings, mesh):
-    from .leg_part import build_part
+               couplings, mesh, cache_dir):
+    from .cache import cached_part, default_dir
 
-    model = build_part(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
-                       couplings, mesh)
+    model = cached_part(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
+                        couplings, mesh, default_dir(cache_dir))
     model.stiffness.setflags(write=False)
     model.mass.setflags(write=False)
     return model
+
+
+def part_piece(outer: float, inner: float, piece: int, stations: int, youngs_modulus: float,
+               shear_modulus: float, density: float, couplings: tuple[str, str],
+               mesh: PartMesh = PartMesh(), cache_dir=None) -> PartPiece:
+    """A leg part over grid piece `piece` of the lengths it takes (`leg_part.build_piece`:
+    its condensed K and M interpolated in the length), cached on disk and remembered in this
+    process."""
+    return _piece_memo(float(outer), float(inner), int(piece), int(stations),
+                       float(youngs_modulus), float(shear_modulus), float(density),
+                       tuple(couplings), mesh, None if cache_dir is None else str(cache_dir))
+
+
+@lru_cache(maxsize=256)
+def _piece_memo(outer, inner, piece, stations, youngs_modulus, shear_modulus, density,
+                couplings, mesh, cache_dir):
+    from .cache import cached_piece, default_dir
+
+    made = cached_piece(outer, inner, piece, stations, youngs_modulus, shear_modulus, density,
+                        couplings, mesh, default_dir(cache_dir))
+    made.stiffness.setflags(write=False)
+    made.mass.setflags(write=False)
+    return made
+
+
+def missing_pieces(outer: float, inner: float, pieces, stations: int, youngs_modulus: float,
+                   shear_modulus: float, density: float, couplings: tuple[str, str],
+                   mesh: PartMesh = PartMesh(), cache_dir=None) -> tuple[list[int], float]:
+    """(the grid pieces of `pieces` neither in this process nor on disk, about how many seconds
+    building them takes: `leg_part.piece_seconds`)."""
+    from .cache import default_dir, part_entry_exists, part_inputs
+    from .leg_part import piece_seconds
+
+    directory = default_dir(cache_dir)
+    missing = [int(k) for k in np.unique(np.asarray(pieces, int))
+               if not part_entry_exists(part_inputs(outer, inner, stations, youngs_modulus,
+                                                    shear_modulus, density, couplings, mesh,
+                                                    piece=int(k)), directory)]
+    return missing, sum(piece_seconds(outer, inner, k, mesh) for k in missing)

@@ -78,10 +78,57 @@ def build_part(outer: float, inner: float, length: float, stations: int,
     """Mesh, assemble and condense one leg part onto `stations` + 1 section nodes (module
     doc). SI units; `inner` 0 for a solid part; `couplings` ties the face at x = 0 and the one
     at x = L."""
-    import scipy.sparse.linalg as sla
+    system = _part_system(outer, inner, length, stations, youngs_modulus, shear_modulus,
+                          density, couplings, mesh)
+    k, m = system.condensed(1.0)
+    return PartModel(k, m, float(length), system.raw_dofs)
 
+
+@dataclass(frozen=True)
+class _PartSystem:
+    """A part's harmonic solid on one meridian mesh, stretchable along its axis: K(sigma) =
+    sigma K_a + K_b + K_c / sigma and M(sigma) = sigma M (`meridian_stiffness_terms`), with
+    its ties C_u u = C_a a, which the stretch leaves alone (they weigh the faces and sections
+    in r only)."""
+
+    terms: tuple  # (K_a, K_b, K_c), sparse, harmonics (0c, 1c, 1s)
+    mass: object  # sparse M at sigma = 1
+    c_u: object
+    c_a: object
+
+    @property
+    def raw_dofs(self) -> int:
+        return self.mass.shape[0]
+
+    def condensed(self, sigma: float) -> tuple[np.ndarray, np.ndarray]:
+        """Guyan K and M of the part stretched by `sigma`, on its 6 (s + 1) masters."""
+        import scipy.sparse.linalg as sla
+
+        k_a, k_b, k_c = self.terms
+        k = (sigma * k_a + k_b + k_c / sigma).tocsc()
+        # Guyan constraint modes: Psi minimises the strain energy subject to C_u u = C_a a for
+        # each unit master motion a, [[K, C_u^T], [C_u, 0]] [Psi; Lambda] = [0; C_a]. The
+        # constraint rows are scaled to the stiffness (the multipliers' units): the saddle
+        # point is then balanced and the rigid-body modes come out to round-off, not to 1e-6.
+        diagonal = k.diagonal()
+        scale = float(np.median(np.abs(diagonal[diagonal != 0.0])))
+        saddle = sp.bmat([[k, scale * self.c_u.T], [scale * self.c_u, None]], format="csc")
+        rhs = np.vstack([np.zeros((k.shape[0], self.c_a.shape[1])),
+                         scale * self.c_a.toarray()])
+        psi = sla.splu(saddle).solve(rhs)[:k.shape[0]]
+        k_red, m_red = psi.T @ (k @ psi), sigma * (psi.T @ (self.mass @ psi))
+        return 0.5 * (k_red + k_red.T), 0.5 * (m_red + m_red.T)
+
+
+def _part_system(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
+                 couplings, mesh: PartMesh) -> _PartSystem:
     from fem_reference.assembly import lame
-    from fem_reference.meridian import meridian, meridian_mass, meridian_stiffness, part_size
+    from fem_reference.meridian import (
+        meridian,
+        meridian_mass,
+        meridian_stiffness_terms,
+        part_size,
+    )
 
     from .zone import Solid
 
@@ -97,23 +144,102 @@ def build_part(outer: float, inner: float, length: float, stations: int,
     sections = tuple(float(length) * k / stations for k in range(1, stations))
     part = meridian(radius, float(length), part_size(mesh.size * radius, radius, bore), bore,
                     sections)
-    k_n = {n: meridian_stiffness(part.basis, lam, mu, n) for n in (0, 1)}
+    per_n = {n: meridian_stiffness_terms(part.basis, lam, mu, n) for n in (0, 1)}
+    terms = tuple(sp.block_diag([per_n[0][j], per_n[1][j], per_n[1][j]], format="csc")
+                  for j in range(3))
     unit = meridian_mass(part.basis)
-    k = sp.block_diag([k_n[0], k_n[1], k_n[1]], format="csc")
     m = density * sp.block_diag([2.0 * unit, unit, unit], format="csc")
-    # Guyan constraint modes: Psi minimises the strain energy subject to C_u u = C_a a for each
-    # unit master motion a, [[K, C_u^T], [C_u, 0]] [Psi; Lambda] = [0; C_a]. The constraint
-    # rows are scaled to the stiffness (the multipliers' units): the saddle point is then
-    # balanced and the rigid-body modes come out to round-off, not to 1e-6.
     c_u, c_a = _constraints(part, couplings, stations)
-    diagonal = k.diagonal()
-    scale = float(np.median(np.abs(diagonal[diagonal != 0.0])))
-    saddle = sp.bmat([[k, scale * c_u.T], [scale * c_u, None]], format="csc")
-    rhs = np.vstack([np.zeros((k.shape[0], c_a.shape[1])), scale * c_a.toarray()])
-    psi = sla.splu(saddle).solve(rhs)[:k.shape[0]]
-    k_red, m_red = psi.T @ (k @ psi), psi.T @ (m @ psi)
-    return PartModel(0.5 * (k_red + k_red.T), 0.5 * (m_red + m_red.T), float(length),
-                     k.shape[0])
+    return _PartSystem(terms, m, c_u.tocsc(), c_a)
+
+
+# A piece of a part's stroke: the part meshed once at the geometric middle of [lo, hi] and
+# stretched to every length in it (its matrices exact in the stretch, `_PartSystem`), its
+# condensed K and M interpolated in the length on PIECE_NODES Chebyshev points. Pieces are
+# a fixed geometric grid of ratio PIECE_RATIO from PIECE_ANCHOR, so a piece is the same for
+# every machine with that part (a cache entry names the part, not the machine). The ratio is
+# the stretch the mesh takes: at 1.25 (sigma within 0.89-1.12 of the meshed length) the
+# frequencies of a stretched part are those of a fresh mesh to the mesh's own error (measured
+# in joint_ends/README.md, "Solid legs over the stroke").
+PIECE_RATIO = 1.25
+PIECE_ANCHOR = 1e-3  # m
+PIECE_NODES = 12
+PIECE_TAIL = 1e-9  # largest last-two-coefficients size, relative to the matrices', accepted
+
+
+def piece_index(length) -> np.ndarray:
+    """The grid piece holding each length (`PIECE_RATIO`)."""
+    return np.floor(np.log(np.asarray(length, float) / PIECE_ANCHOR)
+                    / math.log(PIECE_RATIO)).astype(int)
+
+
+def piece_bounds(index: int) -> tuple[float, float]:
+    lo = PIECE_ANCHOR * PIECE_RATIO ** int(index)
+    return lo, lo * PIECE_RATIO
+
+
+# One condensation of a part (the saddle point's sparse LU and its 6 (s + 1) solves), seconds a
+# raw dof: measured 1.7e-5 on one core of the development machine (AMD EPYC; pieces of 3.7-12k
+# raw dofs, s = 5-8, 0.6-2.1 s each); said with a margin, as an estimate before a build.
+SECONDS_PER_RAW_DOF = 2.5e-5
+
+
+def piece_seconds(outer: float, inner: float, index: int, mesh: PartMesh = PartMesh()
+                  ) -> float:
+    """About how long `build_piece` takes for grid piece `index` of this part (its raw dofs
+    estimated before meshing, `fem_reference.meridian.estimate_nodes`)."""
+    from fem_reference.meridian import estimate_nodes
+
+    lo, hi = piece_bounds(index)
+    radius = outer / 2.0
+    nodes = estimate_nodes(radius, math.sqrt(lo * hi), mesh.size * radius, inner / 2.0)
+    return PIECE_NODES * SECONDS_PER_RAW_DOF * 9.0 * nodes  # 3 components x (0c, 1c, 1s)
+
+
+@dataclass(frozen=True)
+class PartPiece:
+    """A part's condensed K and M over the lengths [lo, hi]: Chebyshev coefficients in
+    x = (2 L - lo - hi) / (hi - lo), T_0 first."""
+
+    lo: float
+    hi: float
+    stiffness: np.ndarray  # (PIECE_NODES, 6 (s + 1), 6 (s + 1))
+    mass: np.ndarray
+    tail: float  # the last two coefficients' size relative to the matrices': the error estimate
+    raw_dofs: int
+
+    def at(self, lengths) -> tuple[np.ndarray, np.ndarray]:
+        """K and M (*lengths.shape, d, d) at lengths within [lo, hi]."""
+        lengths = np.asarray(lengths, float)
+        x = (2.0 * lengths - self.lo - self.hi) / (self.hi - self.lo)
+        if np.any(np.abs(x) > 1.0 + 1e-9):
+            raise ValueError(f"lengths {lengths.min():.9g}-{lengths.max():.9g} m outside the "
+                             f"piece [{self.lo:.9g}, {self.hi:.9g}] m")
+        t = np.polynomial.chebyshev.chebvander(np.clip(x, -1.0, 1.0).ravel(),
+                                               len(self.stiffness) - 1).reshape(*x.shape, -1)
+        return (np.tensordot(t, self.stiffness, axes=1), np.tensordot(t, self.mass, axes=1))
+
+
+def build_piece(outer: float, inner: float, index: int, stations: int, youngs_modulus: float,
+                shear_modulus: float, density: float, couplings: tuple[str, str],
+                mesh: PartMesh = PartMesh()) -> PartPiece:
+    """The part over grid piece `index` (`piece_bounds`): meshed at the piece's geometric
+    middle, condensed at PIECE_NODES Chebyshev lengths, interpolated (`PartPiece`)."""
+    lo, hi = piece_bounds(index)
+    middle = math.sqrt(lo * hi)
+    system = _part_system(outer, inner, middle, stations, youngs_modulus, shear_modulus,
+                          density, couplings, mesh)
+    x = np.polynomial.chebyshev.chebpts1(PIECE_NODES)
+    lengths = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x
+    values = [system.condensed(length / middle) for length in lengths]
+    out = []
+    for which in (0, 1):
+        stacked = np.stack([v[which] for v in values])  # (p, d, d)
+        coefficients = np.polynomial.chebyshev.chebfit(x, stacked.reshape(len(x), -1),
+                                                       PIECE_NODES - 1)
+        out.append(coefficients.reshape(stacked.shape))
+    tail = max(float(np.abs(c[-2:]).max() / np.abs(c[0]).max()) for c in out)
+    return PartPiece(lo, hi, out[0], out[1], tail, system.raw_dofs)
 
 
 def _constraints(part, couplings, stations: int):
