@@ -128,20 +128,6 @@ def leg_map_basis(layout: LegLayout, leg: int, base_joint: str, platform_joint: 
     return affine
 
 
-def batch_layout(manipulator: Manipulator, options: ModelOptions, base_joint: str,
-                 platform_joint: str) -> LegLayout:
-    """The legs' layout of the batched model: as the per-pose model's, but with solid legs
-    each part's interior stations reduced to its modes (`part_reduction`), which a map needs
-    and its shapes do not: the same frequencies within 2e-5 on a third of the coordinates."""
-    return leg_layout(manipulator, options, base_joint, platform_joint, reduced=True)
-
-
-def batch_coordinates(manipulator: Manipulator, options: ModelOptions) -> int:
-    """The batched model's coordinates (its most modes) for this machine and options."""
-    return coordinate_count(batch_layout(manipulator, options, manipulator.base_joint,
-                                         manipulator.platform_joint))
-
-
 @dataclass(frozen=True)
 class AssemblyPlan:
     """What does not change from pose to pose: per leg its map basis and, per segment, the
@@ -203,8 +189,8 @@ def machine_parts(manipulator: Manipulator, poses: PoseBatch, options: ModelOpti
     """The parts of one machine at every pose of `poses`."""
     n = len(poses)
     segments = leg_segments(manipulator, options, zone_for(manipulator, options),
-                            poses.leg_lengths.T, reduced=True)
-    solid = tuple(part_blocks(manipulator, options, poses.leg_lengths.T, reduced=True))
+                            poses.leg_lengths.T)
+    solid = tuple(part_blocks(manipulator, options, poses.leg_lengths.T))
     joints = (Joint.at(poses.base_joint, np.zeros(3), np.zeros(3), "base"),
               Joint.at(poses.platform_joint, np.zeros(3), np.zeros(3), "platform"))
     springs = tuple(
@@ -241,7 +227,7 @@ def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOpt
     `machine_parts` or `stack_parts`) gives the machine's own matrices per pose (default:
     `manipulator`'s at every pose).
     """
-    layout = batch_layout(manipulator, options, poses.base_joint, poses.platform_joint)
+    layout = leg_layout(manipulator, options, poses.base_joint, poses.platform_joint)
     s = layout.segments  # elements, end zones with solid joint ends, the drive's
     if plan is None or plan.layout != layout:
         plan = assembly_plan(layout)

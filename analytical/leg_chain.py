@@ -24,7 +24,6 @@ import numpy as np
 from .beam import Section, frame_element
 from .end_zones import MIN_MIDDLE, JointEndsUnavailable
 from .params import Manipulator, ModelOptions
-from .part_reduction import reduced_stations
 
 if TYPE_CHECKING:
     from joint_ends import EndZone
@@ -52,11 +51,8 @@ class LegChain:
         return None
 
 
-def leg_chain(manipulator: Manipulator, options: ModelOptions, reduced: bool = False
-              ) -> LegChain:
-    """The segments of every leg of this machine with these options (the module doc);
-    `reduced`, solid parts with their interior stations reduced to modes
-    (`part_reduction.reduced_stations`: the batched model's)."""
+def leg_chain(manipulator: Manipulator, options: ModelOptions) -> LegChain:
+    """The segments of every leg of this machine with these options (the module doc)."""
     solid = options.joint_ends == "solid" and options.legs == "beam"
     element = "solid" if options.legs == "solid" else "element"
     drive = manipulator.stiffness.actuator_axial > 0.0
@@ -69,10 +65,7 @@ def leg_chain(manipulator: Manipulator, options: ModelOptions, reduced: bool = F
             kinds.append(("drive",))
         if solid:
             kinds.append(("zone", p, "start"))
-        count = options.elements
-        if reduced and element == "solid":
-            count = reduced_stations(count)
-        kinds.extend((element, p) for _ in range(count))
+        kinds.extend((element, p) for _ in range(options.elements))
         if solid:
             kinds.append(("zone", p, "end"))
     return LegChain(tuple(kinds))
@@ -136,14 +129,13 @@ def leg_stations(manipulator: Manipulator, options: ModelOptions, zones, lengths
 
 
 def leg_segments(manipulator: Manipulator, options: ModelOptions,
-                 zones: dict[str, EndZone] | None, lengths, reduced: bool = False
-                 ) -> np.ndarray:
+                 zones: dict[str, EndZone] | None, lengths) -> np.ndarray:
     """Stiffness and mass of every segment of legs of the given lengths, limb frame:
     (segments, 2, *lengths.shape, 12, 12), [K, M] per segment (Eq. 4 for the frame elements of
     each part's section, the condensed zones at its coupled faces, zeros for the drive)."""
     lengths = np.asarray(lengths, float)
     mat = manipulator.material
-    chain = leg_chain(manipulator, options, reduced)
+    chain = leg_chain(manipulator, options)
     s = options.elements
     elements, zone_blocks = [], []
     for start, end, part in part_bounds(manipulator, lengths):

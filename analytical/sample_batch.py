@@ -17,16 +17,10 @@ import numpy as np
 
 from common.errors import InputError
 
-from .batch_model import (
-    BatchModel,
-    assemble_batch,
-    assembly_plan,
-    batch_layout,
-    machine_parts,
-    stack_parts,
-)
+from .batch_model import BatchModel, assemble_batch, assembly_plan, machine_parts, stack_parts
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import PoseBatch, pose_batch
+from .substructure import leg_layout
 
 KINEMATIC_FREE = ("material", "stiffness", "payload")  # tables that never move the kinematics
 
@@ -66,7 +60,7 @@ def assemble_samples(machines: Sequence[Manipulator], poses: PoseBatch,
     own parts (`batch_model.machine_parts`) at its pose, stacked, then one assembly."""
     if not machines:
         raise InputError("no samples to assemble")
-    layouts = [batch_layout(m, options, poses.base_joint, poses.platform_joint) for m in machines]
+    layouts = [leg_layout(m, options, poses.base_joint, poses.platform_joint) for m in machines]
     if any(layout != layouts[0] for layout in layouts[1:]):
         raise InputError("the samples' models have different coordinates (an input changes "
                          "the leg's layout); sample one layout at a time")

@@ -20,7 +20,6 @@ Only plain arrays cross here: `joint_ends` is imported lazily, as for the end zo
 """
 from __future__ import annotations
 
-import functools
 import sys
 
 import numpy as np
@@ -29,44 +28,35 @@ from .architectures import leg_length_range
 from .end_zones import JointEndsUnavailable
 from .leg_chain import leg_chain, part_bounds
 from .params import Manipulator, ModelOptions
-from .part_reduction import interior_modes, reduce_part, reduced_stations
 
 ANNOUNCE_SECONDS = 1.0  # a build estimated longer than this is said on stderr before it starts
 
 
-def part_blocks(manipulator: Manipulator, options: ModelOptions, lengths,
-                reduced: bool = False) -> list[tuple[int, np.ndarray]]:
-    """[(first node, (2, *lengths.shape, d, d))]: K and M of every part of legs of the given
-    lengths in the limb frame, with `legs = "solid"` ([] otherwise): on its s + 1 stations
-    (d = 6 (s + 1)), or `reduced` to its end nodes and its modes (`part_reduction`: the
-    batched model's)."""
+def part_blocks(manipulator: Manipulator, options: ModelOptions, lengths
+                ) -> list[tuple[int, np.ndarray]]:
+    """[(first node, (2, *lengths.shape, 6 (s + 1), 6 (s + 1)))]: K and M of every part of
+    legs of the given lengths in the limb frame, with `legs = "solid"` ([] otherwise)."""
     if options.legs != "solid":
         return []
     joint_ends = _joint_ends()
     lengths = np.asarray(lengths, float)
-    kinds = leg_chain(manipulator, options, reduced).kinds
+    kinds = leg_chain(manipulator, options).kinds
     bounds = part_bounds(manipulator, lengths)
     spans = [np.broadcast_to(end - start, lengths.shape) for start, end, _ in bounds]
     _announce(manipulator, options, bounds, spans, joint_ends)
-    modes = _modes(options.elements) if reduced else 0
+    d = 6 * (options.elements + 1)
     out = []
     for p, ((_, _, part), span) in enumerate(zip(bounds, spans)):
         args = _part_args(manipulator, options, part)
-        d = 12 + modes if modes else 6 * (options.elements + 1)
         block = np.empty((2, *lengths.shape, d, d))
         fixed = _fixed_length(manipulator, p)
         if fixed is not None:  # one length in every pose: one condensation
             model = joint_ends.leg_part(part.outer, part.inner, fixed, *args)
-            k, m = model.stiffness, model.mass
-            if modes:
-                k, m = reduce_part(k, m, interior_modes(k, m, modes))
-            block[0], block[1] = k, m
+            block[0], block[1] = model.stiffness, model.mass
         else:
             pieces = _pieces(span)
             for piece in np.unique(pieces):
                 made = joint_ends.part_piece(part.outer, part.inner, int(piece), *args)
-                if modes:
-                    made = _reduced_piece(part.outer, part.inner, int(piece), args, modes)
                 where = pieces == piece
                 block[0][where], block[1][where] = made.at(span[where])
         out.append((kinds.index(("solid", p)), block))
@@ -82,35 +72,6 @@ def _fixed_length(manipulator: Manipulator, part: int) -> float | None:
     start, end, _ = part_bounds(manipulator, np.array([shortest, longest]))[part]
     span = end - start
     return float(span[0]) if span[0] == span[1] else None
-
-
-def _modes(stations: int) -> int:
-    """Modal coordinates of a reduced part of `stations` segments (0: none reduced, the part
-    has no more interior coordinates than that)."""
-    kept = reduced_stations(stations)
-    return 6 * (kept - 1) if kept < stations else 0
-
-
-@functools.lru_cache(maxsize=256)
-def _reduced_piece(outer, inner, piece, args, modes):
-    """A piece of a part's stroke reduced (`part_reduction`: the modes of its middle length,
-    the static modes of each length), interpolated again on the piece's Chebyshev points."""
-    from dataclasses import replace
-
-    import joint_ends
-
-    made = joint_ends.part_piece(outer, inner, piece, *args)
-    middle = float(np.sqrt(made.lo * made.hi))
-    phi = interior_modes(*made.at(middle), modes)
-    nodes = len(made.stiffness)
-    x = np.polynomial.chebyshev.chebpts1(nodes)
-    k, m = reduce_part(*made.at(0.5 * (made.lo + made.hi) + 0.5 * (made.hi - made.lo) * x),
-                       phi)
-    fitted = [np.polynomial.chebyshev.chebfit(x, v.reshape(nodes, -1), nodes - 1).reshape(
-        v.shape) for v in (k, m)]
-    for c in fitted:
-        c.setflags(write=False)
-    return replace(made, stiffness=fitted[0], mass=fitted[1])
 
 
 def _joint_ends():

@@ -133,11 +133,10 @@ class LegLayout:
 
 
 def leg_layout(manipulator: Manipulator, options: ModelOptions, base_joint: str | None = None,
-               platform_joint: str | None = None, reduced: bool = False) -> LegLayout:
+               platform_joint: str | None = None) -> LegLayout:
     """The layout of every leg of this machine with these options (the joints default to the
-    manipulator's); `reduced`: the batched model's, solid parts reduced to modes
-    (`part_reduction`)."""
-    chain = leg_chain(manipulator, options, reduced)
+    manipulator's)."""
+    chain = leg_chain(manipulator, options)
     k = manipulator.stiffness
     joints = []
     for end, kind in (("base", base_joint or manipulator.base_joint),
