@@ -40,7 +40,7 @@ from .leg_chain import leg_segments
 from .modal import ModalError
 from .params import Manipulator, ModelOptions
 from .platform import platform_mass_matrix
-from .pose_batch import PoseBatch
+from .pose_batch import PoseBatch, pose_batch
 from .solid_legs import part_blocks
 from .substructure import (
     LegLayout,
@@ -128,6 +128,76 @@ def leg_map_basis(layout: LegLayout, leg: int, base_joint: str, platform_joint: 
     return affine
 
 
+# The batched model's solid legs (`part_reduction`): each part's interior reduced to the fewest
+# of these modal coordinates that keep f1..f_CHECK_MODES (or the run's modes, if more) within
+# REDUCTION_TARGET of every station kept, at the machine's CHECK poses: a tenth of issue 51's
+# 1e-4, for the poses between them. None meeting it: every station kept.
+MODE_COUNTS = (12, 18, 24, 30, 36)
+REDUCTION_TARGET = 1e-5
+CHECK_MODES = 10
+
+
+@dataclass(frozen=True)
+class LegReduction:
+    """How the batched model reduces one machine's solid legs, and what it costs."""
+
+    modes: int  # modal coordinates a part (0: every station kept)
+    error: float  # largest |f_reduced / f_kept - 1| over the checked modes and poses
+    poses: int  # poses checked (the level band's ends and middle, level and at full tilt)
+    coordinates: tuple[int, int]  # n a pose: every station kept, reduced
+
+
+def batch_layout(manipulator: Manipulator, options: ModelOptions, base_joint: str,
+                 platform_joint: str) -> LegLayout:
+    """The legs' layout of the batched model: the per-pose model's, with solid legs reduced
+    (`leg_reduction`)."""
+    return leg_layout(manipulator, options, base_joint, platform_joint,
+                      leg_reduction(manipulator, options).modes)
+
+
+def batch_coordinates(manipulator: Manipulator, options: ModelOptions) -> int:
+    """The batched model's coordinates (its most modes) for this machine and options."""
+    return coordinate_count(batch_layout(manipulator, options, manipulator.base_joint,
+                                         manipulator.platform_joint))
+
+
+@functools.lru_cache(maxsize=32)
+def leg_reduction(manipulator: Manipulator, options: ModelOptions) -> LegReduction:
+    """The solid legs' reduction for this machine (module constants above; remembered per
+    process): the fewest modal coordinates whose frequencies at the check poses are within
+    REDUCTION_TARGET of the model with every station kept."""
+    from .reach import WorkspaceError, level_band, regular_radii
+
+    def size(modes):
+        return coordinate_count(leg_layout(manipulator, options, manipulator.base_joint,
+                                           manipulator.platform_joint, modes))
+
+    kept = size(0)
+    counts = [c for c in MODE_COUNTS if c < 6 * (options.elements - 1)]
+    if options.legs != "solid" or not counts:
+        return LegReduction(0, 0.0, 0, (kept, kept))
+    try:
+        band = level_band(manipulator)
+    except WorkspaceError:  # no level pose: nothing to check against, nothing reduced
+        return LegReduction(0, 0.0, 0, (kept, kept))
+    heights = np.repeat(np.linspace(band.low, band.high, 3), 3)
+    tilts = 0.98 * np.repeat(regular_radii(manipulator, np.linspace(band.low, band.high, 3)),
+                             3) * np.tile([0.0, 1.0, 1.0], 3)
+    azimuths = np.tile([0.0, 0.0, math.pi], 3)
+    poses = pose_batch(manipulator, heights, azimuths, tilts)
+    poses = poses.take(np.flatnonzero(poses.feasible))
+    count = min(max(CHECK_MODES, options.modes), size(counts[0]) - 1)
+    if not len(poses):
+        return LegReduction(0, 0.0, 0, (kept, kept))
+    reference = frequencies(assemble_batch(manipulator, poses, options, modes=0), count)
+    for modes in counts:
+        hz = frequencies(assemble_batch(manipulator, poses, options, modes=modes), count)
+        error = float(np.max(np.abs(hz / reference - 1.0)))
+        if error <= REDUCTION_TARGET:
+            return LegReduction(modes, error, len(poses), (kept, size(modes)))
+    return LegReduction(0, 0.0, len(poses), (kept, kept))
+
+
 @dataclass(frozen=True)
 class AssemblyPlan:
     """What does not change from pose to pose: per leg its map basis and, per segment, the
@@ -185,12 +255,15 @@ class MachineParts:
 
 
 def machine_parts(manipulator: Manipulator, poses: PoseBatch, options: ModelOptions,
-                  layout: LegLayout) -> MachineParts:
-    """The parts of one machine at every pose of `poses`."""
+                  layout: LegLayout, modes: int | None = None) -> MachineParts:
+    """The parts of one machine at every pose of `poses` (`modes`: the solid legs' modal
+    coordinates a part; None: the machine's, `leg_reduction`)."""
     n = len(poses)
+    if modes is None:
+        modes = leg_reduction(manipulator, options).modes
     segments = leg_segments(manipulator, options, zone_for(manipulator, options),
-                            poses.leg_lengths.T)
-    solid = tuple(part_blocks(manipulator, options, poses.leg_lengths.T))
+                            poses.leg_lengths.T, modes)
+    solid = tuple(part_blocks(manipulator, options, poses.leg_lengths.T, modes))
     joints = (Joint.at(poses.base_joint, np.zeros(3), np.zeros(3), "base"),
               Joint.at(poses.platform_joint, np.zeros(3), np.zeros(3), "platform"))
     springs = tuple(
@@ -219,20 +292,24 @@ def stack_parts(parts: list[MachineParts]) -> MachineParts:
 
 
 def assemble_batch(manipulator: Manipulator, poses: PoseBatch, options: ModelOptions,
-                   plan: AssemblyPlan | None = None, parts: MachineParts | None = None
-                   ) -> BatchModel:
-    """K and M of every pose in `poses` (Eqs. 4-22), as substructure.assemble does one.
+                   plan: AssemblyPlan | None = None, parts: MachineParts | None = None,
+                   modes: int | None = None) -> BatchModel:
+    """K and M of every pose in `poses` (Eqs. 4-22), as substructure.assemble does one, with
+    solid legs reduced to `modes` modal coordinates a part (None: the machine's,
+    `leg_reduction`; 0: every station kept, the per-pose model's coordinates).
 
     `plan` (from `assembly_plan`) may be passed to reuse it over many batches; `parts` (from
     `machine_parts` or `stack_parts`) gives the machine's own matrices per pose (default:
     `manipulator`'s at every pose).
     """
-    layout = leg_layout(manipulator, options, poses.base_joint, poses.platform_joint)
+    if modes is None:
+        modes = leg_reduction(manipulator, options).modes
+    layout = leg_layout(manipulator, options, poses.base_joint, poses.platform_joint, modes)
     s = layout.segments  # elements, end zones with solid joint ends, the drive's
     if plan is None or plan.layout != layout:
         plan = assembly_plan(layout)
     if parts is None:
-        parts = machine_parts(manipulator, poses, options, layout)
+        parts = machine_parts(manipulator, poses, options, layout, modes)
     n, n_q = len(poses), coordinate_count(layout)
     matrices = np.zeros((2, n, n_q, n_q))  # K and M
     arms = poses.platform_points - poses.platform_centre[:, None, :]

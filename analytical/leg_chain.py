@@ -24,6 +24,7 @@ import numpy as np
 from .beam import Section, frame_element
 from .end_zones import MIN_MIDDLE, JointEndsUnavailable
 from .params import Manipulator, ModelOptions
+from .part_reduction import reduced_segments
 
 if TYPE_CHECKING:
     from joint_ends import EndZone
@@ -51,8 +52,10 @@ class LegChain:
         return None
 
 
-def leg_chain(manipulator: Manipulator, options: ModelOptions) -> LegChain:
-    """The segments of every leg of this machine with these options (the module doc)."""
+def leg_chain(manipulator: Manipulator, options: ModelOptions, modes: int = 0) -> LegChain:
+    """The segments of every leg of this machine with these options (the module doc); with
+    solid legs and `modes`, each part's interior reduced to that many modal coordinates
+    (`part_reduction`: the batched model's)."""
     solid = options.joint_ends == "solid" and options.legs == "beam"
     element = "solid" if options.legs == "solid" else "element"
     drive = manipulator.stiffness.actuator_axial > 0.0
@@ -65,7 +68,10 @@ def leg_chain(manipulator: Manipulator, options: ModelOptions) -> LegChain:
             kinds.append(("drive",))
         if solid:
             kinds.append(("zone", p, "start"))
-        kinds.extend((element, p) for _ in range(options.elements))
+        count = options.elements
+        if element == "solid":
+            count = reduced_segments(count, modes)
+        kinds.extend((element, p) for _ in range(count))
         if solid:
             kinds.append(("zone", p, "end"))
     return LegChain(tuple(kinds))
@@ -129,13 +135,13 @@ def leg_stations(manipulator: Manipulator, options: ModelOptions, zones, lengths
 
 
 def leg_segments(manipulator: Manipulator, options: ModelOptions,
-                 zones: dict[str, EndZone] | None, lengths) -> np.ndarray:
+                 zones: dict[str, EndZone] | None, lengths, modes: int = 0) -> np.ndarray:
     """Stiffness and mass of every segment of legs of the given lengths, limb frame:
     (segments, 2, *lengths.shape, 12, 12), [K, M] per segment (Eq. 4 for the frame elements of
     each part's section, the condensed zones at its coupled faces, zeros for the drive)."""
     lengths = np.asarray(lengths, float)
     mat = manipulator.material
-    chain = leg_chain(manipulator, options)
+    chain = leg_chain(manipulator, options, modes)
     s = options.elements
     elements, zone_blocks = [], []
     for start, end, part in part_bounds(manipulator, lengths):

@@ -29,12 +29,11 @@ from scipy.optimize import minimize
 
 from common.errors import RpsError
 
-from .batch_model import CHUNK, assemble_batch, assembly_plan, frequencies
+from .batch_model import CHUNK, assemble_batch, assembly_plan, batch_layout, frequencies
 from .model import natural_frequencies
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import pose_batch
 from .reach import LevelBand, level_band, max_tilt, max_tilts
-from .substructure import leg_layout
 
 TILT_TOLERANCE = 1e-10  # rad: theta_max of the local search's poses
 COARSE = (9, 24, 5)  # heights x azimuths x tilt fractions of the coarse grid
@@ -64,7 +63,7 @@ def grid_frequencies(manipulator: Manipulator, options: ModelOptions, heights, a
     z, phi, theta = (np.ravel(a) for a in np.broadcast_arrays(heights, azimuths, tilts))
     out = np.full((len(z), options.modes), np.nan)
     m = manipulator
-    plan = assembly_plan(leg_layout(m, options, m.base_joint, m.platform_joint))  # once
+    plan = assembly_plan(batch_layout(m, options, m.base_joint, m.platform_joint))  # once
     for start in range(0, len(z), CHUNK):
         part = slice(start, start + CHUNK)
         poses = pose_batch(manipulator, z[part], phi[part], theta[part])

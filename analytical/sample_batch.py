@@ -17,7 +17,14 @@ import numpy as np
 
 from common.errors import InputError
 
-from .batch_model import BatchModel, assemble_batch, assembly_plan, machine_parts, stack_parts
+from .batch_model import (
+    BatchModel,
+    assemble_batch,
+    assembly_plan,
+    leg_reduction,
+    machine_parts,
+    stack_parts,
+)
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import PoseBatch, pose_batch
 from .substructure import leg_layout
@@ -60,10 +67,15 @@ def assemble_samples(machines: Sequence[Manipulator], poses: PoseBatch,
     own parts (`batch_model.machine_parts`) at its pose, stacked, then one assembly."""
     if not machines:
         raise InputError("no samples to assemble")
-    layouts = [leg_layout(m, options, poses.base_joint, poses.platform_joint) for m in machines]
+    # one reduction of solid legs for every sample: the first's (`leg_reduction`; samples
+    # differ in their inputs, not in how far their parts' own modes are from the machine's)
+    modes = leg_reduction(machines[0], options).modes
+    layouts = [leg_layout(m, options, poses.base_joint, poses.platform_joint, modes)
+               for m in machines]
     if any(layout != layouts[0] for layout in layouts[1:]):
         raise InputError("the samples' models have different coordinates (an input changes "
                          "the leg's layout); sample one layout at a time")
-    parts = stack_parts([machine_parts(m, poses.take([k]), options, layouts[0])
+    parts = stack_parts([machine_parts(m, poses.take([k]), options, layouts[0], modes)
                          for k, m in enumerate(machines)])
-    return assemble_batch(machines[0], poses, options, assembly_plan(layouts[0]), parts)
+    return assemble_batch(machines[0], poses, options, assembly_plan(layouts[0]), parts,
+                          modes)

@@ -20,6 +20,8 @@ Only plain arrays cross here: `joint_ends` is imported lazily, as for the end zo
 """
 from __future__ import annotations
 
+import functools
+import math
 import sys
 
 import numpy as np
@@ -28,23 +30,32 @@ from .architectures import leg_length_range
 from .end_zones import JointEndsUnavailable
 from .leg_chain import leg_chain, part_bounds
 from .params import Manipulator, ModelOptions
+from .part_reduction import (
+    SUB_PIECES,
+    interior_modes,
+    reduce_part,
+    stretched_modes,
+    sub_piece,
+)
 
 ANNOUNCE_SECONDS = 1.0  # a build estimated longer than this is said on stderr before it starts
 
 
-def part_blocks(manipulator: Manipulator, options: ModelOptions, lengths
+def part_blocks(manipulator: Manipulator, options: ModelOptions, lengths, modes: int = 0
                 ) -> list[tuple[int, np.ndarray]]:
-    """[(first node, (2, *lengths.shape, 6 (s + 1), 6 (s + 1)))]: K and M of every part of
-    legs of the given lengths in the limb frame, with `legs = "solid"` ([] otherwise)."""
+    """[(first node, (2, *lengths.shape, d, d))]: K and M of every part of legs of the given
+    lengths in the limb frame, with `legs = "solid"` ([] otherwise): on its s + 1 stations
+    (d = 6 (s + 1)), or with `modes` its interior reduced to that many modal coordinates
+    (d = 12 + modes, `part_reduction`: the batched model's)."""
     if options.legs != "solid":
         return []
     joint_ends = _joint_ends()
     lengths = np.asarray(lengths, float)
-    kinds = leg_chain(manipulator, options).kinds
+    kinds = leg_chain(manipulator, options, modes).kinds
     bounds = part_bounds(manipulator, lengths)
     spans = [np.broadcast_to(end - start, lengths.shape) for start, end, _ in bounds]
     _announce(manipulator, options, bounds, spans, joint_ends)
-    d = 6 * (options.elements + 1)
+    d = 12 + modes if modes else 6 * (options.elements + 1)
     out = []
     for p, ((_, _, part), span) in enumerate(zip(bounds, spans)):
         args = _part_args(manipulator, options, part)
@@ -52,15 +63,54 @@ def part_blocks(manipulator: Manipulator, options: ModelOptions, lengths
         fixed = _fixed_length(manipulator, p)
         if fixed is not None:  # one length in every pose: one condensation
             model = joint_ends.leg_part(part.outer, part.inner, fixed, *args)
-            block[0], block[1] = model.stiffness, model.mass
+            k, m = model.stiffness, model.mass
+            if modes:
+                k, m = reduce_part(k, m, interior_modes(k, m, modes))
+            block[0], block[1] = k, m
         else:
             pieces = _pieces(span)
             for piece in np.unique(pieces):
                 made = joint_ends.part_piece(part.outer, part.inner, int(piece), *args)
                 where = pieces == piece
-                block[0][where], block[1][where] = made.at(span[where])
+                if not modes:
+                    block[0][where], block[1][where] = made.at(span[where])
+                    continue
+                subs = sub_piece(span, made.lo, made.hi)[0]
+                for sub in np.unique(subs[where]):
+                    there = where & (subs == sub)
+                    reduced = _reduced_piece(part.outer, part.inner, int(piece), int(sub), args,
+                                             modes)
+                    block[0][there], block[1][there] = reduced.at(span[there])
+        block[0] *= manipulator.material.youngs_modulus
+        block[1] *= manipulator.material.density
         out.append((kinds.index(("solid", p)), block))
     return out
+
+
+@functools.lru_cache(maxsize=512)
+def _reduced_piece(outer, inner, piece, sub, args, modes):
+    """Sub-piece `sub` of a piece of a part's stroke reduced (`part_reduction`: the modes of
+    its middle length carried to its others, the static modes of each length), interpolated
+    on its own Chebyshev points from the piece's interpolant."""
+    from dataclasses import replace
+
+    import joint_ends
+
+    made = joint_ends.part_piece(outer, inner, piece, *args)
+    ratio = made.hi / made.lo
+    lo = made.lo * ratio ** (sub / SUB_PIECES)
+    hi = made.lo * ratio ** ((sub + 1) / SUB_PIECES)
+    middle = math.sqrt(lo * hi)
+    phi = interior_modes(*made.at(middle), modes)
+    nodes = len(made.stiffness)
+    x = np.polynomial.chebyshev.chebpts1(nodes)
+    lengths = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x
+    k, m = reduce_part(*made.at(lengths), stretched_modes(phi, middle / lengths))
+    fitted = [np.polynomial.chebyshev.chebfit(x, v.reshape(nodes, -1), nodes - 1).reshape(
+        v.shape) for v in (k, m)]
+    for c in fitted:
+        c.setflags(write=False)
+    return replace(made, lo=lo, hi=hi, stiffness=fitted[0], mass=fitted[1])
 
 
 def _fixed_length(manipulator: Manipulator, part: int) -> float | None:
@@ -86,9 +136,14 @@ def _joint_ends():
 
 
 def _part_args(manipulator: Manipulator, options: ModelOptions, part) -> tuple:
+    """The part's builder's arguments after its diameters, for a unit material: E = 1 Pa,
+    rho = 1 kg/m3 and the material's G / E (its Poisson ratio). A part's K is E times that of
+    its Poisson ratio and its M rho times (the condensation and the reduction are linear in
+    both), so machines of other moduli and densities (an uncertainty study's samples) share
+    one build; `part_blocks` scales the blocks back."""
     mat = manipulator.material
     coupling = options.joint_coupling
-    return (options.elements, mat.youngs_modulus, mat.shear_modulus, mat.density,
+    return (options.elements, 1.0, mat.shear_modulus / mat.youngs_modulus, 1.0,
             (coupling, coupling), _mesh(), options.cache_dir)
 
 

@@ -133,10 +133,11 @@ class LegLayout:
 
 
 def leg_layout(manipulator: Manipulator, options: ModelOptions, base_joint: str | None = None,
-               platform_joint: str | None = None) -> LegLayout:
+               platform_joint: str | None = None, modes: int = 0) -> LegLayout:
     """The layout of every leg of this machine with these options (the joints default to the
-    manipulator's)."""
-    chain = leg_chain(manipulator, options)
+    manipulator's); `modes`: solid parts reduced to that many modal coordinates
+    (`part_reduction`, the batched model's)."""
+    chain = leg_chain(manipulator, options, modes)
     k = manipulator.stiffness
     joints = []
     for end, kind in (("base", base_joint or manipulator.base_joint),

@@ -103,13 +103,19 @@ def least_stiffness_map(manipulator, options, poses, damping, point, compared: i
         summed_band_top,
     )
 
-    from .batch_model import assemble_batch, assembly_plan, standard_form
-    from .substructure import leg_layout, model_coordinates
+    from .batch_model import (
+        assemble_batch,
+        assembly_plan,
+        batch_coordinates,
+        batch_layout,
+        standard_form,
+    )
 
     n = len(poses)
-    count = min(compared + SUPERPOSED_EXTRA, model_coordinates(manipulator, options))
+    count = min(compared + SUPERPOSED_EXTRA, batch_coordinates(manipulator, options))
     stiffness, peak, mode = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3), int)
-    plan = assembly_plan(leg_layout(manipulator, options, poses.base_joint, poses.platform_joint))
+    plan = assembly_plan(batch_layout(manipulator, options, poses.base_joint,
+                                      poses.platform_joint))
     for start in range(0, n, MAP_CHUNK):
         chunk = poses.take(np.arange(start, min(n, start + MAP_CHUNK)))
         model = assemble_batch(manipulator, chunk, options, plan)

@@ -29,6 +29,8 @@ from .batch_model import (
     CHUNK,
     assemble_batch,
     assembly_plan,
+    batch_coordinates,
+    batch_layout,
     batch_modes,
     frequencies,
     probe_shapes,
@@ -38,7 +40,6 @@ from .end_zones import zone_for
 from .params import Manipulator, ModelOptions
 from .pose_batch import pose_batch
 from .reach import regular_radii
-from .substructure import leg_layout, model_coordinates
 from .tracking import (
     REPEATED,
     family_values,
@@ -129,7 +130,8 @@ def _layer(manipulator: Manipulator, options: ModelOptions, height: float, radiu
     where[ring_of[feasible], az_of[feasible]] = np.arange(len(feasible))
     where[0, :] = where[0, 0]  # the level pose is the same for every azimuth
     solvable = poses.take(feasible)
-    plan = assembly_plan(leg_layout(manipulator, options, poses.base_joint, poses.platform_joint))
+    plan = assembly_plan(batch_layout(manipulator, options, poses.base_joint,
+                                      poses.platform_joint))
     solved = []  # per chunk of poses: (its slice, its model, its frequencies)
     for chunk in _chunks(len(feasible)):
         model = assemble_batch(manipulator, solvable.take(chunk), options, plan)
@@ -304,7 +306,7 @@ def _renumbered(crossing: Crossing, relabel: np.ndarray) -> Crossing | None:
 def followed_modes(manipulator, options) -> int:
     """The most modes a map can follow with these options: one fewer than the model has
     coordinates (the window of every pose)."""
-    return model_coordinates(manipulator, options) - 1
+    return batch_coordinates(manipulator, options) - 1
 
 
 def frequency_map(manipulator: Manipulator, options: ModelOptions, heights, rings: int = 6,

@@ -163,8 +163,14 @@ def bench_dynamic_map(scene, runs: int) -> DynamicMapBench:
     (issue 38: 2,000 lines; the scene's [damping] and [tool], or their defaults) against the
     frequency map the run draws on the same grid with the scene's modes, one core each, and
     against the same poses' frequencies alone; timed alternately, medians."""
-    from analytical.batch_model import CHUNK, assemble_batch, assembly_plan, frequencies
-    from analytical.substructure import leg_layout, model_coordinates
+    from analytical.batch_model import (
+        CHUNK,
+        assemble_batch,
+        assembly_plan,
+        batch_coordinates,
+        batch_layout,
+        frequencies,
+    )
     from analytical.tool_response import SUPERPOSED_EXTRA, least_stiffness_map
     from common.frf import LINES
 
@@ -172,8 +178,8 @@ def bench_dynamic_map(scene, runs: int) -> DynamicMapBench:
     options, modes = scene.analytical, scene.analytical.modes
     heights = workspace_heights(scene, layers)
     poses = map_poses(scene)
-    plan = assembly_plan(leg_layout(scene.manipulator, options, poses.base_joint,
-                                    poses.platform_joint))
+    plan = assembly_plan(batch_layout(scene.manipulator, options, poses.base_joint,
+                                      poses.platform_joint))
 
     def dynamic():
         least_stiffness_map(scene.manipulator, options, poses, scene.damping,
@@ -193,7 +199,8 @@ def bench_dynamic_map(scene, runs: int) -> DynamicMapBench:
     median = {k: statistics.median(v) for k, v in times.items()}
     return DynamicMapBench(
         poses=len(poses), lines=LINES, modes=modes,
-        modes_summed=min(modes + SUPERPOSED_EXTRA, model_coordinates(scene.manipulator, options)),
+        modes_summed=min(modes + SUPERPOSED_EXTRA, batch_coordinates(scene.manipulator,
+                                                                     options)),
         runs=runs, dynamic_median_seconds=median["dynamic"], dynamic_seconds=times["dynamic"],
         frequency_map_median_seconds=median["map"], frequency_map_seconds=times["map"],
         frequencies_only_median_seconds=median["frequencies"],

@@ -88,18 +88,19 @@ def bench_best_model(scene, runs: int) -> BestModel:
         CHUNK,
         assemble_batch,
         assembly_plan,
+        batch_coordinates,
         batch_frequencies,
+        batch_layout,
         standard_form,
     )
     from analytical.lanes import kernels
-    from analytical.substructure import leg_layout, model_coordinates
     from solvers.settings import SOLID_END_ELEMENTS, speed_settings
 
     label = f"Timoshenko (Hutchinson) + solid ends, s={max(SOLID_END_ELEMENTS)}"
     options = speed_settings(scene)[label]
     poses = map_poses(scene)
-    plan = assembly_plan(leg_layout(scene.manipulator, options, poses.base_joint,
-                                    poses.platform_joint))
+    plan = assembly_plan(batch_layout(scene.manipulator, options, poses.base_joint,
+                                      poses.platform_joint))
 
     def solve(last: str, kernel: str = "lanes"):
         for start in range(0, len(poses), CHUNK):
@@ -115,7 +116,7 @@ def bench_best_model(scene, runs: int) -> BestModel:
                for last in ("assembly", "standard_form", "eigenvalues")}
     lapack = median_seconds(lambda: solve("eigenvalues", "lapack"), runs, warmup=1)[0] / len(
         poses) - seconds["standard_form"]
-    n = model_coordinates(scene.manipulator, options)
+    n = batch_coordinates(scene.manipulator, options)
     flops = stage_flops(n)
     standard = seconds["standard_form"] - seconds["assembly"]
     eigen = seconds["eigenvalues"] - seconds["standard_form"]
