@@ -23,6 +23,9 @@ with a line in bench/history.jsonl and the comparisons of pipeline/bench_history
   stage by stage with its flops, GFLOP/s and the ratio to the flop floor
   (pipeline/bench_kernel.py); and `map_one_core_vs_plain_eigh`, the map the run draws on one
   worker against the 10,000 plain eigh calls;
+- issue 51's `real_legs_map_vs_beam`: the 10,000-pose map of scenes/actuator-legs.toml (a
+  housing and a rod) with its solid legs against its beam legs, one core, and the solid legs'
+  one-off build from an empty cache (pipeline/bench_real_legs.py);
 - issue 40's `distributed_overhead`: a 10^5-pose sweep on a local Dask cluster of two workers
   against one process, and a worker killed part-way (pipeline/bench_distributed.py).
 
@@ -67,6 +70,8 @@ from .bench_history import (
     revision,
 )
 from .bench_kernel import MAP_GRID, bench_best_model, map_poses
+from .bench_real_legs import SCENE as REAL_LEGS_SCENE
+from .bench_real_legs import bench_real_legs
 from .bench_records import (
     BENCH,
     DynamicMapBench,
@@ -354,6 +359,10 @@ def main(argv: list[str] | None = None) -> int:
         result["best_model_pose_seconds"] = result["best_model"]["pose_seconds"]
         result["dynamic_map"] = bench_dynamic_map(scene, args.map_runs)
         result["dynamic_map_vs_frequency_map"] = result["dynamic_map"]["vs_frequency_map"]
+        scenes = Path(default_scene()).parent
+        if (scenes / REAL_LEGS_SCENE).is_file():
+            result["real_legs_map"] = bench_real_legs(scenes, args.map_runs)
+            result["real_legs_map_vs_beam"] = result["real_legs_map"]["ratio"]
         if scene.uncertainty is not None:
             result["uncertainty"] = bench_uncertainty(scene, args.case, args.map_runs)
             result["uncertainty_run_vs_batched_pose"] = \

@@ -110,6 +110,34 @@ class MapBench(TypedDict):
 
 
 @with_config(STRICT)
+class RealLegsMap(TypedDict):
+    """Issue 51: the 10,000-pose map of a real-leg machine with its solid legs against its
+    beam legs, one core, timed alternately (pipeline/bench_real_legs.py); the one-off build."""
+    scene: str
+    poses: int
+    modes: int
+    runs: int
+    openblas_num_threads: str | None
+    solid_setting: str
+    beam_setting: str
+    part_modes: int  # modal coordinates a solid part keeps (0: every station)
+    coordinates_kept: int  # n a pose with every station
+    coordinates_reduced: int  # n a pose as the map solves it
+    beam_coordinates: int
+    reduction_error: float  # the reduction's own, at its check poses (relative)
+    build_seconds: float  # every piece, the housing and the reduction's choice, empty cache
+    cache_entries: int
+    announced: str  # what the run said before building
+    solid_median_seconds: float
+    solid_seconds: list[float]
+    beam_median_seconds: float
+    beam_seconds: list[float]
+    solid_pose_seconds: float
+    beam_pose_seconds: float
+    ratio: float  # solid / beam, the issue's "at most 3x"
+
+
+@with_config(STRICT)
 class FemTiming(TypedDict):
     mesh_size_mm: float
     dofs: int
@@ -251,6 +279,8 @@ class BenchFile(TypedDict):
     best_model_pose_seconds: float
     dynamic_map: DynamicMapBench
     dynamic_map_vs_frequency_map: float
+    real_legs_map: NotRequired[RealLegsMap]  # a checkout with scenes/actuator-legs.toml
+    real_legs_map_vs_beam: NotRequired[float]
     uncertainty: NotRequired[UncertaintyBench]  # a scene with [uncertainty]
     uncertainty_run_vs_batched_pose: NotRequired[float]
     fem: NotRequired[FemTimings]  # without --skip-fem

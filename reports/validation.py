@@ -32,6 +32,7 @@ def fidelity_table(results: Results, c: Cells) -> dict:
          c.text(literal="over every case and the workspace study's worst pose")],
         [c.text(literal="its time per pose (ms)"), c.num(f"{a}/seconds_per_pose", 3, 1e3),
          c.text(literal="median of repeated runs on this machine")],
+        *_batched_rows(fid["analytical"], a, c),
         [c.text(literal="FEM element size (mm)"), c.num(f"{m}/mesh_size_mm", 1),
          c.text(literal="chosen by measurement" if fid["fem"]["chosen"]
                 else "the scene's own mesh_size_mm, checked")],
@@ -41,6 +42,29 @@ def fidelity_table(results: Results, c: Cells) -> dict:
          c.text(literal="")],
     ]
     return {"head": [head("", "value", "")], "rows": rows, "cls": "fidelity"}
+
+
+def _batched_rows(choice, a: str, c: Cells) -> list:
+    """The chosen solid legs as maps solve them, and the error that costs (issue 51)."""
+    if not choice.get("batched"):
+        return []
+    q = f"{a}/batched"
+    return [
+        [c.text(literal="its map model: modes a leg part"), c.num(f"{q}/part_modes", None),
+         c.text(literal="each part's interior reduced to its own modes (Craig-Bampton), "
+                "as few as this machine needs")],
+        [c.text(literal="its map model: coordinates a pose"), c.num(f"{q}/coordinates", None),
+         c.text(literal="what a map, a minimum or a sample solves")],
+        [c.text(literal="its per-pose model: coordinates"),
+         c.num(f"{q}/coordinates_kept", None),
+         c.text(literal="every station of every part kept (the cases above)")],
+        [c.text(literal="its map model's own error (%)"), c.num(f"{q}/error_percent", 4),
+         c.text(literal="against every station kept, at the cases, worst mode")],
+        [c.text(literal="the same where it was chosen (%)"),
+         c.num(f"{q}/check_error_percent", 4),
+         c.text(literal="at the poses the reduction was chosen on (the level band's ends and "
+                "middle, level and at full tilt)")],
+    ]
 
 
 def candidates_table(results: Results, c: Cells) -> dict:

@@ -4,7 +4,7 @@ from __future__ import annotations
 from typing import Any, Literal
 
 from pydantic import FiniteFloat, with_config
-from typing_extensions import TypedDict  # pydantic reads it on Python < 3.12
+from typing_extensions import NotRequired, TypedDict  # pydantic reads it on Python < 3.12
 
 from .tool_records import DynamicStiffnessMap
 from .types import STRICT, Frequencies, Frequency, Hz
@@ -325,6 +325,19 @@ class Studies(TypedDict, total=False):
 
 
 @with_config(STRICT)
+class BatchedModel(TypedDict):
+    """How maps and every study over many poses solve the chosen solid legs (issue 51): each
+    part's interior reduced to its own modes, and what that costs in accuracy."""
+
+    part_modes: int  # modal coordinates a part keeps
+    coordinates: int  # n a pose, batched
+    coordinates_kept: int  # n a pose with every station (the per-pose model's)
+    error_percent: FiniteFloat  # worst |batched / per-pose - 1| at the cases, f1..f_modes
+    check_error_percent: FiniteFloat  # the same at the poses the reduction was chosen on
+    check_poses: int
+
+
+@with_config(STRICT)
 class AnalyticalChoice(TypedDict):
     beam: str
     shear: str
@@ -337,6 +350,7 @@ class AnalyticalChoice(TypedDict):
     worst_error_percent: FiniteFloat
     seconds_per_pose: FiniteFloat
     met: bool
+    batched: NotRequired[BatchedModel]  # solid legs reduced for maps (`analytical.batch_model`)
 
 
 @with_config(STRICT)

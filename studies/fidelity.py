@@ -44,6 +44,7 @@ class Fidelity:
     analytical: AnalyticalChoice
     candidates: Rows  # label -> per case {"case", "seconds", "worst_error_percent"}
     refinements: dict[str, results.Refinement]  # case name -> its study, when refined
+    batched: results.BatchedModel | None = None  # the chosen solid legs as maps solve them
 
     @property
     def met(self) -> bool:
@@ -56,6 +57,7 @@ class Fidelity:
         reason = f"{self.analytical.reason}; {self.fem.reason}."
         if not self.met:
             reason = ("The scene's tolerance is NOT met: " + reason)
+        batched = {} if self.batched is None else {"batched": self.batched}
         return results.Fidelity(
             modes=self.scene.fidelity.modes, tolerance_percent=tol, met=self.met,
             analytical=results.AnalyticalChoice(
@@ -63,7 +65,8 @@ class Fidelity:
                 elements=opts.elements, platform_inertia=opts.platform_inertia,
                 setting=self.analytical.setting, chosen=not self.scene.analytical_given,
                 worst_error_percent=self.analytical.worst_error_percent,
-                seconds_per_pose=self.analytical.seconds_per_pose, met=self.analytical.met),
+                seconds_per_pose=self.analytical.seconds_per_pose, met=self.analytical.met,
+                **batched),
             fem=results.FemChoice(
                 mesh_size_mm=self.scene.fem.mesh_size * 1e3,
                 chosen=not self.scene.fem_size_given,
@@ -168,7 +171,32 @@ def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: 
         analytical = choose_analytical(rows, tol)
         chosen_opts = candidates[analytical.setting]
     chosen = replace(sized, analytical=replace(chosen_opts, modes=count))
-    return Fidelity(chosen, fem, analytical, rows, refinements)
+    return Fidelity(chosen, fem, analytical, rows, refinements,
+                    batched_model(chosen, [sized.case(n).pose for n in case_names]))
+
+
+def batched_model(scene: Scene, poses: list[Pose]) -> results.BatchedModel | None:
+    """The chosen solid legs as maps solve them (`analytical.batch_model.leg_reduction`), and
+    their error against the per-pose model at `poses` (None: nothing reduced)."""
+    from analytical.batch_model import assemble_batch, frequencies, leg_reduction
+    from analytical.model import natural_frequencies
+    from analytical.pose_batch import pose_batch
+
+    m, options = scene.manipulator, scene.analytical
+    chosen = leg_reduction(m, options)
+    if not chosen.modes or not poses:
+        return None
+    count = min(options.modes, chosen.coordinates[1] - 1)
+    batch = pose_batch(m, [p.height for p in poses], [p.azimuth for p in poses],
+                       [p.tilt for p in poses])
+    batched = frequencies(assemble_batch(m, batch, options), count)
+    per_pose = np.array([natural_frequencies(m, p, replace(options, modes=count))
+                         for p in poses])
+    return results.BatchedModel(
+        part_modes=chosen.modes, coordinates=chosen.coordinates[1],
+        coordinates_kept=chosen.coordinates[0],
+        error_percent=100.0 * float(np.max(np.abs(batched / per_pose - 1.0))),
+        check_error_percent=100.0 * chosen.error, check_poses=chosen.poses)
 
 
 def validate_fidelity(scene: Scene, case_names, cache: ResultCache, full: bool,

@@ -253,6 +253,24 @@ def test_ci_profile_results_build(tmp_path):
                        * float(cell["attrs"].get("data-scale", 1))) <= 0.5 * 10**-decimals + 1e-9
 
 
+def test_chosen_solid_legs_state_their_map_model_and_its_own_error(tmp_path):
+    """Issue 51: with solid legs chosen, the fidelity table says how maps solve them (modes a
+    part, coordinates before and after) and the error that costs, each number from the
+    JSON."""
+    results = _ci_profile(json.loads(RESULTS.read_text()))
+    results["fidelity"]["analytical"]["batched"] = {
+        "part_modes": 18, "coordinates": 171, "coordinates_kept": 315,
+        "error_percent": 0.000468, "check_error_percent": 0.000476, "check_poses": 9}
+    html, _ = _build_variant(results, tmp_path)
+    page = _parse(html.read_text(encoding="utf-8"))
+    sources = {c["attrs"]["data-src"]: c["text"].strip() for c in page.cells
+               if "data-src" in c["attrs"]}
+    q = "/fidelity/analytical/batched"
+    assert sources[f"{q}/part_modes"] == "18" and sources[f"{q}/coordinates"] == "171"
+    assert sources[f"{q}/coordinates_kept"] == "315"
+    assert sources[f"{q}/error_percent"] == "0.0005"
+
+
 def _assert_untouched(out: Path, before: dict[str, bytes]) -> None:
     after = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
     assert after == before
