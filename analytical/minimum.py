@@ -29,7 +29,8 @@ from scipy.optimize import minimize
 
 from common.errors import RpsError
 
-from .batch_model import CHUNK, assemble_batch, assembly_plan, batch_layout, frequencies
+from .batch_model import CHUNK, assemble_batch, assembly_plan, batch_layout
+from .batch_solve import frequencies
 from .model import natural_frequencies
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import pose_batch

@@ -17,14 +17,8 @@ import numpy as np
 
 from common.errors import InputError
 
-from .batch_model import (
-    BatchModel,
-    assemble_batch,
-    assembly_plan,
-    leg_reduction,
-    machine_parts,
-    stack_parts,
-)
+from .batch_model import assemble_batch, assembly_plan, leg_reduction, machine_parts, stack_parts
+from .batch_solve import BatchModel
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import PoseBatch, pose_batch
 from .substructure import leg_layout

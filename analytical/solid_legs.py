@@ -124,6 +124,14 @@ def _fixed_length(manipulator: Manipulator, part: int) -> float | None:
     return float(span[0]) if span[0] == span[1] else None
 
 
+def clear_caches() -> None:
+    """Forget the parts, pieces and reduced pieces remembered in this process (benchmarks time
+    a machine's build; the disk cache is the caller's directory)."""
+    joint_ends = _joint_ends()
+    for memo in (joint_ends._piece_memo, joint_ends._part_memo, _reduced_piece):
+        memo.cache_clear()
+
+
 def _joint_ends():
     try:
         import joint_ends

@@ -17,7 +17,7 @@ import scipy.linalg
 
 from common.frf import tidy_groups, tool_rows
 
-from .batch_model import BatchModel, StandardForm, standard_modes
+from .batch_solve import BatchModel, StandardForm, standard_modes
 from .modal import solve_modes
 from .substructure import SubstructureModel
 
@@ -103,13 +103,8 @@ def least_stiffness_map(manipulator, options, poses, damping, point, compared: i
         summed_band_top,
     )
 
-    from .batch_model import (
-        assemble_batch,
-        assembly_plan,
-        batch_coordinates,
-        batch_layout,
-        standard_form,
-    )
+    from .batch_model import assemble_batch, assembly_plan, batch_coordinates, batch_layout
+    from .batch_solve import standard_form
 
     n = len(poses)
     count = min(compared + SUPERPOSED_EXTRA, batch_coordinates(manipulator, options))

@@ -25,17 +25,8 @@ import numpy as np
 
 from common.errors import InputError
 
-from .batch_model import (
-    CHUNK,
-    assemble_batch,
-    assembly_plan,
-    batch_coordinates,
-    batch_layout,
-    batch_modes,
-    frequencies,
-    probe_shapes,
-    standard_form,
-)
+from .batch_model import CHUNK, assemble_batch, assembly_plan, batch_coordinates, batch_layout
+from .batch_solve import batch_modes, frequencies, probe_shapes, standard_form
 from .end_zones import zone_for
 from .params import Manipulator, ModelOptions
 from .pose_batch import pose_batch

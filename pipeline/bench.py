@@ -174,8 +174,8 @@ def bench_dynamic_map(scene, runs: int) -> DynamicMapBench:
         assembly_plan,
         batch_coordinates,
         batch_layout,
-        frequencies,
     )
+    from analytical.batch_solve import frequencies
     from analytical.tool_response import SUPERPOSED_EXTRA, least_stiffness_map
     from common.frf import LINES
 
@@ -278,7 +278,8 @@ def bench_uncertainty(scene, case_name: str, runs: int, samples: int = 256
     """Seconds per model run of `solvers.uncertainty.propagate` (Saltelli's design, `samples`
     base points, the statistics included) at the case, against seconds per pose of the batched
     frequencies of as many copies of the case's pose of the scene's own machine; medians."""
-    from analytical.batch_model import CHUNK, assemble_batch, frequencies
+    from analytical.batch_model import CHUNK, assemble_batch
+    from analytical.batch_solve import frequencies
     from analytical.pose_batch import pose_batch
     from solvers.uncertainty import propagate
 

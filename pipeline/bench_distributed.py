@@ -87,7 +87,8 @@ class KilledSweep(TypedDict):
 def pose_frequencies(task: PoseTask) -> TaskFrequencies:
     """The lowest `options.modes` frequencies (Hz) of each pose of the task, None where a pose
     is out of reach, and the seconds it took; logs the computation (its index) first."""
-    from analytical.batch_model import CHUNK, assemble_batch, frequencies
+    from analytical.batch_model import CHUNK, assemble_batch
+    from analytical.batch_solve import frequencies
     from analytical.pose_batch import pose_batch
 
     if task.log is not None:

@@ -89,10 +89,9 @@ def bench_best_model(scene, runs: int) -> BestModel:
         assemble_batch,
         assembly_plan,
         batch_coordinates,
-        batch_frequencies,
         batch_layout,
-        standard_form,
     )
+    from analytical.batch_solve import batch_frequencies, standard_form
     from analytical.lanes import kernels
     from solvers.settings import SOLID_END_ELEMENTS, speed_settings
 

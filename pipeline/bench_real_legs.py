@@ -29,9 +29,9 @@ SCENE = "actuator-legs.toml"
 
 
 def bench_real_legs(scenes: Path, runs: int) -> RealLegsMap:
-    import joint_ends
     from analytical import batch_model, solid_legs
-    from analytical.batch_model import CHUNK, assemble_batch, frequencies, leg_reduction
+    from analytical.batch_model import CHUNK, assemble_batch, leg_reduction
+    from analytical.batch_solve import frequencies
     from scene import load_scene
     from solvers.settings import SOLID_LEGS, model_variants
 
@@ -41,9 +41,8 @@ def bench_real_legs(scenes: Path, runs: int) -> RealLegsMap:
     poses = map_poses(scene)
     with tempfile.TemporaryDirectory() as cache:
         solid = replace(model_variants(scene)[SOLID_LEGS], modes=modes, cache_dir=cache)
-        for memo in (joint_ends._piece_memo, joint_ends._part_memo, solid_legs._reduced_piece,
-                     batch_model.leg_reduction):
-            memo.cache_clear()
+        solid_legs.clear_caches()
+        batch_model.leg_reduction.cache_clear()
         said = io.StringIO()
         start = time.perf_counter()
         with contextlib.redirect_stderr(said):

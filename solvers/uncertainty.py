@@ -125,7 +125,7 @@ def estimate_seconds(scene, options: ModelOptions, pose: Pose, unit, modes: int,
 
 
 def _solve(scene, options, built, poses, modes: int, tool: bool):
-    from analytical.batch_model import frequencies, standard_form
+    from analytical.batch_solve import frequencies, standard_form
     from analytical.sample_batch import assemble_samples
     from analytical.substructure import model_coordinates
     from analytical.tool_response import SUPERPOSED_EXTRA, batch_tool_modes

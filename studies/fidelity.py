@@ -178,7 +178,8 @@ def choose_model(scene: Scene, sized: Scene, fem: FemChoice, case_names, cache: 
 def batched_model(scene: Scene, poses: list[Pose]) -> results.BatchedModel | None:
     """The chosen solid legs as maps solve them (`analytical.batch_model.leg_reduction`), and
     their error against the per-pose model at `poses` (None: nothing reduced)."""
-    from analytical.batch_model import assemble_batch, frequencies, leg_reduction
+    from analytical.batch_model import assemble_batch, leg_reduction
+    from analytical.batch_solve import frequencies
     from analytical.model import natural_frequencies
     from analytical.pose_batch import pose_batch
 

@@ -27,7 +27,8 @@ CHUNK = 256
 
 def worst_path(scene) -> list[tuple[int, Pose, float]]:
     """(layer, pose, nominal f1 in Hz) of the least f1 of each layer of the map's grid."""
-    from analytical.batch_model import assemble_batch, frequencies
+    from analytical.batch_model import assemble_batch
+    from analytical.batch_solve import frequencies
     from analytical.pose_batch import pose_batch
 
     heights, tilts, phis = map_grid(scene)

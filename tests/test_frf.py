@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analytical.batch_model import assemble_batch, standard_form
+from analytical.batch_model import assemble_batch
+from analytical.batch_solve import standard_form
 from analytical.kinematics import pose_geometry
 from analytical.pose_batch import pose_batch
 from analytical.substructure import assemble, model_coordinates

@@ -11,14 +11,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from analytical.batch_model import (
-    CHUNK,
-    FULL_LANE_BYTES,
-    assemble_batch,
-    batch_frequencies,
-    frequencies,
-    standard_form,
-)
+from analytical.batch_model import CHUNK, assemble_batch
+from analytical.batch_solve import FULL_LANE_BYTES, batch_frequencies, frequencies, standard_form
 from analytical.kinematics import PoseError
 from analytical.lanes import LANES
 from analytical.modal import ModalError

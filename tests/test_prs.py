@@ -187,7 +187,8 @@ def test_the_drive_acts_along_the_rail():
 def test_batched_maps_equal_the_per_pose_model():
     """The workspace maps' batched assembly (drive along the rail included) is the per-pose
     model's, to 1e-10."""
-    from analytical.batch_model import assemble_batch, batch_frequencies, standard_form
+    from analytical.batch_model import assemble_batch
+    from analytical.batch_solve import batch_frequencies, standard_form
 
     rng = np.random.default_rng(RNG_SEED + 3)
     for m in random_machines(4):

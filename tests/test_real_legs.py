@@ -21,7 +21,8 @@ import pytest
 import scipy.linalg as la
 import scipy.optimize as so
 
-from analytical.batch_model import assemble_batch, batch_frequencies, standard_form
+from analytical.batch_model import assemble_batch
+from analytical.batch_solve import batch_frequencies, standard_form
 from analytical.beam import Section, circle_shear_coefficient, frame_element
 from analytical.kinematics import pose_geometry
 from analytical.model import natural_frequencies

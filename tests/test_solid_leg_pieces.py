@@ -27,9 +27,9 @@ from analytical.batch_model import (
     REDUCTION_TARGET,
     assemble_batch,
     batch_coordinates,
-    frequencies,
     leg_reduction,
 )
+from analytical.batch_solve import frequencies
 from analytical.model import natural_frequencies
 from analytical.params import Pose
 from analytical.part_reduction import interior_modes, reduce_part

@@ -20,7 +20,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analytical.batch_model import assemble_batch, batch_frequencies, standard_form
+from analytical.batch_model import assemble_batch
+from analytical.batch_solve import batch_frequencies, standard_form
 from analytical.model import natural_frequencies
 from analytical.params import MAX_SOLID_STATIONS, ModelOptions
 from analytical.pose_batch import pose_batch

@@ -9,7 +9,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from analytical.batch_model import assemble_batch, batch_frequencies, batch_modes, standard_form
+from analytical.batch_model import assemble_batch
+from analytical.batch_solve import batch_frequencies, batch_modes, standard_form
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.model import natural_frequencies
 from analytical.params import Pose

@@ -6,7 +6,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from analytical.batch_model import assemble_batch, batch_modes, probe_shapes, standard_form
+from analytical.batch_model import assemble_batch
+from analytical.batch_solve import batch_modes, probe_shapes, standard_form
 from analytical.params import Manipulator, ModelOptions, Pose
 from analytical.pose_batch import pose_batch
 from analytical.reach import layer_heights, regular_radii

@@ -6,7 +6,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from analytical.batch_model import assemble_batch, frequencies
+from analytical.batch_model import assemble_batch
+from analytical.batch_solve import frequencies
 from analytical.kinematics import PoseError, pose_geometry
 from analytical.model import analyse, natural_frequencies
 from analytical.params import Pose
