@@ -128,7 +128,7 @@ def clear_caches() -> None:
     """Forget the parts, pieces and reduced pieces remembered in this process (benchmarks time
     a machine's build; the disk cache is the caller's directory)."""
     joint_ends = _joint_ends()
-    for memo in (joint_ends._piece_memo, joint_ends._part_memo, _reduced_piece):
+    for memo in (joint_ends._remembered, _reduced_piece):
         memo.cache_clear()
 
 

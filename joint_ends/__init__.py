@@ -60,21 +60,10 @@ def leg_part(outer: float, inner: float, length: float, stations: int, youngs_mo
     """A whole leg part of one length condensed onto `stations` + 1 section nodes
     (`leg_part.build_part`; a housing, the same in every pose), cached on disk and remembered
     in this process. SI units; `inner` 0 for a solid part."""
-    return _part_memo(float(outer), float(inner), round(float(length), 12), int(stations),
-                      float(youngs_modulus), float(shear_modulus), float(density),
-                      tuple(couplings), mesh, None if cache_dir is None else str(cache_dir))
-
-
-@lru_cache(maxsize=32)
-def _part_memo(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
-               couplings, mesh, cache_dir):
-    from .cache import cached_part, default_dir
-
-    model = cached_part(outer, inner, length, stations, youngs_modulus, shear_modulus, density,
-                        couplings, mesh, default_dir(cache_dir))
-    model.stiffness.setflags(write=False)
-    model.mass.setflags(write=False)
-    return model
+    return _remembered("part", float(outer), float(inner), round(float(length), 12),
+                       int(stations), float(youngs_modulus), float(shear_modulus),
+                       float(density), tuple(couplings), mesh,
+                       None if cache_dir is None else str(cache_dir))
 
 
 def part_piece(outer: float, inner: float, piece: int, stations: int, youngs_modulus: float,
@@ -83,18 +72,21 @@ def part_piece(outer: float, inner: float, piece: int, stations: int, youngs_mod
     """A leg part over grid piece `piece` of the lengths it takes (`leg_part.build_piece`:
     its condensed K and M interpolated in the length), cached on disk and remembered in this
     process."""
-    return _piece_memo(float(outer), float(inner), int(piece), int(stations),
+    return _remembered("piece", float(outer), float(inner), int(piece), int(stations),
                        float(youngs_modulus), float(shear_modulus), float(density),
                        tuple(couplings), mesh, None if cache_dir is None else str(cache_dir))
 
 
-@lru_cache(maxsize=256)
-def _piece_memo(outer, inner, piece, stations, youngs_modulus, shear_modulus, density,
+@lru_cache(maxsize=256)  # a housing and a rod's pieces per machine, a few machines a process
+def _remembered(kind, outer, inner, where, stations, youngs_modulus, shear_modulus, density,
                 couplings, mesh, cache_dir):
-    from .cache import cached_piece, default_dir
+    """A part of one length (`kind` "part", `where` its length) or a piece of its stroke
+    ("piece", `where` the piece), from the disk cache or built, its arrays read-only."""
+    from .cache import cached_part, cached_piece, default_dir
 
-    made = cached_piece(outer, inner, piece, stations, youngs_modulus, shear_modulus, density,
-                        couplings, mesh, default_dir(cache_dir))
+    made = (cached_part if kind == "part" else cached_piece)(
+        outer, inner, where, stations, youngs_modulus, shear_modulus, density, couplings, mesh,
+        default_dir(cache_dir))
     made.stiffness.setflags(write=False)
     made.mass.setflags(write=False)
     return made

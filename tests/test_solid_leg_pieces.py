@@ -23,6 +23,7 @@ import scipy.linalg as la
 from skfem import Basis, ElementTriP2, MeshTri
 
 import joint_ends
+from analytical import solid_legs
 from analytical.batch_model import (
     REDUCTION_TARGET,
     assemble_batch,
@@ -277,11 +278,11 @@ def test_a_build_of_pieces_is_announced_with_its_estimate_before_it_starts(tmp_p
     scene = load_scene(ROOT / "scenes" / "actuator-legs.toml")
     options = replace(scene.analytical, legs="solid", elements=3, cache_dir=str(tmp_path))
     poses = _random_poses(scene, 2, 3)
-    joint_ends._piece_memo.cache_clear()
+    solid_legs.clear_caches()
     assemble_batch(scene.manipulator, poses, options)
     said = capsys.readouterr().err
     assert said.count("\n") == 1 and "piece(s)" in said and " s (then cached)" in said
-    joint_ends._piece_memo.cache_clear()
+    solid_legs.clear_caches()
     assemble_batch(scene.manipulator, poses, options)
     assert capsys.readouterr().err == ""
 
