@@ -1,7 +1,8 @@
 """The substructure model of many poses at once (Eqs. 4-24), for workspace maps.
 
-The same reduced K and M as `substructure.assemble`, pose by pose, built with numpy over a
-batch of poses, and the eigen solves of `modal.solve_modes` without its per-call overhead:
+The same reduced K and M as `substructure.assemble`, pose by pose (with solid legs, on fewer
+coordinates: below), built with numpy over a batch of poses, for the eigen solves of
+`batch_solve`:
 
 - the element matrices depend only on the leg length: one batched `frame_element` call gives
   every element of every leg of every pose (a leg's s elements are equal); solid end zones
@@ -30,7 +31,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common.errors import InputError
 from common.rigid_body import skew
+from common.settings import MAX_SOLVED_MODES
 
 from .batch_solve import BatchModel, frequencies
 from .end_zones import zone_for
@@ -167,8 +170,13 @@ def leg_reduction(manipulator: Manipulator, options: ModelOptions) -> LegReducti
                                            manipulator.platform_joint, modes))
 
     kept = size(0)
-    counts = [c for c in MODE_COUNTS if c < 6 * (options.elements - 1)]
-    if options.legs != "solid" or not counts:
+    if options.legs != "solid":
+        return LegReduction(0, 0.0, 0, (kept, kept))
+    # fewer modal coordinates than the interior has, and more coordinates a pose than any
+    # count of modes a run may ask (a map, a minimum, the dynamic stiffness's sum)
+    counts = [c for c in MODE_COUNTS
+              if c < 6 * (options.elements - 1) and size(c) > MAX_SOLVED_MODES]
+    if not counts:
         return LegReduction(0, 0.0, 0, (kept, kept))
     try:
         band = level_band(manipulator)
@@ -183,12 +191,15 @@ def leg_reduction(manipulator: Manipulator, options: ModelOptions) -> LegReducti
     count = min(max(CHECK_MODES, options.modes), size(counts[0]) - 1)
     if not len(poses):
         return LegReduction(0, 0.0, 0, (kept, kept))
-    reference = frequencies(assemble_batch(manipulator, poses, options, modes=0), count)
-    for modes in counts:
-        hz = frequencies(assemble_batch(manipulator, poses, options, modes=modes), count)
-        error = float(np.max(np.abs(hz / reference - 1.0)))
-        if error <= REDUCTION_TARGET:
-            return LegReduction(modes, error, len(poses), (kept, size(modes)))
+    try:
+        reference = frequencies(assemble_batch(manipulator, poses, options, modes=0), count)
+        for modes in counts:
+            hz = frequencies(assemble_batch(manipulator, poses, options, modes=modes), count)
+            error = float(np.max(np.abs(hz / reference - 1.0)))
+            if error <= REDUCTION_TARGET:
+                return LegReduction(modes, error, len(poses), (kept, size(modes)))
+    except (ModalError, InputError):  # a check pose the model cannot solve: keep every
+        pass  # station (the run's own poses say what is wrong with them, if anything)
     return LegReduction(0, 0.0, len(poses), (kept, kept))
 
 

@@ -243,7 +243,7 @@ class ModelOptions:
                         "s + 1 section nodes (solid: the FEM's own leg, slower; beam, shear and "
                         "joint_ends do not apply)")
     # Not a setting (no scene key) and not part of what the model is: the cache directory
-    # whose joint_ends/ holds the condensed solid end zones (None: the default one,
+    # whose joint_ends/ holds the condensed end zones and leg parts (None: the default one,
     # common.locations.cache_root). The run sets it from --cache, and it travels with the
     # options to every process that assembles a model. Not compared, so it is in no cache key
     # (common.settings.as_dict) and two runs with different caches compute the same model.

@@ -12,14 +12,14 @@ Phi is taken at one length and carried to the others (`stretched_modes`), so tha
 K and M stay smooth in the length and are interpolated like the unreduced ones; the basis is
 that of a sub-piece's middle (a piece of the stroke cut in SUB_PIECES, geometric), because a
 basis carried further drifts: measured on random real legs, one basis per piece missed the
-unreduced machine by up to 4e-4 whatever the count, a quarter piece matched the modes of each
-length to 1e-6. The part is a solid of revolution: its axial-torsion modes (t_x, r_x) and its
-bending modes in the two planes (t_y, r_z) and (t_z, -r_y) are found apart, and each bending
-mode is kept with its twin in the other plane, so the basis is one of the part's symmetry, not
-an arbitrary turn of a degenerate pair.
+unreduced machine by up to 2.4e-3 (4.9e-4 with the slopes scaled) whatever the count, a
+quarter piece matched the modes of each length. The part is a solid of revolution: its
+axial-torsion modes (t_x, r_x) and its bending modes in the two planes (t_y, r_z) and
+(t_z, -r_y) are found apart, and each bending mode is kept with its twin in the other plane,
+so the basis is one of the part's symmetry, not an arbitrary turn of a degenerate pair.
 
 How many modes a machine needs depends on how close its parts' own modes come to its modes
-(12 a part suffice on the actuator-legs scene, a slender rod needs 24): the batched model
+(18 a part on the actuator-legs scene, 30 on a slender rod): the batched model
 chooses the count per machine against the unreduced one (`batch_model.leg_reduction`). The
 modal coordinates sit where the chain expects nodes, `count / 6` "nodes" of six coordinates
 between the two end nodes (`reduced_segments`); the per-pose model keeps every station.
@@ -53,9 +53,9 @@ def sub_piece(lengths, lo: float, hi: float):
 
 
 def interior_modes(stiffness: np.ndarray, mass: np.ndarray, count: int) -> np.ndarray:
-    """(6 (s - 1), count) fixed-interface modes of one part (both end nodes held), mass
-    normalised, the lowest `count` with bending modes in twin pairs (module doc); signs
-    fixed: each mode's largest component positive."""
+    """(6 (s - 1), count) fixed-interface modes of one part (both end nodes held), the lowest
+    `count` with bending modes in twin pairs (module doc), each scaled to a unit largest
+    station translation, that component positive (`_signed`)."""
     d = stiffness.shape[-1]
     interior = np.arange(6, d - 6)
     nodes = len(interior) // 6
@@ -112,7 +112,14 @@ def stretched_modes(modes: np.ndarray, ratio) -> np.ndarray:
 
 
 def _signed(vector: np.ndarray) -> np.ndarray:
-    return vector if vector[np.argmax(np.abs(vector))] > 0 else -vector
+    """The mode scaled to a unit largest station translation (its twist's largest rotation
+    for a torsion mode), that component positive: a modal coordinate is then about the
+    station motion it stands for, as the batch's shapes compare it (`probe_shapes`)."""
+    translations = vector.reshape(-1, 6)[:, :3]
+    pool = translations if np.abs(translations).max() > 1e-9 * np.abs(vector).max() else \
+        vector.reshape(-1, 6)[:, 3:]
+    peak = pool.ravel()[np.argmax(np.abs(pool))]
+    return vector / peak
 
 
 def reduce_part(stiffness: np.ndarray, mass: np.ndarray, modes: np.ndarray

@@ -17,7 +17,7 @@ import numpy as np
 
 from common.errors import InputError
 
-from .batch_model import assemble_batch, assembly_plan, leg_reduction, machine_parts, stack_parts
+from .batch_model import assemble_batch, assembly_plan, machine_parts, stack_parts
 from .batch_solve import BatchModel
 from .params import Manipulator, ModelOptions, Pose
 from .pose_batch import PoseBatch, pose_batch
@@ -56,14 +56,13 @@ def sample_poses(machines: Sequence[Manipulator], pose: Pose, shared: bool) -> P
 
 
 def assemble_samples(machines: Sequence[Manipulator], poses: PoseBatch,
-                     options: ModelOptions) -> BatchModel:
+                     options: ModelOptions, modes: int = 0) -> BatchModel:
     """K and M of machine k at pose k, (N, n_q, n_q), assembled as one batch: each machine's
-    own parts (`batch_model.machine_parts`) at its pose, stacked, then one assembly."""
+    own parts (`batch_model.machine_parts`) at its pose, stacked, then one assembly. `modes`:
+    solid legs reduced to that many modal coordinates a part in every sample (the nominal
+    machine's, `batch_model.leg_reduction`; 0: every station kept)."""
     if not machines:
         raise InputError("no samples to assemble")
-    # one reduction of solid legs for every sample: the first's (`leg_reduction`; samples
-    # differ in their inputs, not in how far their parts' own modes are from the machine's)
-    modes = leg_reduction(machines[0], options).modes
     layouts = [leg_layout(m, options, poses.base_joint, poses.platform_joint, modes)
                for m in machines]
     if any(layout != layouts[0] for layout in layouts[1:]):

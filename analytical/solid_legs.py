@@ -147,8 +147,8 @@ def _part_args(manipulator: Manipulator, options: ModelOptions, part) -> tuple:
     """The part's builder's arguments after its diameters, for a unit material: E = 1 Pa,
     rho = 1 kg/m3 and the material's G / E (its Poisson ratio). A part's K is E times that of
     its Poisson ratio and its M rho times (the condensation and the reduction are linear in
-    both), so machines of other moduli and densities (an uncertainty study's samples) share
-    one build; `part_blocks` scales the blocks back."""
+    both), so machines of other moduli and densities (another steel, a design's variants)
+    share one build; `part_blocks` scales the blocks back."""
     mat = manipulator.material
     coupling = options.joint_coupling
     return (options.elements, 1.0, mat.shear_modulus / mat.youngs_modulus, 1.0,

@@ -95,7 +95,7 @@ def _remembered(kind, outer, inner, where, stations, youngs_modulus, shear_modul
 def missing_pieces(outer: float, inner: float, pieces, stations: int, youngs_modulus: float,
                    shear_modulus: float, density: float, couplings: tuple[str, str],
                    mesh: PartMesh = PartMesh(), cache_dir=None) -> tuple[list[int], float]:
-    """(the grid pieces of `pieces` neither in this process nor on disk, about how many seconds
+    """(the grid pieces of `pieces` not on disk under the cache, about how many seconds
     building them takes: `leg_part.piece_seconds`)."""
     from .cache import default_dir, part_entry_exists, part_inputs
     from .leg_part import piece_seconds

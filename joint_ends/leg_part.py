@@ -178,10 +178,12 @@ def piece_bounds(index: int) -> tuple[float, float]:
     return lo, lo * PIECE_RATIO
 
 
-# One condensation of a part (the saddle point's sparse LU and its 6 (s + 1) solves), seconds a
-# raw dof: measured 1.7e-5 on one core of the development machine (AMD EPYC; pieces of 3.7-12k
-# raw dofs, s = 5-8, 0.6-2.1 s each); said with a margin, as an estimate before a build.
-SECONDS_PER_RAW_DOF = 2.5e-5
+# One condensation of a part (the saddle point's sparse LU and its 6 (s + 1) solves), seconds
+# per raw dof as estimated before meshing (`piece_seconds`, whose node count is an upper
+# bound: 0.4-0.8 of it are meshed): on one core of the development machine (AMD EPYC) the
+# actuator-legs scene's whole build (seven rod pieces, the housing, the reduction's choice)
+# took 9.1-9.2 s against 28 s estimated at 2.5e-5, so 1e-5 says it with a margin of ~1.2.
+SECONDS_PER_RAW_DOF = 1e-5
 
 
 def piece_seconds(outer: float, inner: float, index: int, mesh: PartMesh = PartMesh()

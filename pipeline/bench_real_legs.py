@@ -30,8 +30,9 @@ SCENE = "actuator-legs.toml"
 
 def bench_real_legs(scenes: Path, runs: int) -> RealLegsMap:
     from analytical import batch_model, solid_legs
-    from analytical.batch_model import CHUNK, assemble_batch, leg_reduction
+    from analytical.batch_model import CHUNK, assemble_batch, batch_coordinates, leg_reduction
     from analytical.batch_solve import frequencies
+    from fem_reference import meridian
     from scene import load_scene
     from solvers.settings import SOLID_LEGS, model_variants
 
@@ -43,6 +44,7 @@ def bench_real_legs(scenes: Path, runs: int) -> RealLegsMap:
         solid = replace(model_variants(scene)[SOLID_LEGS], modes=modes, cache_dir=cache)
         solid_legs.clear_caches()
         batch_model.leg_reduction.cache_clear()
+        meridian.clear_caches()  # its meshes too: a cold build
         said = io.StringIO()
         start = time.perf_counter()
         with contextlib.redirect_stderr(said):
@@ -65,7 +67,6 @@ def bench_real_legs(scenes: Path, runs: int) -> RealLegsMap:
 
         times = alternate({"solid": draw(solid), "beam": draw(beam)}, runs, warmup=1)
     median = {k: statistics.median(v) for k, v in times.items()}
-    from analytical.batch_model import batch_coordinates
 
     return RealLegsMap(
         scene=SCENE, poses=len(poses), modes=modes, runs=runs,

@@ -125,9 +125,9 @@ def estimate_seconds(scene, options: ModelOptions, pose: Pose, unit, modes: int,
 
 
 def _solve(scene, options, built, poses, modes: int, tool: bool):
+    from analytical.batch_model import leg_reduction
     from analytical.batch_solve import frequencies, standard_form
     from analytical.sample_batch import assemble_samples
-    from analytical.substructure import model_coordinates
     from analytical.tool_response import SUPERPOSED_EXTRA, batch_tool_modes
     from common.frf import (
         band_lines,
@@ -136,11 +136,12 @@ def _solve(scene, options, built, poses, modes: int, tool: bool):
         summed_band_top,
     )
 
-    model = assemble_samples(built, poses, options)
+    reduced = leg_reduction(scene.manipulator, options)  # the nominal machine's, every sample
+    model = assemble_samples(built, poses, options, reduced.modes)
     if not tool:
         return frequencies(model, modes), None
     form = standard_form(model)
-    count = min(modes + SUPERPOSED_EXTRA, model_coordinates(built[0], options))
+    count = min(modes + SUPERPOSED_EXTRA, reduced.coordinates[1])
     found = batch_tool_modes(model, form, poses.rotation, scene.tool.point, count)
     residual = residual_flexibility(found.static, found.omega, found.phi)
     band = band_lines(summed_band_top(found.omega, modes, found.next_omega, scene.damping),

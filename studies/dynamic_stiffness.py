@@ -39,8 +39,8 @@ def map_grid(scene, layers: int = MAP_LAYERS, rings: int = RINGS, azimuths: int 
 def dynamic_stiffness_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
                           azimuths: int = AZIMUTHS, lines: int = LINES
                           ) -> results.DynamicStiffnessMap:
+    from analytical.batch_model import batch_coordinates
     from analytical.pose_batch import pose_batch
-    from analytical.substructure import model_coordinates
     from analytical.tool_response import SUPERPOSED_EXTRA, least_stiffness_map
 
     start = time.perf_counter()
@@ -76,7 +76,7 @@ def dynamic_stiffness_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
                               tilt_deg=math.degrees(float(tilt.ravel()[pose])),
                               azimuth_deg=math.degrees(float(phi.ravel()[pose]))))
     summed = min(compared + SUPERPOSED_EXTRA,
-                 model_coordinates(scene.manipulator, scene.analytical))
+                 batch_coordinates(scene.manipulator, scene.analytical))
     return results.DynamicStiffnessMap(
         point_mm=[1e3 * v for v in scene.tool.point], damping=scene.damping.describe(),
         analytical=scene.analytical.describe(), lines=lines, modes_summed=summed,
