@@ -73,7 +73,8 @@ def interior_modes(stiffness: np.ndarray, mass: np.ndarray, count: int) -> np.nd
     twin = np.tile(_TWIN_SIGN, nodes)
     candidates = sorted([(v, "axial", j) for j, v in enumerate(axial_values)]
                         + [(v, "bending", j) for j, v in enumerate(y_values)])
-    columns, taken = [], set()
+    columns: list[np.ndarray] = []
+    taken: set[tuple[str, int]] = set()
     for value, kind, j in candidates:
         size = 1 if kind == "axial" else 2
         if len(columns) + size > count:

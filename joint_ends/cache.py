@@ -94,8 +94,13 @@ def part_inputs(outer, inner, stations, youngs_modulus, shear_modulus, density, 
 
     from meshing.geometry import PINNED_OPTIONS, gmsh_version
 
-    where = ({"length_m": _rounded(length)} if piece is None else
-             {"piece": int(piece), "piece_grid": [PIECE_ANCHOR, PIECE_RATIO, PIECE_NODES]})
+    where: dict
+    if piece is not None and length is None:
+        where = {"piece": int(piece), "piece_grid": [PIECE_ANCHOR, PIECE_RATIO, PIECE_NODES]}
+    elif length is not None and piece is None:
+        where = {"length_m": _rounded(length)}
+    else:
+        raise ValueError("a leg part's inputs: its length or its piece, one of the two")
     return {"format": FORMAT_VERSION, "kind": "leg part", "gmsh": gmsh_version(),
             "scikit_fem": skfem.__version__, "options": PINNED_OPTIONS,
             "outer_diameter_m": _rounded(outer), "inner_diameter_m": _rounded(inner),

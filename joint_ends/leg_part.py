@@ -92,9 +92,9 @@ class _PartSystem:
     in r only)."""
 
     terms: tuple  # (K_a, K_b, K_c), sparse, harmonics (0c, 1c, 1s)
-    mass: object  # sparse M at sigma = 1
-    c_u: object
-    c_a: object
+    mass: sp.csc_matrix  # M at sigma = 1
+    c_u: sp.csc_matrix
+    c_a: sp.csr_matrix
 
     @property
     def raw_dofs(self) -> int:

@@ -57,16 +57,17 @@ class Fidelity:
         reason = f"{self.analytical.reason}; {self.fem.reason}."
         if not self.met:
             reason = ("The scene's tolerance is NOT met: " + reason)
-        batched = {} if self.batched is None else {"batched": self.batched}
+        analytical = results.AnalyticalChoice(
+            beam=opts.beam, shear=opts.shear, joint_ends=opts.joint_ends, legs=opts.legs,
+            elements=opts.elements, platform_inertia=opts.platform_inertia,
+            setting=self.analytical.setting, chosen=not self.scene.analytical_given,
+            worst_error_percent=self.analytical.worst_error_percent,
+            seconds_per_pose=self.analytical.seconds_per_pose, met=self.analytical.met)
+        if self.batched is not None:
+            analytical["batched"] = self.batched
         return results.Fidelity(
             modes=self.scene.fidelity.modes, tolerance_percent=tol, met=self.met,
-            analytical=results.AnalyticalChoice(
-                beam=opts.beam, shear=opts.shear, joint_ends=opts.joint_ends, legs=opts.legs,
-                elements=opts.elements, platform_inertia=opts.platform_inertia,
-                setting=self.analytical.setting, chosen=not self.scene.analytical_given,
-                worst_error_percent=self.analytical.worst_error_percent,
-                seconds_per_pose=self.analytical.seconds_per_pose, met=self.analytical.met,
-                **batched),
+            analytical=analytical,
             fem=results.FemChoice(
                 mesh_size_mm=self.scene.fem.mesh_size * 1e3,
                 chosen=not self.scene.fem_size_given,
