@@ -93,8 +93,9 @@ def new_pose(scene: Scene, pose: Pose, k: int) -> Pose:
 def time_model(scene: Scene, case: Case, options: ModelOptions, runs: int = 30) -> float:
     """Median wall time (s) of one pose: kinematics, synthesis and eigen solve. With solid legs
     (`legs = "solid"`) each run is a new pose (`new_pose`), so the parts whose length follows
-    the pose are condensed afresh, as in a map of new poses; a part of fixed length is built
-    once, as there."""
+    the pose are read at new lengths from the pieces of their stroke (a piece not built yet is
+    built once, by the first run that reaches it), as in a map of new poses; a part of fixed
+    length is built once, as there."""
     natural_frequencies(scene.manipulator, case.pose, options)
     fresh = options.legs == "solid"
     samples = []
