@@ -38,6 +38,8 @@ UNITS = {
     "N m/urad": ("_nm_per_urad", 1e6, "N m/rad"),
     "1/s": ("_per_s", 1.0, "1/s"),
     "s": ("_s", 1.0, "s"),
+    "N/mm2": ("_n_per_mm2", 1e6, "Pa"),
+    "rpm": ("_rpm", 1.0 / 60.0, "1/s"),
 }
 
 
@@ -82,9 +84,10 @@ class Setting:
     scene_required: bool = False  # a scene must give it even though Python has a default
     scene_name: str | None = None  # scene key stem when it differs from the field name
     paragraphs: bool = False  # text: several lines (a reason) rather than one (a title)
+    key: str | None = None  # the whole scene key, where the unit is not its suffix
 
     def scene_key(self, name: str) -> str:
-        return (self.scene_name or name) + UNITS[self.unit][0]
+        return self.key or (self.scene_name or name) + UNITS[self.unit][0]
 
     @property
     def scale(self) -> float:

@@ -28,6 +28,7 @@ from common.errors import InputError
 from .campaign_records import SCHEMA as CAMPAIGN_SCHEMA
 from .campaign_records import Correlation, Identification
 from .declare import check_type, csv_text
+from .lobe_records import LobesFile
 from .study_records import FemVerification
 from .tool_records import FrfFile, OutputPose
 from .types import STRICT
@@ -239,8 +240,16 @@ FEM_ANSWER = Output(
     "rps fem --json", "fem", 1, FemAnswer, "rps fem --json",
     "One JSON object on stdout: the solid FEM's frequencies at one pose, its mesh and its "
     "options; with --estimate-error the refinement study's stated error and limit.")
-OUTPUTS = (FRF, UNCERTAINTY, CORRELATION, IDENTIFICATION, VERIFICATION, ANALYTICAL_ANSWER,
-           FEM_ANSWER)
+LOBES = Output(
+    "lobes.json", "lobes", 1, LobesFile, "rps lobes",
+    "One pose's milling stability lobe diagram: per spindle speed the least axial depth that "
+    "chatters, its chatter frequency and kind (Hopf or flip), by semi-discretization (with "
+    "its depth at half the intervals and its stated discretisation error) or the zero-order "
+    "method, the zero-order estimate beside it, the least depth and the best speed, the cut "
+    "and the tool modes it used. Beside it, lobes.png (the diagram) and lobes.csv (one row a "
+    "speed).")
+OUTPUTS = (FRF, UNCERTAINTY, CORRELATION, IDENTIFICATION, VERIFICATION, LOBES,
+           ANALYTICAL_ANSWER, FEM_ANSWER)
 
 
 # ------------------------------------------------------------------ the reference (generated)

@@ -175,5 +175,6 @@ class FrfFile(FrfRecord):
     mesh_size_from: NotRequired[str]
     dofs: NotRequired[int]
     point_base_mm: list[FiniteFloat]  # the tool point, base frame at this pose
+    platform_rotation: NotRequired[list[list[FiniteFloat]]]  # platform -> base at this pose
     seconds: FiniteFloat
     warnings: list[str]

@@ -53,7 +53,7 @@ from common.errors import RpsError
 # that every record staged by a command is here, so each command can run again into its own).
 OUTPUT_MARKERS = ("results.json", "report.html", "bench.json", "design.json",
                   "correlation.json", "identification.json", "frf.json", "uncertainty.json",
-                  "verification.json")
+                  "lobes.json", "verification.json")
 
 _AT_FDCWD = -100
 _RENAME_EXCHANGE = 2  # linux/fs.h

@@ -13,6 +13,7 @@ from pathlib import Path
 from analytical.architectures import ARCHITECTURES
 from analytical.params import Manipulator, Material, ModelOptions
 from analytical.plausibility import RULES
+from chatter.cutting import Cutting
 from common.frf import Damping, Tool
 from common.leg_profile import LegProfile
 from common.paths import MAX_LENGTH
@@ -61,6 +62,13 @@ TABLES = (
      "solid's direct frequency response at every case.", (Damping,)),
     ("[tool]", "Where the force acts and the response is read: a point fixed to the rigid "
      "platform.", (Tool,)),
+    ("[cutting]", "A milling cut, for its stability lobes (`rps lobes`, chatter/): the tool "
+     "axis is the platform normal, x the feed in the platform's plane, y = z x x; the cutter "
+     "turns clockwise seen from +z, a tooth's angle measured from +y (Altintas' convention). "
+     "The diagram's speeds: spindle_rpm = [low, high] at `speeds` points, or exactly "
+     "spindle_rpm_list. The lobes take the tool point's modes ([tool], [damping]) in the "
+     "cut's plane; the residual flexibility of the modes left out is not in them. Without "
+     "[cutting] nothing of it runs.", (Cutting,)),
     ("[uncertainty]", "The scene's inputs known within a tolerance, for the propagation of input "
      "uncertainty through the fast model (`rps uncertainty`; with the table, a validation adds "
      "the uncertainty of every case's frequencies, the V&V 20 table and the 95 % band along "

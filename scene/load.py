@@ -20,6 +20,7 @@ from analytical.params import (
     Pose,
     check_manipulator,
 )
+from chatter.cutting import Cutting
 from common.errors import InputError
 from common.frf import Damping, Tool
 from common.leg_profile import LegProfile
@@ -134,6 +135,7 @@ class Scene:
     dynamics_given: bool = False  # [damping] or [tool] in the file: the scene asks for the
                                   # dynamic compliance at the tool (its studies run)
     uncertainty: Any = None  # [uncertainty] (scene.uncertainty.Uncertainty): its studies run
+    cutting: Cutting | None = None  # [cutting]: the milling cut whose stability lobes run
 
     def case(self, name: str) -> Case:
         if name not in self.cases:
@@ -187,6 +189,7 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     if "damping" in raw:  # a table that damps nothing is refused, never read as the default
         damping.check_table(raw["damping"], f"{where}.damping")
     tool = _read(top, "tool", Tool)
+    cutting = _read(top, "cutting", Cutting) if "cutting" in raw else None
     uncertainty = None
     if "uncertainty" in raw:  # after the machine: its inputs are around the scene's values
         from .uncertainty import parse as parse_uncertainty
@@ -216,7 +219,7 @@ def parse_scene(raw: dict, where: str = "scene") -> Scene:
     return Scene(name, where, manipulator, analytical, fem, study, runtime, cases, calibrated,
                  reason, shape_reason, raw, tuple(ci_cases), fidelity, "analytical" in raw,
                  "mesh_size_mm" in raw.get("fem", {}), warnings, damping, tool,
-                 "damping" in raw or "tool" in raw, uncertainty)
+                 "damping" in raw or "tool" in raw, uncertainty, cutting)
 
 
 def _read(top: Table, key: str, cls, prepare=None, required: bool = False):

@@ -18,12 +18,13 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 ROOMS: dict[str, frozenset[str]] = {
     "common": frozenset(),
+    "chatter": frozenset({"common"}),
     "meshing": frozenset({"common"}),
     "fem_reference": frozenset({"common", "meshing"}),
     "verification": frozenset({"meshing", "fem_reference"}),
     "joint_ends": frozenset({"common", "meshing", "fem_reference"}),
     "analytical": frozenset({"common", "joint_ends"}),
-    "scene": frozenset({"common", "meshing", "fem_reference", "analytical"}),
+    "scene": frozenset({"common", "meshing", "fem_reference", "analytical", "chatter"}),
     "results": frozenset({"common"}),
     "runtime": frozenset({"common"}),
     "solvers": frozenset({"common", "meshing", "fem_reference", "analytical", "scene",
@@ -36,7 +37,8 @@ ROOMS: dict[str, frozenset[str]] = {
                            "results", "runtime", "solvers", "studies"}),
     "reports": frozenset({"common", "results", "runtime"}),
     "rps": frozenset({"common", "meshing", "fem_reference", "analytical", "scene", "results",
-                      "runtime", "solvers", "studies", "modaltest", "pipeline", "reports"}),
+                      "runtime", "solvers", "studies", "modaltest", "pipeline", "reports",
+                      "chatter"}),
 }
 FLOORS = tuple(ROOMS)
 MAX_LINES = 450

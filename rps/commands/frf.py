@@ -100,19 +100,12 @@ def write_uff(path, record: dict, point_base_m) -> None:
           description=f"rps frf: tool point receptance, {record['model']}")
 
 
-def run(args: argparse.Namespace) -> int:
-    import time
+def tool_model(args: argparse.Namespace, scene, geometry, compared: int):
+    """The chosen model's modes at the tool of one pose (`--model`) and its settings record;
+    InputError for the FEM without the rigid platform."""
+    from solvers.tool_frf import analytical_tool, fem_tool
 
-    from runtime.outdir import check_output_dir, staged_output
-    from solvers.tool_frf import analytical_tool, fem_tool, frf_record
-
-    _checked(args)
-    check_output_dir(args.out, "--out")
-    scene = load(args)
-    case, geometry = pose_case(scene, args)
     chosen = run_choice(args, scene)
-    compared = scene.fidelity.modes
-    start = time.perf_counter()
     if args.model == "analytical":
         options, source = with_choice(scene.analytical, chosen, args)
         options = zone_cache(args, options)
@@ -141,6 +134,22 @@ def run(args: argparse.Namespace) -> int:
                         label=f"FEM ({size * 1e3:g} mm, {options.legs} legs)")
         settings = {"model": "fem", "mesh_size_mm": size * 1e3, "mesh_size_from": source,
                     "dofs": int(result.dofs)}
+    return tool, settings
+
+
+def run(args: argparse.Namespace) -> int:
+    import time
+
+    from runtime.outdir import check_output_dir, staged_output
+    from solvers.tool_frf import frf_record
+
+    _checked(args)
+    check_output_dir(args.out, "--out")
+    scene = load(args)
+    case, geometry = pose_case(scene, args)
+    compared = scene.fidelity.modes
+    start = time.perf_counter()
+    tool, settings = tool_model(args, scene, geometry, compared)
     if args.top_hz is not None and args.top_hz > tool.band_top_hz * (1 + 1e-9):
         raise InputError(f"--top-hz {args.top_hz:g}: above {tool.band_top_hz:.6g} Hz, where "
                          "the first mode left out of the sum resonates (the band may not "
@@ -153,6 +162,7 @@ def run(args: argparse.Namespace) -> int:
                   + np.asarray(geometry.rotation, float) @ np.asarray(scene.tool.point))
     payload = {"scene": scene.name, "case": case.name, "pose": pose_payload(case.pose),
                **settings, **record, "point_base_mm": (point_base * 1e3).tolist(),
+               "platform_rotation": np.asarray(geometry.rotation, float).tolist(),
                "seconds": time.perf_counter() - start, "warnings": list(scene.warnings)}
     from results.outputs import FRF
 

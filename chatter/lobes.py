@@ -1,0 +1,146 @@
+"""A stability lobe diagram from the tool's modes and the cut (`lobes`): per spindle speed the
+least axial depth at which the cut chatters, its chatter frequency and kind, by the method the
+[cutting] table names, with the zero-order estimate beside it and, for semi-discretization,
+its own discretisation error (the depth at twice the intervals). Edge units in the record
+(mm, rpm, Hz); SI inside."""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from common.errors import InputError
+from common.settings import edge_values
+
+from .cutting import Cutting
+from .milling import ToolModes, force_matrix, mean_force_matrix
+from .sdm import CEILING_FACTOR, LEVELS, Cut, critical_depths, estimate_seconds
+from .zoa import absolute_limit, zoa_depths
+
+MAX_SECONDS = 1800.0  # a diagram estimated longer is refused (fewer speeds or modes)
+# the fine level's stated error: |fine - coarse| / 3, Richardson's estimate for a second-order
+# scheme (the scheme is fourth order, so it bounds the fine level's error about fivefold;
+# checked against eight times the intervals in tests/test_lobes.py)
+ERROR_DIVISOR = 3.0
+NEGLIGIBLE = 1e-9  # a mode whose peak flexibility at the tool is below this share: left out
+
+
+def cut_of(cutting: Cutting) -> Cut:
+    start, exit_ = cutting.engagement
+    return Cut(cutting.teeth, start, exit_, cutting.kt, cutting.kn)
+
+
+def relevant(modes: ToolModes) -> tuple[ToolModes, np.ndarray]:
+    """The modes that move the tool in the cut's plane (peak flexibility |U_j|^2 /
+    (2 zeta_j omega_j^2) above NEGLIGIBLE of the largest), and their indices."""
+    flex = (modes.shape**2).sum(0) / (2 * modes.zeta * modes.omega**2)
+    keep = np.flatnonzero(flex > NEGLIGIBLE * flex.max())
+    return ToolModes(modes.omega[keep], modes.zeta[keep], modes.shape[:, keep]), keep
+
+
+def small_gain_depth(modes: ToolModes, cut: Cut) -> float:
+    """1 / (2 max |K(t)| max |G(w)|) (m): below it the loop b K(t) (1 - e^{-s tau}) G has gain
+    below 1, so the cut is stable (the small-gain theorem holds for a time-varying loop); the
+    scan starts there and stops at CEILING_FACTOR times it. |G| is read about every mode's
+    peak (a sampled maximum: the scan checks the start anyway)."""
+    phi = np.linspace(0, 2 * math.pi, 1441)
+    kmax = float(np.linalg.norm(force_matrix(phi, cut.teeth, cut.start, cut.exit, cut.kt,
+                                             cut.kn), ord=2, axis=(-2, -1)).max())
+    w = (modes.omega[:, None] * (1 + np.linspace(-3, 3, 61)[None, :] * modes.zeta[:, None]))
+    gmax = float(np.linalg.norm(modes.receptance(w.ravel()), ord=2, axis=(-2, -1)).max())
+    return 1.0 / (2.0 * kmax * gmax)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What a diagram will take, said before it starts."""
+
+    speeds: int
+    modes: int
+    seconds: float
+
+
+def plan(modes: ToolModes, cutting: Cutting) -> Plan:
+    """The diagram's cost estimate; InputError when beyond MAX_SECONDS."""
+    used, _ = relevant(modes)
+    speeds = cutting.speeds_hz()
+    seconds = (estimate_seconds(used, cut_of(cutting), speeds) if cutting.method == "sdm"
+               else 1e-3 * len(speeds))
+    if seconds > MAX_SECONDS:
+        raise InputError(f"cutting: {len(speeds)} speeds with {used.count} tool modes up to "
+                         f"{used.omega.max() / (2 * math.pi):.4g} Hz, estimated "
+                         f"{seconds / 60:.0f} min by semi-discretization (at most "
+                         f"{MAX_SECONDS / 60:.0f}): give fewer speeds, a higher lowest speed, "
+                         "or method = 'zoa'")
+    return Plan(len(speeds), used.count, seconds)
+
+
+def lobes(modes: ToolModes, cutting: Cutting) -> dict:
+    """The diagram's record (results.lobe_records.LobesRecord)."""
+    start = time.perf_counter()
+    plan(modes, cutting)
+    used, kept = relevant(modes)
+    cut = cut_of(cutting)
+    speeds = cutting.speeds_hz()
+    a0 = mean_force_matrix(cut.teeth, cut.start, cut.exit, cut.kt, cut.kn)
+    zoa, zoa_hz = zoa_depths(a0, used, speeds, cut.teeth)
+    stable = small_gain_depth(used, cut)
+    ceiling = CEILING_FACTOR * stable
+    record: dict = {"method": cutting.method}
+    if cutting.method == "zoa":
+        depth = np.where(zoa <= ceiling, zoa, np.inf)
+        freq = np.where(np.isfinite(depth), zoa_hz, np.nan)
+        kind = np.where(np.isfinite(depth), "hopf", "")
+    else:
+        scout = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[0])
+        coarse = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[1],
+                                 near=scout.depth)
+        fine = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[2],
+                               near=coarse.depth)
+        depth, freq = fine.depth, fine.frequency_hz
+        kind = np.where(np.isfinite(depth), np.where(fine.flip, "flip", "hopf"), "")
+        error = np.where(np.isfinite(depth) & np.isfinite(coarse.depth),
+                         np.abs(fine.depth - coarse.depth) / ERROR_DIVISOR
+                         / np.where(np.isfinite(depth), depth, 1.0) * 100, 0.0)
+        record.update({
+            "intervals": [int(v) for v in fine.intervals],
+            "coarse_intervals": [int(v) for v in coarse.intervals],
+            "coarse_depth_mm": _mm(coarse.depth),
+            "error_percent": [float(v) for v in error],
+            "max_error_percent": float(error.max(initial=0.0)),
+        })
+    finite = np.isfinite(depth)
+    least = int(np.argmin(np.where(finite, depth, np.inf))) if finite.any() else None
+    best = int(np.argmax(np.where(finite, depth, np.inf)))
+    record.update({
+        "spindle_rpm": [float(v * 60) for v in speeds],
+        "critical_depth_mm": _mm(depth),
+        "chatter_frequency_hz": [float(f) if math.isfinite(f) else None for f in freq],
+        "kind": [str(k) or None for k in kind],
+        "zoa_depth_mm": _mm(np.where(zoa <= ceiling, zoa, np.inf)),
+        "absolute_limit_mm": _finite_mm(absolute_limit(a0, used)),
+        "ceiling_mm": ceiling * 1e3,
+        "least": None if least is None else {
+            "spindle_rpm": float(speeds[least] * 60), "depth_mm": float(depth[least] * 1e3),
+            "chatter_frequency_hz": float(freq[least]), "kind": str(kind[least])},
+        "best": {"spindle_rpm": float(speeds[best] * 60),
+                 "depth_mm": None if not finite[best] else float(depth[best] * 1e3)},
+        "cutting": edge_values(cutting),
+        "modes": [{"frequency_hz": float(w / (2 * math.pi)), "damping_ratio": float(z),
+                   "shape_per_sqrt_kg": {"x": float(u[0]), "y": float(u[1])},
+                   "used": bool(j in kept)}
+                  for j, (w, z, u) in enumerate(zip(modes.omega, modes.zeta, modes.shape.T,
+                                                    strict=True))],
+        "seconds": time.perf_counter() - start,
+    })
+    return record
+
+
+def _mm(values) -> list[float | None]:
+    return [float(v * 1e3) if math.isfinite(v) else None for v in np.asarray(values, float)]
+
+
+def _finite_mm(value: float) -> float | None:
+    return value * 1e3 if math.isfinite(value) else None
