@@ -88,6 +88,30 @@ def batch_tool_modes(model: BatchModel, form: StandardForm, rotations, point, co
 MAP_CHUNK = 500  # poses assembled at once: K and M of 500 poses of 126 coordinates, 127 MB
 
 
+def summed_count(manipulator, options, compared: int) -> int:
+    """Modes a map sums at the tool: the compared ones and SUPERPOSED_EXTRA more (at most
+    every coordinate's)."""
+    from .batch_model import batch_coordinates
+
+    return min(compared + SUPERPOSED_EXTRA, batch_coordinates(manipulator, options))
+
+
+def tool_modes_chunks(manipulator, options, poses, point, count: int):
+    """(slice, ToolModes) of the batch `poses` (feasible poses: `PoseBatch.take`), MAP_CHUNK
+    poses at a time through the batched model: `count` modes at the tool point."""
+    from .batch_model import assemble_batch, assembly_plan, batch_layout
+    from .batch_solve import standard_form
+
+    n = len(poses)
+    plan = assembly_plan(batch_layout(manipulator, options, poses.base_joint,
+                                      poses.platform_joint))
+    for start in range(0, n, MAP_CHUNK):
+        chunk = poses.take(np.arange(start, min(n, start + MAP_CHUNK)))
+        model = assemble_batch(manipulator, chunk, options, plan)
+        yield (slice(start, start + len(chunk)),
+               batch_tool_modes(model, standard_form(model), chunk.rotation, point, count))
+
+
 def least_stiffness_map(manipulator, options, poses, damping, point, compared: int,
                         lines: int):
     """The least dynamic stiffness at the tool along x, y, z of every pose of the batch
@@ -103,23 +127,14 @@ def least_stiffness_map(manipulator, options, poses, damping, point, compared: i
         summed_band_top,
     )
 
-    from .batch_model import assemble_batch, assembly_plan, batch_coordinates, batch_layout
-    from .batch_solve import standard_form
-
     n = len(poses)
-    count = min(compared + SUPERPOSED_EXTRA, batch_coordinates(manipulator, options))
+    count = summed_count(manipulator, options, compared)
     stiffness, peak, mode = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3), int)
-    plan = assembly_plan(batch_layout(manipulator, options, poses.base_joint,
-                                      poses.platform_joint))
-    for start in range(0, n, MAP_CHUNK):
-        chunk = poses.take(np.arange(start, min(n, start + MAP_CHUNK)))
-        model = assemble_batch(manipulator, chunk, options, plan)
-        modes = batch_tool_modes(model, standard_form(model), chunk.rotation, point, count)
+    for s, modes in tool_modes_chunks(manipulator, options, poses, point, count):
         residual = residual_flexibility(modes.static, modes.omega, modes.phi)
         band = band_lines(summed_band_top(modes.omega, compared, modes.next_omega, damping),
                           lines)
         least = least_dynamic_stiffness(band, modes.omega, damping.ratios(modes.omega),
                                         modes.phi, np.diagonal(residual, axis1=1, axis2=2))
-        s = slice(start, start + len(chunk))
         stiffness[s], peak[s], mode[s] = least.stiffness_n_per_m, least.peak_hz, least.mode
     return LeastStiffness(stiffness, peak, mode)

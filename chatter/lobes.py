@@ -77,65 +77,112 @@ def plan(modes: ToolModes, cutting: Cutting) -> Plan:
     return Plan(len(speeds), used.count, seconds)
 
 
+@dataclass(frozen=True)
+class Diagram:
+    """One diagram's arrays (SI; depth inf: stable up to the ceiling)."""
+
+    speeds_hz: np.ndarray
+    depth: np.ndarray  # m
+    frequency_hz: np.ndarray  # nan where none
+    kind: np.ndarray  # "hopf", "flip", "" (none)
+    zoa_depth: np.ndarray  # m
+    absolute_limit: float  # m (inf: none)
+    ceiling: float  # m
+    used: np.ndarray  # the modes' indices that entered
+    coarse_depth: np.ndarray | None = None  # sdm: at half the intervals
+    error_percent: np.ndarray | None = None  # sdm: the stated error of depth
+    intervals: np.ndarray | None = None
+    coarse_intervals: np.ndarray | None = None
+
+    @property
+    def least(self) -> int | None:
+        """The speed of the least depth (None: stable everywhere)."""
+        finite = np.isfinite(self.depth)
+        return int(np.argmin(np.where(finite, self.depth, np.inf))) if finite.any() else None
+
+    @property
+    def best(self) -> int:
+        """The speed of the largest depth (a stable one first)."""
+        return int(np.argmax(self.depth))
+
+
+def diagram(modes: ToolModes, cutting: Cutting, speeds_hz=None, estimate: bool = True
+            ) -> Diagram:
+    """The critical depth at each speed (`speeds_hz`, default the cutting's) by the cutting's
+    method, with the zero-order estimate beside it (`estimate` False: not computed, nan, when
+    the method is semi-discretization)."""
+    used, kept = relevant(modes)
+    cut = cut_of(cutting)
+    speeds = cutting.speeds_hz() if speeds_hz is None else np.asarray(speeds_hz, float)
+    stable = small_gain_depth(used, cut)
+    ceiling = CEILING_FACTOR * stable
+    if estimate or cutting.method == "zoa":
+        a0 = mean_force_matrix(cut.teeth, cut.start, cut.exit, cut.kt, cut.kn)
+        zoa, zoa_hz = zoa_depths(a0, used, speeds, cut.teeth)
+        zoa = np.where(zoa <= ceiling, zoa, np.inf)
+        limit = absolute_limit(a0, used)
+    else:
+        zoa, zoa_hz, limit = np.full(len(speeds), np.nan), np.full(len(speeds), np.nan), math.nan
+    if cutting.method == "zoa":
+        return Diagram(speeds, zoa, np.where(np.isfinite(zoa), zoa_hz, np.nan),
+                       np.where(np.isfinite(zoa), "hopf", ""), zoa, limit, ceiling, kept)
+    scout = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[0])
+    coarse = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[1],
+                             near=scout.depth)
+    fine = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[2],
+                           near=coarse.depth)
+    finite = np.isfinite(fine.depth)
+    error = np.where(finite & np.isfinite(coarse.depth),
+                     np.abs(fine.depth - coarse.depth) / ERROR_DIVISOR
+                     / np.where(finite, fine.depth, 1.0) * 100, 0.0)
+    kind = np.where(finite, np.where(fine.flip, "flip", "hopf"), "")
+    return Diagram(speeds, fine.depth, fine.frequency_hz, kind, zoa, limit, ceiling, kept,
+                   coarse.depth, error, fine.intervals, coarse.intervals)
+
+
 def lobes(modes: ToolModes, cutting: Cutting) -> dict:
     """The diagram's record (results.lobe_records.LobesRecord)."""
     start = time.perf_counter()
     plan(modes, cutting)
-    used, kept = relevant(modes)
-    cut = cut_of(cutting)
-    speeds = cutting.speeds_hz()
-    a0 = mean_force_matrix(cut.teeth, cut.start, cut.exit, cut.kt, cut.kn)
-    zoa, zoa_hz = zoa_depths(a0, used, speeds, cut.teeth)
-    stable = small_gain_depth(used, cut)
-    ceiling = CEILING_FACTOR * stable
+    d = diagram(modes, cutting)
     record: dict = {"method": cutting.method}
-    if cutting.method == "zoa":
-        depth = np.where(zoa <= ceiling, zoa, np.inf)
-        freq = np.where(np.isfinite(depth), zoa_hz, np.nan)
-        kind = np.where(np.isfinite(depth), "hopf", "")
-    else:
-        scout = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[0])
-        coarse = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[1],
-                                 near=scout.depth)
-        fine = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[2],
-                               near=coarse.depth)
-        depth, freq = fine.depth, fine.frequency_hz
-        kind = np.where(np.isfinite(depth), np.where(fine.flip, "flip", "hopf"), "")
-        error = np.where(np.isfinite(depth) & np.isfinite(coarse.depth),
-                         np.abs(fine.depth - coarse.depth) / ERROR_DIVISOR
-                         / np.where(np.isfinite(depth), depth, 1.0) * 100, 0.0)
+    if d.error_percent is not None and d.intervals is not None \
+            and d.coarse_intervals is not None:
         record.update({
-            "intervals": [int(v) for v in fine.intervals],
-            "coarse_intervals": [int(v) for v in coarse.intervals],
-            "coarse_depth_mm": _mm(coarse.depth),
-            "error_percent": [float(v) for v in error],
-            "max_error_percent": float(error.max(initial=0.0)),
+            "intervals": [int(v) for v in d.intervals],
+            "coarse_intervals": [int(v) for v in d.coarse_intervals],
+            "coarse_depth_mm": _mm(d.coarse_depth),
+            "error_percent": [float(v) for v in d.error_percent],
+            "max_error_percent": float(d.error_percent.max(initial=0.0)),
         })
-    finite = np.isfinite(depth)
-    least = int(np.argmin(np.where(finite, depth, np.inf))) if finite.any() else None
-    best = int(np.argmax(np.where(finite, depth, np.inf)))
+    least, best = d.least, d.best
     record.update({
-        "spindle_rpm": [float(v * 60) for v in speeds],
-        "critical_depth_mm": _mm(depth),
-        "chatter_frequency_hz": [float(f) if math.isfinite(f) else None for f in freq],
-        "kind": [str(k) or None for k in kind],
-        "zoa_depth_mm": _mm(np.where(zoa <= ceiling, zoa, np.inf)),
-        "absolute_limit_mm": _finite_mm(absolute_limit(a0, used)),
-        "ceiling_mm": ceiling * 1e3,
-        "least": None if least is None else {
-            "spindle_rpm": float(speeds[least] * 60), "depth_mm": float(depth[least] * 1e3),
-            "chatter_frequency_hz": float(freq[least]), "kind": str(kind[least])},
-        "best": {"spindle_rpm": float(speeds[best] * 60),
-                 "depth_mm": None if not finite[best] else float(depth[best] * 1e3)},
+        "spindle_rpm": [float(v * 60) for v in d.speeds_hz],
+        "critical_depth_mm": _mm(d.depth),
+        "chatter_frequency_hz": [float(f) if math.isfinite(f) else None
+                                 for f in d.frequency_hz],
+        "kind": [str(k) or None for k in d.kind],
+        "zoa_depth_mm": _mm(d.zoa_depth),
+        "absolute_limit_mm": _finite_mm(d.absolute_limit),
+        "ceiling_mm": d.ceiling * 1e3,
+        "least": None if least is None else least_entry(d, least),
+        "best": {"spindle_rpm": float(d.speeds_hz[best] * 60),
+                 "depth_mm": _finite_mm(float(d.depth[best]))},
         "cutting": edge_values(cutting),
         "modes": [{"frequency_hz": float(w / (2 * math.pi)), "damping_ratio": float(z),
                    "shape_per_sqrt_kg": {"x": float(u[0]), "y": float(u[1])},
-                   "used": bool(j in kept)}
+                   "used": bool(j in d.used)}
                   for j, (w, z, u) in enumerate(zip(modes.omega, modes.zeta, modes.shape.T,
                                                     strict=True))],
         "seconds": time.perf_counter() - start,
     })
     return record
+
+
+def least_entry(d: Diagram, k: int) -> dict:
+    """results.lobe_records.LobeLeast of speed k."""
+    return {"spindle_rpm": float(d.speeds_hz[k] * 60), "depth_mm": float(d.depth[k] * 1e3),
+            "chatter_frequency_hz": float(d.frequency_hz[k]), "kind": str(d.kind[k])}
 
 
 def _mm(values) -> list[float | None]:

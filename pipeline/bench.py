@@ -23,6 +23,9 @@ with a line in bench/history.jsonl and the comparisons of pipeline/bench_history
   stage by stage with its flops, GFLOP/s and the ratio to the flop floor
   (pipeline/bench_kernel.py); and `map_one_core_vs_plain_eigh`, the map the run draws on one
   worker against the 10,000 plain eigh calls;
+- issue 52's `lobes_pose_vs_map_pose`: one pose's lobe diagram (400 speeds) of
+  scenes/3prs-head.toml against one pose of its frequency map, and its workspace stability map
+  once (pipeline/bench_lobes.py);
 - issue 51's `real_legs_map_vs_beam`: the 10,000-pose map of scenes/actuator-legs.toml (a
   housing and a rod) with its solid legs against its beam legs, one core, and the solid legs'
   one-off build from an empty cache (pipeline/bench_real_legs.py);
@@ -70,6 +73,8 @@ from .bench_history import (
     revision,
 )
 from .bench_kernel import MAP_GRID, bench_best_model, map_poses
+from .bench_lobes import SCENE as LOBES_SCENE
+from .bench_lobes import bench_lobes
 from .bench_real_legs import SCENE as REAL_LEGS_SCENE
 from .bench_real_legs import bench_real_legs
 from .bench_records import (
@@ -330,6 +335,9 @@ def main(argv: list[str] | None = None) -> int:
                         * POSE_GRID[2], choices=(0, 100_000), metavar="{0,100000}",
                         help="the 10^5-pose sweep on a local Dask cluster (0: skip it; "
                         "default: 100000)")
+    parser.add_argument("--no-stability-map", dest="stability_map", action="store_false",
+                        help="skip the 3-PRS head's workspace stability map (about 3 min; "
+                        "default: timed once)")
     parser.add_argument("--skip-fem", action="store_true",
                         help="no FEM timings nor the validation sweep (default: both)")
     args = parser.parse_args(argv)
@@ -364,6 +372,10 @@ def main(argv: list[str] | None = None) -> int:
         if (scenes / REAL_LEGS_SCENE).is_file():
             result["real_legs_map"] = bench_real_legs(scenes, args.map_runs)
             result["real_legs_map_vs_beam"] = result["real_legs_map"]["ratio"]
+        if (scenes / LOBES_SCENE).is_file():
+            result["lobes"] = bench_lobes(scenes, args.map_runs,
+                                          stability_map=args.stability_map)
+            result["lobes_pose_vs_map_pose"] = result["lobes"]["ratio"]
         if scene.uncertainty is not None:
             result["uncertainty"] = bench_uncertainty(scene, args.case, args.map_runs)
             result["uncertainty_run_vs_batched_pose"] = \

@@ -31,7 +31,7 @@ HEADLINE = ("analytical_pose_seconds_median", "analytical_pose_vs_plain_eigh",
             "best_model_pose_seconds", "map_vs_plain_eigh", "map_scene_modes_vs_plain_eigh",
             "map_one_core_vs_plain_eigh", "dynamic_map_vs_frequency_map",
             "uncertainty_run_vs_batched_pose", "distributed_overhead", "fem_pose_seconds_median",
-            "real_legs_map_vs_beam")
+            "real_legs_map_vs_beam", "lobes_pose_vs_map_pose")
 
 
 def default_out() -> Path:

@@ -110,6 +110,31 @@ class MapBench(TypedDict):
 
 
 @with_config(STRICT)
+class LobesBench(TypedDict):
+    """Issue 52: one pose's lobe diagram against one pose of the frequency map of the same
+    machine, one core, timed alternately; the workspace stability map once
+    (pipeline/bench_lobes.py)."""
+    scene: str
+    case: str
+    runs: int
+    openblas_num_threads: str | None
+    method: str
+    speeds: int
+    tool_modes: int
+    lobes_seconds: list[float]
+    lobes_median_seconds: float
+    map_poses: int
+    map_median_seconds: float
+    map_pose_seconds: float
+    ratio: float  # one pose's lobes / one pose of the frequency map
+    stability_map_seconds: NotRequired[float]
+    stability_map_poses: NotRequired[int]
+    stability_map_speeds: NotRequired[int]
+    stability_map_estimated_seconds: NotRequired[float]
+    stability_map_announced: NotRequired[str]
+
+
+@with_config(STRICT)
 class RealLegsMap(TypedDict):
     """Issue 51: the 10,000-pose map of a real-leg machine with its solid legs against its
     beam legs, one core, timed alternately (pipeline/bench_real_legs.py); the one-off build."""
@@ -281,6 +306,8 @@ class BenchFile(TypedDict):
     dynamic_map_vs_frequency_map: float
     real_legs_map: NotRequired[RealLegsMap]  # a checkout with scenes/actuator-legs.toml
     real_legs_map_vs_beam: NotRequired[float]
+    lobes: NotRequired[LobesBench]  # a checkout with scenes/3prs-head.toml
+    lobes_pose_vs_map_pose: NotRequired[float]
     uncertainty: NotRequired[UncertaintyBench]  # a scene with [uncertainty]
     uncertainty_run_vs_batched_pose: NotRequired[float]
     fem: NotRequired[FemTimings]  # without --skip-fem

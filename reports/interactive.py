@@ -13,13 +13,14 @@ from __future__ import annotations
 import base64
 import json
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Mapping, cast
 
 import plotly.io
 
 from results import Results
 
 from . import interactive_charts as charts
+from . import interactive_lobes as lobe_charts
 from . import interactive_maps as maps
 from . import interactive_tool as tool_charts
 from . import interactive_uncertainty as uncertainty_charts
@@ -123,7 +124,39 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
     if stiffness:
         add(chart_key("dynamic_stiffness"), tool_charts.dynamic_stiffness_map, stiffness,
             section="dynamic-stiffness", caption=stiffness_caption(stiffness))
+    for case in results["cases"]:
+        lobes = cast("dict[str, Any] | None", case.get("lobes"))
+        if lobes:
+            add(chart_key("lobes", case["name"]), lobe_charts.case_lobes, lobes, case["name"],
+                section="lobes", caption=lobes_caption(case, lobes))
+    stable = cast("dict[str, Any] | None", results["studies"].get("stability_map"))
+    if stable:
+        add(chart_key("stability_map"), lobe_charts.stability_map, stable,
+            section="stability-map", caption=stability_caption(stable))
     return out
+
+
+def lobes_caption(case, record: Mapping[str, Any]) -> str:
+    """The caption of a case's lobes."""
+    median = record["median_error_percent"]
+    said = "" if median is None else (f"; the analytical model's depth is within "
+                                      f"{median:.2g} % of the FEM's at the median speed, "
+                                      f"{record['max_error_percent']:.2g} % at worst")
+    return (f"{case['description']} ({case['name']}): the critical axial depth of the "
+            f"scene's cut against spindle speed ({record['method']}; stable below a curve), "
+            f"from the analytical model's tool modes and the FEM's at "
+            f"{record['fem_mesh_size_mm']:g} mm and {record['coarse_mesh_size_mm']:g} mm"
+            f"{said}.")
+
+
+def stability_caption(record: Mapping[str, Any]) -> str:
+    """The caption of the stability map."""
+    lo, hi = record["spindle_rpm_range"]
+    return (f"The least critical depth of the scene's cut over {record['speeds']} spindle "
+            f"speeds from {lo:.0f} to {hi:.0f} rpm ({record['method']}) at every pose of "
+            "the map: angle = azimuth φ (deg), radius = tilt θ (deg), colour = depth (mm); "
+            f"star: the least over the map. The analytical model ({record['analytical']}), "
+            f"damping {record['damping']}, tool point {_point(record)}.")
 
 
 def _point(record: Mapping[str, Any]) -> str:

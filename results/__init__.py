@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from .case_records import *  # noqa: F401,F403
 from .declare import Record, Section, Table, csv_text, stub, table_rows, unique  # noqa: F401
+from .lobe_records import *  # noqa: F401,F403
 from .outputs import OUTPUTS, Output  # noqa: F401
 from .rules import best_error, mode_ranges, worst_by_mode_range, worst_in_mode_ranges  # noqa: F401
 from .schema import Results, dumps, nesting_depth, read, study_type, validated  # noqa: F401

@@ -7,10 +7,11 @@ from __future__ import annotations
 from pydantic import FiniteFloat, with_config
 from typing_extensions import NotRequired, TypedDict
 
-from .tool_records import OutputPose
+from .tool_records import Grid, OutputPose
 from .types import STRICT
 
-__all__ = ["LobeBest", "LobeLeast", "LobeMode", "LobesFile", "LobesRecord", "ModalShapeXY"]
+__all__ = ["CaseLobes", "LobeBest", "LobeCurve", "LobeLeast", "LobeMode", "LobeSummary",
+           "LobesFile", "LobesRecord", "ModalShapeXY", "StabilityLeast", "StabilityMap"]
 
 
 @with_config(STRICT)
@@ -77,3 +78,85 @@ class LobesFile(LobesRecord):
     pose: NotRequired[OutputPose]
     model: NotRequired[str]  # the model that gave the modes, in words
     warnings: list[str]
+
+
+@with_config(STRICT)
+class LobeCurve(TypedDict):
+    """One model's lobes at a case (the scene's speeds and method)."""
+    model: str
+    critical_depth_mm: list[FiniteFloat | None]
+    chatter_frequency_hz: list[FiniteFloat | None]
+    kind: list[str | None]
+    max_error_percent: FiniteFloat | None  # sdm: the stated discretisation error; zoa: None
+
+
+@with_config(STRICT)
+class LobeSummary(TypedDict):
+    """A row of a case's lobes: one model's least depth and best speed."""
+    model: str
+    least_depth_mm: FiniteFloat | None  # None: stable at every speed up to the ceiling
+    least_rpm: FiniteFloat | None
+    kind: str | None
+    chatter_frequency_hz: FiniteFloat | None
+    best_rpm: FiniteFloat
+    best_depth_mm: FiniteFloat | None
+    error_percent: FiniteFloat | None  # the least depth against the FEM's (the FEM: None)
+    fem_error_percent: FiniteFloat | None  # the FEM's: two meshes; the models': None
+
+
+@with_config(STRICT)
+class CaseLobes(TypedDict):
+    """A case's stability lobes: the analytical model's and the FEM's tool modes through the
+    same cut (`studies.lobes`), the FEM at the run's mesh and one size coarser."""
+    method: str
+    spindle_rpm: list[FiniteFloat]
+    analytical: LobeCurve
+    fem: LobeCurve
+    fem_coarse: LobeCurve
+    fem_mesh_size_mm: FiniteFloat
+    coarse_mesh_size_mm: FiniteFloat
+    error_percent: list[FiniteFloat | None]  # analytical against the FEM, per speed
+    fem_error_percent: list[FiniteFloat | None]  # the FEM's two-mesh estimate, per speed
+    median_error_percent: FiniteFloat | None
+    max_error_percent: FiniteFloat | None
+    summary: list[LobeSummary]
+    seconds: FiniteFloat
+
+
+@with_config(STRICT)
+class StabilityLeast(TypedDict):
+    """The least critical depth over the map and the speeds, and where."""
+    depth_mm: FiniteFloat
+    spindle_rpm: FiniteFloat
+    chatter_frequency_hz: FiniteFloat
+    kind: str
+    height_mm: FiniteFloat
+    tilt_deg: FiniteFloat
+    azimuth_deg: FiniteFloat
+
+
+@with_config(STRICT)
+class StabilityMap(TypedDict):
+    """The cut's stability over the workspace map (`studies.stability_map`): per reachable
+    pose the least critical depth over the speeds, the speed it occurs at, the best speed
+    (largest depth) and the chatter frequency at the least; null where a pose is not reached
+    or stays stable up to the ceiling."""
+    point_mm: list[FiniteFloat]
+    method: str
+    analytical: str
+    damping: str
+    speeds: int
+    spindle_rpm_range: list[FiniteFloat]  # the speeds' lowest and highest
+    heights_mm: list[FiniteFloat]
+    tilts_deg: list[list[FiniteFloat]]  # [layer][ring]
+    azimuths_deg: list[FiniteFloat]
+    least_depth_mm: Grid
+    least_rpm: Grid
+    best_rpm: Grid
+    best_depth_mm: Grid
+    chatter_frequency_hz: Grid
+    max_error_percent: FiniteFloat | None  # sdm: the largest stated error over the map
+    least: list[StabilityLeast]  # one row: the least over the map (empty: none)
+    poses: int
+    estimated_seconds: FiniteFloat
+    seconds: FiniteFloat

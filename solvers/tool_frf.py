@@ -128,6 +128,24 @@ def fem_tool(result, damping: Damping, point, compared: int, label: str = "FEM")
     return ToolModel(label, modes, damping, compared, entries)
 
 
+def fem_tool_at(manipulator, geometry, options, runtime, damping: Damping, point,
+                compared: int) -> ToolModel:
+    """The solid's modal sum at one pose, solved at `options` (its mesh)."""
+    from fem_reference import solve_pose
+
+    return fem_tool(solve_pose(manipulator, geometry, options, runtime, keep_system=True),
+                    damping, point, compared, label=f"FEM ({options.mesh.size * 1e3:g} mm)")
+
+
+def two_mesh_percent(fine, coarse, ratio: float) -> np.ndarray:
+    """The FEM's two-mesh error estimate of a quantity (%): the larger of Richardson's step
+    and the GCI, as for the frequencies."""
+    from fem_reference.convergence import two_mesh_error, two_mesh_gci
+
+    pair = (np.abs(np.asarray(fine, float)), np.abs(np.asarray(coarse, float)), ratio)
+    return np.maximum(two_mesh_error(*pair), two_mesh_gci(*pair))
+
+
 def check_damping(damping: Damping, fem: ToolModel) -> Damping:
     """The Rayleigh damping all three share in the direct check (module docstring)."""
     if damping.rayleigh:
@@ -222,10 +240,7 @@ class FemCheck:
     def two_mesh_percent(self, fine, coarse) -> np.ndarray:
         """The FEM's estimated error (%) of positive quantities of the two meshes: the larger
         of Richardson's step and the GCI at the rims' order, as for its frequencies."""
-        from fem_reference.convergence import two_mesh_error, two_mesh_gci
-
-        pair = (np.abs(fine), np.abs(coarse), self.ratio)
-        return np.maximum(two_mesh_error(*pair), two_mesh_gci(*pair))
+        return two_mesh_percent(fine, coarse, self.ratio)
 
 
 def fem_check(manipulator, geometry, damping: Damping, point, compared: int, fine_options,

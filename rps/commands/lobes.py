@@ -27,8 +27,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tool-modes", metavar="FILE", type=path_argument,
                    help="the tool's modes instead of a scene: rps frf's frf.json, or a TOML or "
                    "JSON file with modes = [{frequency_hz, damping_ratio, "
-                   "tool_shape_per_sqrt_kg = {x, y}}] in the cut's plane (x along the feed); default: "
-                   "none, the scene's model at the case")
+                   "tool_shape_per_sqrt_kg = {x, y}}] in the cut's plane (x along the feed); "
+                   "default: none, the scene's model at the case")
     p.add_argument("--cutting", metavar="FILE", type=path_argument,
                    help="with --tool-modes: a TOML file holding a [cutting] table (default: none; "
                    "with a scene, its own [cutting])")
@@ -48,12 +48,14 @@ def _read_any(path: Path, what: str) -> object:
     if path.suffix.lower() == ".json":
         try:
             return json.loads(path.read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise InputError(f"{what} {str(path)!r} does not exist") from None
         except OSError as exc:
             raise InputError(f"{what} {path}: cannot be read ({exc.strerror})") from None
         except (UnicodeDecodeError, json.JSONDecodeError) as exc:
             raise InputError(f"{what} {path}: not JSON ({' '.join(str(exc).split())})"
                              ) from None
-    return read_toml(path)
+    return read_toml(path, what)
 
 
 def read_cutting(path: Path):
