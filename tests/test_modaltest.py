@@ -388,7 +388,65 @@ def _scene_text(raw: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
+# A confident wrong answer (issue 53's "Intervals"): this sprung real-leg machine, reached by
+# the random test below in some runs (three parallel CI runs of 2026-11-28 in a row, never in a
+# sequential one), is identified with every key "identifiable" and its 95 % intervals 0.1 % wide
+# but 11-20 % off the hidden values (the same numbers at 660bf7d and 1cdaa63, in isolation).
+# Strict: when issue 53 mends the intervals, this test must be un-marked.
+MISIDENTIFIED = {
+    "name": "fuzzed machine with real legs",
+    "manipulator": {"base_radius_mm": 420.0754030425771,
+                    "platform_radius_mm": 232.59948074650475,
+                    "platform_thickness_mm": 81.81541792505337,
+                    "actuator_min_mm": 770.6798985818444, "actuator_max_mm": 1092.1960479107004,
+                    "s_joint_max_deg": 30.0, "r_joint_max_deg": 30.0, "base_joint": "S",
+                    "platform_joint": "R"},
+    "material": {"youngs_modulus_gpa": 113.8, "shear_modulus_gpa": 42.4,
+                 "density_kg_m3": 4430.0},
+    "leg": {"housing_length_mm": 309.6606139646626,
+            "housing_outer_diameter_mm": 163.63083585010673,
+            "housing_inner_diameter_mm": 124.12325961937783,
+            "rod_outer_diameter_mm": 116.42974665578404,
+            "rod_inner_diameter_mm": 34.928923996735215},
+    "fidelity": {"modes": 6, "tolerance_percent": 1.0},
+    "stiffness": {"actuator_axial_n_per_um": 345.0, "base_joint_translational_n_per_um": 1731.0,
+                  "platform_joint_translational_n_per_um": 737.0},
+    "cases": {"level": {"height_mm": 880.9647584620039},
+              "tilted": {"height_mm": 880.9647584620039, "azimuth_deg": 0.0, "tilt_deg": 1.0}}}
+
+
+def _identified_within_intervals(raw: dict, folder: Path) -> None:
+    """A campaign made by the model with hidden springs (30 % softer) or modulus (7 % lower)
+    at the machine's cases, identified: every hidden value inside its 95 % interval and every
+    key called identifiable within identifiable_within_percent of it."""
+    scene = folder / "scene.toml"
+    scene.write_text(_scene_text(raw))
+    hidden = ({f"stiffness.{k}": 0.7 * v for k, v in raw["stiffness"].items()}
+              if "stiffness" in raw else
+              {"material.youngs_modulus_gpa": 0.93 * raw["material"]["youngs_modulus_gpa"]})
+    points = [PoseTested(n, c["height_mm"], c.get("azimuth_deg", 0.0),
+                         c.get("tilt_deg", 0.0)) for n, c in raw["cases"].items()]
+    campaign = load_campaign(write_campaign(scene, hidden, points, folder / "c", list(hidden),
+                                            extra="frequency_noise_percent = 1e-3\n"))
+    assert campaign.identify.frequency_noise_percent == 1e-3
+    record, _ = run_identification(campaign, campaign.analytical, "fuzz")
+    within = campaign.identify.identifiable_within_percent / 100
+    for p in record["parameters"]:
+        truth = hidden[p["key"]]
+        assert p["ci95"][0] <= truth <= p["ci95"][1], p
+        assert not p["identifiable"] or abs(p["value"] / truth - 1) <= within, p
+
+
 @pytest.mark.fuzz
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="issue 53: a confident wrong identification")
+def test_a_known_machine_is_misidentified_with_confidence(tmp_path):
+    _identified_within_intervals(MISIDENTIFIED, tmp_path)
+
+
+@pytest.mark.fuzz
+@pytest.mark.xfail(strict=False, reason="issue 53: some machines are identified confidently "
+                   "wrong (test_a_known_machine_is_misidentified_with_confidence)")
 def test_identification_on_random_machines(tmp_path_factory):
     """Machines drawn from the fuzz's plausible ranges (3-RPS and 3-PRS, both joint orders,
     three metals; real legs with bearings and a ball screw): a campaign made by the model with
