@@ -87,9 +87,9 @@ class Cutting:
         return math.acos(min(1.0, 2.0 * r - 1.0)), math.pi
 
     def speeds_hz(self):
-        """The diagram's spindle speeds, rev/s, ascending."""
+        """The diagram's spindle speeds, rev/s, ascending (a list's repeats once)."""
         import numpy as np
 
         if self.spindle_list:
-            return np.asarray(self.spindle_list, float)
+            return np.unique(np.asarray(self.spindle_list, float))
         return np.linspace(self.spindle[0], self.spindle[1], self.speeds)

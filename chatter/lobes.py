@@ -132,12 +132,27 @@ def diagram(modes: ToolModes, cutting: Cutting, speeds_hz=None, estimate: bool =
     fine = critical_depths(used, cut, speeds, stable, ceiling, refine=LEVELS[2],
                            near=coarse.depth)
     finite = np.isfinite(fine.depth)
-    error = np.where(finite & np.isfinite(coarse.depth),
-                     np.abs(fine.depth - coarse.depth) / ERROR_DIVISOR
-                     / np.where(finite, fine.depth, 1.0) * 100, 0.0)
+    both = finite & np.isfinite(coarse.depth)
+    error = np.zeros(len(speeds))
+    error[both] = (np.abs(fine.depth[both] - coarse.depth[both]) / ERROR_DIVISOR
+                   / fine.depth[both] * 100)
     kind = np.where(finite, np.where(fine.flip, "flip", "hopf"), "")
     return Diagram(speeds, fine.depth, fine.frequency_hz, kind, zoa, limit, ceiling, kept,
                    coarse.depth, error, fine.intervals, coarse.intervals)
+
+
+def depths_near(modes: ToolModes, cutting: Cutting, speeds_hz, near,
+                refine: int = LEVELS[1]) -> np.ndarray:
+    """The critical depths (m; inf: stable up to the ceiling) of `modes` at one level of
+    semi-discretization (default the coarse one), bracketed about `near`: a nearby modal
+    model's depths at the same speeds and level (a machine's family, e.g. an uncertainty
+    band's draws), at about a quarter of a full diagram's cost."""
+    used, _ = relevant(modes)
+    cut = cut_of(cutting)
+    stable = small_gain_depth(used, cut)
+    return critical_depths(used, cut, np.asarray(speeds_hz, float), stable,
+                           CEILING_FACTOR * stable, refine=refine,
+                           near=np.asarray(near, float)).depth
 
 
 def lobes(modes: ToolModes, cutting: Cutting) -> dict:

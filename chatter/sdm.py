@@ -29,8 +29,9 @@ complex, a Hopf (secondary) bifurcation.
 The intervals of a cut segment follow the work: at most ANGLE_STEP of the cutter's turn and
 PHASE_STEP radians of the highest mode's vibration each (measured convergence in
 docs/lobes.md). Each speed is solved at these intervals and at twice as many; the record keeps
-the finer depth, and the difference of the two as its stated error (at fourth order the finer
-one's true error is about 1/15 of it)."""
+the finer depth, and a third of the difference of the two as its stated error (chatter.lobes:
+Richardson's estimate for a second-order scheme; at fourth order the finer one's true error is
+about 1/15 of the difference, so the stated error bounds it about fivefold)."""
 from __future__ import annotations
 
 import math
@@ -51,6 +52,7 @@ LADDER = 1.2  # depth ratio of the scan up from a stable depth
 NEAR = 1.03  # the finer level's bracket: a coarser level's depth / NEAR and * NEAR
 TOLERANCE = 1e-5  # relative width of the final bracket
 MAX_ITERATIONS = 60
+UNSTABLE_LOG = 50.0  # log rho said for a radius that is not a finite number (unstable)
 CEILING_FACTOR = 1e3  # no loss of stability below this many times the small-gain depth: none
 # one depth trial of one speed, s: a + b n^2 for a monodromy of size n (numpy's eigvals on one
 # core: 0.35, 2.5, 11 and 47 ms at n = 48, 96, 192, 384, near n^2 there; the whole diagram's
@@ -257,7 +259,13 @@ class Monodromy:
         return out
 
     def radius(self, depth) -> np.ndarray:
-        return np.abs(np.linalg.eigvals(self.matrices(depth))).max(-1)
+        """The spectral radius per speed (inf where the matrix overflowed)."""
+        with np.errstate(over="ignore", invalid="ignore"):
+            mats = self.matrices(depth)
+        bad = ~np.isfinite(mats).all((-2, -1))
+        if bad.any():
+            mats = np.where(bad[:, None, None], 0.0, mats)
+        return np.where(bad, np.inf, np.abs(np.linalg.eigvals(mats)).max(-1))
 
 
 def _linear_m1(w10, w01, w11):
@@ -292,9 +300,13 @@ def critical_depths(modes: ToolModes, cut: Cut, speeds_hz, start: float, ceiling
 
 
 def _log_radius(mono: Monodromy, mask, depth) -> np.ndarray:
+    """log rho of the speeds in `mask` at `depth` (nan elsewhere); a radius that is not a
+    finite number (the eigensolver overflowed at a huge depth) counts as unstable."""
     out = np.full(mono.batch, np.nan)
     if mask.any():
-        out[mask] = np.log(_sub(mono, mask).radius(depth[mask]))
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            v = np.log(_sub(mono, mask).radius(depth[mask]))
+        out[mask] = np.where(np.isnan(v) | np.isposinf(v), UNSTABLE_LOG, v)
     return out
 
 

@@ -67,7 +67,8 @@ def read_modes(data: Any, where: str, feed_direction: float) -> ToolModes:
             raise InputError(f"{at}.damping_ratio = {z:g}: expected a ratio above 0 (an "
                              "undamped mode chatters at any depth)")
         u = m.get("tool_shape_per_sqrt_kg")
-        if not isinstance(u, dict) or set(u) - set(axes) or not set(u) & {"x", "y"}:
+        if not isinstance(u, dict) or set(u) - set(axes) or not u \
+                or not (frf or set(u) & {"x", "y"}):
             raise InputError(f"{at}.tool_shape_per_sqrt_kg: expected {{"
                              + ", ".join(axes) + "} (1/sqrt(kg), mass-normalised)")
         omega.append(2 * math.pi * f)

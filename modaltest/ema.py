@@ -86,6 +86,24 @@ def identify_modes(frfs: uff.Frfs, settings: EmaSettings) -> uff.Modes:
     """Natural frequencies, damping ratios and real shapes (at the response dofs of the
     reference dof's FRFs) of the modes stable in the band; EmaError if the band leaves the FRFs'
     axis, the axis does not suit LSCF, or no pole is stable."""
+    poles, residues = poles_and_residues(frfs, settings)
+    hz = np.abs(poles) / (2.0 * np.pi)
+    zeta = -poles.real / np.abs(poles)
+    rows = _reference_rows(frfs.reference)
+    shapes = np.empty((len(rows), len(poles)))
+    for r in range(len(poles)):
+        real = uff.complex_to_real_shape(residues[rows, r])
+        shapes[:, r] = real / np.max(np.abs(real))
+    dofs = uff.Dofs(frfs.dofs.node[rows], frfs.dofs.direction[rows])
+    return uff.Modes(hz, zeta, dofs, shapes)
+
+
+def poles_and_residues(frfs: uff.Frfs, settings: EmaSettings) -> tuple[np.ndarray, np.ndarray]:
+    """The stable poles lambda (m,), ascending in frequency, and their LSFD residues A (k, m)
+    in every FRF (steps 1-5 of the module docstring): H_jk(w) = sum_r A_jk,r /
+    (i w - lambda_r) + conjugate, so that a mass-normalised real mode has phi_j phi_k =
+    (lambda_r - conj lambda_r) A_jk,r = Re(2 i omega_d A_jk,r) (omega_d = Im lambda_r > 0).
+    EmaError as identify_modes."""
     f = frfs.frequency_hz
     lower, upper = settings.lower_hz, settings.upper_hz
     df = float(f[1] - f[0])
@@ -119,16 +137,8 @@ def identify_modes(frfs: uff.Frfs, settings: EmaSettings) -> uff.Modes:
     except (np.linalg.LinAlgError, ValueError) as exc:
         raise ComputeError(f"sdypy-EMA LSFD failed in {band}: {one_line(exc)}") from None
     poles = np.array([model.all_poles[o][i] for o, i in picked])
-    hz = np.abs(poles) / (2.0 * np.pi)
-    zeta = -poles.real / np.abs(poles)
-    rows = _reference_rows(frfs.reference)
-    shapes = np.empty((len(rows), len(poles)))
-    for r in range(len(poles)):
-        real = uff.complex_to_real_shape(np.asarray(residues)[rows, r])
-        shapes[:, r] = real / np.max(np.abs(real))
-    order = np.argsort(hz)
-    dofs = uff.Dofs(frfs.dofs.node[rows], frfs.dofs.direction[rows])
-    return uff.Modes(hz[order], zeta[order], dofs, shapes[:, order])
+    order = np.argsort(np.abs(poles))
+    return poles[order], np.asarray(residues)[:, order]
 
 
 def _pick(all_poles: list[Any], s: EmaSettings, lower: float,

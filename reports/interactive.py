@@ -142,11 +142,24 @@ def lobes_caption(case, record: Mapping[str, Any]) -> str:
     said = "" if median is None else (f"; the analytical model's depth is within "
                                       f"{median:.2g} % of the FEM's at the median speed, "
                                       f"{record['max_error_percent']:.2g} % at worst")
+    band = record.get("band")
+    spread = ""
+    if band and not band["refused"] and band["least_q025_mm"] is not None:
+        spread = (f" Shaded: 95 % of {band['samples']} machines drawn from the scene's "
+                  f"[uncertainty] ({band['model']}); their least depth over the speeds is "
+                  f"{band['least_q025_mm']:.3g} mm or more for 97.5 % of them (the scene's "
+                  f"own machine: {_mm(band['least_nominal_mm'])}).")
+    elif band and band["refused"]:
+        spread = f" The band over [uncertainty] was not drawn: {band['refused']}."
     return (f"{case['description']} ({case['name']}): the critical axial depth of the "
             f"scene's cut against spindle speed ({record['method']}; stable below a curve), "
             f"from the analytical model's tool modes and the FEM's at "
             f"{record['fem_mesh_size_mm']:g} mm and {record['coarse_mesh_size_mm']:g} mm"
-            f"{said}.")
+            f"{said}.{spread}")
+
+
+def _mm(value: float | None) -> str:
+    return "stable at every speed" if value is None else f"{value:.3g} mm"
 
 
 def stability_caption(record: Mapping[str, Any]) -> str:

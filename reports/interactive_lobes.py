@@ -10,6 +10,8 @@ from .interactive_charts import FEM_COLOUR, LAYOUT, SETTING_COLOURS, significant
 from .interactive_maps import finite_array, grid_points, panel, polar_panels
 
 LEAST_COLOUR = "#d62728"
+BAND_COLOUR = "#1f77b4"
+BAND_FILL = "rgba(31, 119, 180, 0.18)"
 
 
 def case_lobes(record: dict, case: str) -> go.Figure | None:
@@ -38,10 +40,33 @@ def case_lobes(record: dict, case: str) -> go.Figure | None:
             hovertemplate="%{x:.0f} rpm: <b>%{customdata[0]} mm</b><br>chatter at "
             "%{customdata[1]} Hz (%{customdata[2]})<br>" + label + " %{customdata[3]} %"
             "<extra>" + c["model"] + "</extra>"))
+    band = record.get("band")
+    if band and not band["refused"]:
+        add_band(fig, band)
     fig.update_layout(**LAYOUT, height=360, title=f"Stability lobes, {case}",
                       xaxis_title="spindle speed (rpm)",
                       yaxis_title="critical axial depth (mm), stable below")
     return fig
+
+
+def add_band(fig: go.Figure, band: dict) -> None:
+    """The critical depth's 95 % band over the scene's [uncertainty] (shaded, from the 2.5 %
+    to the 97.5 % quantile of the draws) under the lobes; a speed where a quantile is stable
+    up to the ceiling leaves a gap."""
+    rpm = band["spindle_rpm"]
+    name = f"95 % of {band['samples']} machines drawn from [uncertainty]"
+    fig.add_trace(go.Scatter(x=rpm, y=finite_array(band["q025_depth_mm"]), mode="lines",
+                             line=dict(width=0, color=BAND_COLOUR), showlegend=False,
+                             hoverinfo="skip", name=name))
+    fig.add_trace(go.Scatter(
+        x=rpm, y=finite_array(band["q975_depth_mm"]), mode="lines", fill="tonexty",
+        fillcolor=BAND_FILL, line=dict(width=0, color=BAND_COLOUR), name=name,
+        customdata=[[significant(a, 4), significant(m, 4), significant(b, 4)]
+                    for a, m, b in zip(band["q025_depth_mm"], band["median_depth_mm"],
+                                       band["q975_depth_mm"], strict=True)],
+        hovertemplate="%{x:.0f} rpm: 2.5 % of the machines chatter below "
+        "<b>%{customdata[0]} mm</b><br>median %{customdata[1]} mm, 97.5 % "
+        "%{customdata[2]} mm<extra>" + band["model"] + "</extra>"))
 
 
 def stability_map(sm: dict) -> go.Figure | None:

@@ -10,7 +10,7 @@ from typing_extensions import NotRequired, TypedDict
 from .tool_records import Grid, OutputPose
 from .types import STRICT
 
-__all__ = ["CaseLobes", "LobeBest", "LobeCurve", "LobeLeast", "LobeMode", "LobeSummary",
+__all__ = ["CaseLobes", "LobeBand", "LobeBest", "LobeCurve", "LobeLeast", "LobeMode", "LobeSummary",
            "LobesFile", "LobesRecord", "ModalShapeXY", "StabilityLeast", "StabilityMap"]
 
 
@@ -105,6 +105,32 @@ class LobeSummary(TypedDict):
 
 
 @with_config(STRICT)
+class LobeBand(TypedDict):
+    """The critical depth's spread over the scene's [uncertainty] at a case (`studies.lobes`):
+    plain scrambled Sobol' draws of the inputs, every draw's machine through the model at the
+    case's pose and through the same cut; empirical quantiles (no interpolation: a draw's own
+    depth; null where a draw stays stable up to the ceiling)."""
+    samples: int
+    model: str  # the model the draws went through (solvers.uncertainty.run_model)
+    inputs: list[str]  # the uncertain keys (the cutting coefficients and damping: as declared)
+    spindle_rpm: list[FiniteFloat]  # the band's speeds (the case's range, thinned)
+    nominal_depth_mm: list[FiniteFloat | None]  # the scene's own machine, same model and speeds
+    q025_depth_mm: list[FiniteFloat | None]
+    median_depth_mm: list[FiniteFloat | None]
+    q975_depth_mm: list[FiniteFloat | None]
+    least_nominal_mm: FiniteFloat | None  # the least depth over the speeds, the scene's machine
+    least_q025_mm: FiniteFloat | None  # ... its 2.5 % quantile over the draws
+    least_q025_interval_mm: list[FiniteFloat | None]  # that quantile's distribution-free 95 %
+    # interval: two order statistics of the draws (null: no draw bounds it on that side)
+    least_median_mm: FiniteFloat | None
+    least_q975_mm: FiniteFloat | None
+    level_error_percent: FiniteFloat | None  # sdm: the draws' level of intervals (the coarse
+    # one) against the fine level, on the scene's machine: the largest over the speeds
+    refused: str | None  # why the band was not drawn (its budget, a draw out of reach)
+    seconds: FiniteFloat
+
+
+@with_config(STRICT)
 class CaseLobes(TypedDict):
     """A case's stability lobes: the analytical model's and the FEM's tool modes through the
     same cut (`studies.lobes`), the FEM at the run's mesh and one size coarser."""
@@ -120,6 +146,7 @@ class CaseLobes(TypedDict):
     median_error_percent: FiniteFloat | None
     max_error_percent: FiniteFloat | None
     summary: list[LobeSummary]
+    band: LobeBand | None  # scenes with [uncertainty] (None: none)
     seconds: FiniteFloat
 
 

@@ -124,7 +124,14 @@ def estimate_seconds(scene, options: ModelOptions, pose: Pose, unit, modes: int,
     return (time.perf_counter() - start) / len(head) * len(unit)
 
 
-def _solve(scene, options, built, poses, modes: int, tool: bool):
+def tool_modes(scene, options: ModelOptions, prepared: Prepared, count: int):
+    """The tool modes (analytical.tool_response.ToolModes, a leading axis per sample; base
+    frame) of prepared samples: `count` modes at the scene's tool point, one batch."""
+    return _solve(scene, options, prepared.machines, prepared.poses, count, True,
+                  shapes=True)
+
+
+def _solve(scene, options, built, poses, modes: int, tool: bool, shapes: bool = False):
     from analytical.batch_model import leg_reduction
     from analytical.batch_solve import frequencies, standard_form
     from analytical.sample_batch import assemble_samples
@@ -141,6 +148,9 @@ def _solve(scene, options, built, poses, modes: int, tool: bool):
     if not tool:
         return frequencies(model, modes), None
     form = standard_form(model)
+    if shapes:
+        return batch_tool_modes(model, form, poses.rotation, scene.tool.point,
+                                min(modes, reduced.coordinates[1]))
     count = min(modes + SUPERPOSED_EXTRA, reduced.coordinates[1])
     found = batch_tool_modes(model, form, poses.rotation, scene.tool.point, count)
     residual = residual_flexibility(found.static, found.omega, found.phi)

@@ -16,9 +16,15 @@ import time
 import numpy as np
 
 from common.settings import as_dict
-from results import CaseLobes, LobeCurve, LobeSummary, Record, Section, Table
+from results import CaseLobes, LobeBand, LobeCurve, LobeSummary, Record, Section, Table
 
 from .registry import CaseContext, Context, Study
+
+BAND_SAMPLES = 256  # plain draws of the inputs (a power of two: Sobol' points' balance); 146
+                    # at least for the least draw to bound the 2.5 % quantile from below with
+                    # 97.5 % confidence (quantile_interval: 256 give the 2nd and 13th least)
+BAND_SPEEDS = 60  # speeds of the band (the stability map's count)
+BAND_BUDGET_SECONDS = 300.0  # a case's band in a run; beyond, refused in the record
 
 
 def _mm(values) -> list[float | None]:
@@ -51,7 +57,7 @@ def _percent(a: float, b: float) -> float | None:
     return 100.0 * (a / b - 1.0) if math.isfinite(a) and math.isfinite(b) else None
 
 
-def case_lobes(scene, geometry, cache) -> CaseLobes:
+def case_lobes(scene, geometry, cache, pose=None) -> CaseLobes:
     """The record of one case (module docstring), through the result cache."""
     from solvers.compare import fem_options, fem_runtime
     from solvers.refinement import coarse_size
@@ -73,7 +79,133 @@ def case_lobes(scene, geometry, cache) -> CaseLobes:
     value, _, _ = cache.get_or_compute("lobes", payload, compute,
                                        modules=("chatter.sdm", "chatter.zoa", "chatter.lobes",
                                                 "studies.lobes"))
+    value = dict(value)
+    value["band"] = (None if scene.uncertainty is None or pose is None
+                     else lobe_band(scene, pose, cache))
     return CaseLobes(**value)  # type: ignore[typeddict-item]
+
+
+def band_speeds(cutting) -> np.ndarray:
+    """The band's speeds (rev/s): the case's, thinned to BAND_SPEEDS evenly over its range."""
+    speeds = cutting.speeds_hz()
+    if len(speeds) <= BAND_SPEEDS:
+        return speeds
+    return speeds[np.unique(np.round(np.linspace(0, len(speeds) - 1, BAND_SPEEDS)).astype(int))]
+
+
+def lobe_band(scene, pose, cache, samples: int | None = None) -> LobeBand:
+    """The critical depth's band over the scene's [uncertainty] at `pose` (results.LobeBand),
+    through the result cache; refused in the record (never fatal, not cached) when a draw is
+    out of reach or the estimate exceeds BAND_BUDGET_SECONDS."""
+    from importlib.metadata import version
+
+    from common.errors import InputError
+    from solvers.uncertainty import run_model
+
+    samples = samples or BAND_SAMPLES
+    options = run_model(scene, scene.analytical)
+    payload = {"manipulator": as_dict(scene.manipulator), "pose": as_dict(pose),
+               "analytical": as_dict(options), "uncertainty": scene.raw["uncertainty"],
+               "damping": as_dict(scene.damping), "tool": as_dict(scene.tool),
+               "cutting": as_dict(scene.cutting), "compared": scene.fidelity.modes,
+               "samples": samples, "scipy": version("scipy")}
+    start = time.perf_counter()
+    try:
+        value, _, _ = cache.get_or_compute(
+            "lobe_band", payload, lambda: (_band(scene, options, pose, samples), {}),
+            modules=("chatter.sdm", "chatter.lobes", "studies.lobes", "solvers.uncertainty",
+                     "analytical.sample_batch", "analytical.tool_response",
+                     "scene.uncertainty", "scene.address"))
+    except InputError as exc:  # a draw out of reach, refused as a machine, or over budget
+        return _refused(scene, options, samples, str(exc), time.perf_counter() - start)
+    return LobeBand(**value)  # type: ignore[typeddict-item]
+
+
+def _refused(scene, options, samples: int, why: str, seconds: float) -> LobeBand:
+    return LobeBand(samples=samples, model=options.describe(),
+                    inputs=list(scene.uncertainty.names), spindle_rpm=[],
+                    nominal_depth_mm=[], q025_depth_mm=[], median_depth_mm=[],
+                    q975_depth_mm=[], least_nominal_mm=None, least_q025_mm=None,
+                    least_q025_interval_mm=[None, None], least_median_mm=None,
+                    least_q975_mm=None, level_error_percent=None, refused=why,
+                    seconds=seconds)
+
+
+def _band(scene, options, pose, samples: int) -> LobeBand:
+    """The band (lobe_band): the scene's machine's full diagram at the band's speeds, then
+    every draw at the coarse level of intervals bracketed about the scene's machine's coarse
+    depths (chatter.lobes.depths_near); the coarse level's own error, measured on the scene's
+    machine, stated beside it."""
+    from analytical.tool_response import summed_count
+    from chatter.lobes import depths_near, diagram
+    from chatter.tool_input import from_base
+    from common.errors import InputError
+    from solvers.uncertainty import draws, prepare, tool_modes
+
+    start = time.perf_counter()
+    cutting = scene.cutting
+    speeds = band_speeds(cutting)
+    count = summed_count(scene.manipulator, options, scene.fidelity.modes)
+    unit = draws(scene, samples)
+    drawn = prepare(scene, pose, unit)  # every draw's machine and reach checked first
+    own_machine = prepare(scene, pose, np.full((1, unit.shape[1]), 0.5))
+
+    def cut_modes(prepared, modes, k):
+        return from_base(modes.omega[k], scene.damping.ratios(modes.omega[k]), modes.phi[k],
+                         prepared.poses.rotation[k], cutting.feed_direction)
+
+    own = diagram(cut_modes(own_machine, tool_modes(scene, options, own_machine, count), 0),
+                  cutting, speeds, estimate=False)
+    assert own.coarse_depth is not None  # semi-discretization: the coarse level's depths
+    near = own.coarse_depth if cutting.method == "sdm" else own.depth
+    found = tool_modes(scene, options, drawn, count)
+    depth = np.empty((samples, len(speeds)))
+    pilot = time.perf_counter()
+    for k in range(samples):
+        modes = cut_modes(drawn, found, k)
+        depth[k] = (depths_near(modes, cutting, speeds, near) if cutting.method == "sdm"
+                    else diagram(modes, cutting, speeds, estimate=False).depth)
+        if k == 0 and (time.perf_counter() - pilot) * samples > BAND_BUDGET_SECONDS:
+            raise InputError(f"{samples} draws x {len(speeds)} speeds would take about "
+                             f"{(time.perf_counter() - pilot) * samples:.0f} s, above the "
+                             f"{BAND_BUDGET_SECONDS:g} s allowed")
+    both = np.isfinite(own.depth) & np.isfinite(near)
+    level = (float(np.max(np.abs(near[both] / own.depth[both] - 1.0)) * 100)
+             if cutting.method == "sdm" and both.any() else None)
+    q = np.quantile(depth, (0.025, 0.5, 0.975), axis=0, method="inverted_cdf")
+    least = depth.min(axis=1)
+    lq = np.quantile(least, (0.025, 0.5, 0.975), method="inverted_cdf")
+    lo, hi = quantile_interval(samples, 0.025)
+    ordered = np.concatenate([[-np.inf], np.sort(least), [np.inf]])
+    return LobeBand(
+        samples=samples, model=options.describe(), inputs=list(scene.uncertainty.names),
+        spindle_rpm=[float(v) * 60 for v in speeds], nominal_depth_mm=_mm(own.depth),
+        q025_depth_mm=_mm(q[0]), median_depth_mm=_mm(q[1]), q975_depth_mm=_mm(q[2]),
+        least_nominal_mm=_one_mm(own.depth.min()), least_q025_mm=_one_mm(lq[0]),
+        least_q025_interval_mm=[_one_mm(ordered[lo]), _one_mm(ordered[hi])],
+        least_median_mm=_one_mm(lq[1]), least_q975_mm=_one_mm(lq[2]),
+        level_error_percent=level, refused=None, seconds=time.perf_counter() - start)
+
+
+def quantile_interval(n: int, p: float, confidence: float = 0.95) -> tuple[int, int]:
+    """(l, u), 1-based order statistics of n draws that hold the p-quantile xi between them
+    with at least `confidence`, distribution-free: the count B of draws below xi is
+    binomial(n, p), X_(l) <= xi when B >= l and X_(u) > xi when B < u. l = 0: no draw bounds
+    it from below (too few draws); u = n + 1: none from above."""
+    from scipy.stats import binom
+
+    tail = (1.0 - confidence) / 2.0
+    lo = 0
+    while lo < n and binom.cdf(lo, n, p) <= tail:  # P(B <= lo) <= tail: X_(lo + 1) <= xi
+        lo += 1
+    hi = 1
+    while hi <= n and binom.cdf(hi - 1, n, p) < 1.0 - tail:  # P(B <= hi - 1) >= 1 - tail
+        hi += 1
+    return lo, hi
+
+
+def _one_mm(value: float) -> float | None:
+    return float(value) * 1e3 if math.isfinite(value) else None
 
 
 def _compute(scene, geometry, fine_options, coarse_options, runtime) -> CaseLobes:
@@ -118,7 +250,7 @@ def _compute(scene, geometry, fine_options, coarse_options, runtime) -> CaseLobe
         max_error_percent=float(finite.max()) if finite.size else None,
         summary=[_summary("analytical", an, least_error, None),
                  _summary("FEM", fem, None, least_fem_error)],
-        seconds=time.perf_counter() - start)
+        band=None, seconds=time.perf_counter() - start)
 
 
 def run(ctx: Context, cc: CaseContext) -> CaseLobes | None:
@@ -126,7 +258,7 @@ def run(ctx: Context, cc: CaseContext) -> CaseLobes | None:
     if scene.cutting is None or scene.fem.platform != "rigid":
         return None  # the scene asks no cut (or has no rigid platform to hold a tool)
     cc.step("stability lobes of the cut: the analytical model's and the FEM's tool modes")
-    return case_lobes(scene, cc.geometry, ctx.cache)
+    return case_lobes(scene, cc.geometry, ctx.cache, cc.case.pose)
 
 
 STUDY = Study(Record(
@@ -134,5 +266,8 @@ STUDY = Study(Record(
     Section("lobes", "Stability lobes of the cut: the analytical model against the FEM", None),
     (Table("least", ("model", "least_depth_mm", "least_rpm", "kind", "chatter_frequency_hz",
                      "best_rpm", "best_depth_mm", "error_percent", "fem_error_percent"),
-           each="summary"),)),
+           each="summary"),
+     Table("band", ("model", "samples", "least_nominal_mm", "least_q025_mm",
+                    "least_q025_interval_mm", "least_median_mm", "least_q975_mm",
+                    "level_error_percent", "refused"), each="band"))),
     "case", run)

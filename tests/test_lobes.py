@@ -219,6 +219,39 @@ def test_a_reversed_feed_and_scaled_modes_leave_the_lobes_as_the_theory_says():
     assert np.allclose(a, 4 * c, rtol=1e-4)
 
 
+def test_a_speed_list_is_its_speeds_once_each_in_order_and_nearby_depths_are_the_scans():
+    """spindle_rpm_list in any order with a repeat: the diagram's speeds are those speeds,
+    ascending, once each, and each depth is the one the same speed gets alone. A nearby
+    machine's depths bracketed about these (depths_near, the band's draws) equal a scan from
+    scratch at the same level of intervals."""
+    from chatter.lobes import depths_near, diagram
+
+    modes = ToolModes(2 * math.pi * np.array([600.0, 1300.0]), np.array([0.03, 0.02]),
+                      np.array([[2.0, -1.0], [0.7, 3.0]]))
+    cutting = Cutting(teeth=3, diameter=0.02, radial_immersion=0.3, milling="up", kt=9e8,
+                      kn=3e8, spindle_list=(12000 / 60, 5000 / 60, 12000 / 60, 7000 / 60))
+    d = diagram(modes, cutting, estimate=False)
+    assert np.allclose(d.speeds_hz * 60, [5000, 7000, 12000])
+    alone = diagram(modes, replace(cutting, spindle_list=(7000 / 60,)), estimate=False)
+    assert d.depth[1] == pytest.approx(alone.depth[0], rel=1e-9)
+    moved = ToolModes(modes.omega * np.array([1.04, 0.97]), modes.zeta * 1.1,
+                      modes.shape * 0.95)
+    near = depths_near(moved, cutting, d.speeds_hz, d.coarse_depth)
+    assert np.allclose(near, converged(moved, cutting, d.speeds_hz, refine=2).depth,
+                       rtol=1e-4)
+
+
+def test_a_radius_that_is_not_a_number_is_unstable():
+    """The eigensolver's overflow at a huge depth (a monodromy of inf entries) reads as
+    unstable, never as stable."""
+    from chatter.sdm import _log_radius
+
+    cut = cut_of(bench_cutting(1.0))
+    mono = Monodromy(BENCH, cut, np.array([5000 / 60]), (4,), 4)
+    assert mono.radius(np.array([1e300]))[0] == np.inf
+    assert _log_radius(mono, np.array([True]), np.array([1e300]))[0] > 0
+
+
 def test_the_cut_frame_turns_with_the_feed_and_the_platform():
     r = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # 90 deg about z
     axes = cut_axes(r, math.pi / 2)
@@ -298,3 +331,67 @@ def test_lobes_command_writes_its_declared_record(tmp_path):
     assert (tmp_path / "o" / "lobes.png").stat().st_size > 10_000
     rows = (tmp_path / "o" / "lobes.csv").read_text().splitlines()
     assert len(rows) == 41 and rows[0].startswith("spindle_rpm,critical_depth_mm")
+
+
+def _tap_test(path, omega, zeta, shape, noise: float, references=("x", "y"), seed: int = 3):
+    """A tap test at the tool (node 7) written as UFF 58: receptances H_jk = sum_r U_jr U_kr /
+    (w_r^2 - w^2 + 2 i zeta_r w_r w) between x, y and z, excited along `references`, with
+    relative complex noise of the largest value's `noise`."""
+    from modaltest.measured import Dofs, Frfs, Nodes
+    from modaltest.uff import write_uff
+
+    rng = np.random.default_rng(seed)
+    f = np.arange(0.0, 1.6 * omega.max() / (2 * math.pi), 0.5)
+    w = 2 * math.pi * f
+    axes = {"x": 0, "y": 1, "z": 2}
+    rows, refs, values = [], [], []
+    for k in references:
+        for j in "xyz":
+            h = (shape[axes[j]] * shape[axes[k]]
+                 / (omega**2 - w[:, None] ** 2 + 2j * zeta * omega * w[:, None])).sum(1)
+            h = h + noise * np.abs(h).max() * (rng.standard_normal(len(f))
+                                               + 1j * rng.standard_normal(len(f))) / math.sqrt(2)
+            rows.append(axes[j] + 1)
+            refs.append(axes[k] + 1)
+            values.append(h)
+    n = len(rows)
+    frfs = Frfs(f, Dofs.from_codes(np.full(n, 7), rows), Dofs.from_codes(np.full(n, 7), refs),
+                np.array(values))
+    write_uff(path, Nodes(np.array([7]), np.zeros((1, 3))), frfs=frfs)
+
+
+@pytest.mark.parametrize("references, noise", [(("x", "y"), 0.0), (("x", "y"), 0.005),
+                                               (("x",), 0.005)])
+def test_a_tap_tests_frfs_give_the_lobes_of_its_modes(tmp_path, references, noise):
+    """`rps lobes --tool-modes tap.unv`: the modes extracted from a tap test's FRFs at the tool
+    (LSCF poles, LSFD residues, scaled from the driving points) give the lobes of the modes
+    that made the FRFs: noise-free within 0.01 % at every speed (measured 1e-6 %), with 0.5 %
+    noise within 1 % (measured 0.13-0.28 % over four draws); a hammer along x alone scales the
+    modes too (their y from the cross FRFs)."""
+    omega = 2 * math.pi * np.array([420.0, 610.0, 980.0])
+    zeta = np.array([0.03, 0.025, 0.02])
+    shape = np.array([[2.0, -1.2, 0.8], [0.9, 2.2, -0.6], [0.3, 0.1, 1.5]])  # x, y, z
+    _tap_test(tmp_path / "tap.unv", omega, zeta, shape, noise, references)
+    in_cut = cut_axes(np.eye(3), math.radians(30.0)) @ shape  # the tap's frame: the platform's
+    (tmp_path / "exact.json").write_text(json.dumps({"modes": [
+        {"frequency_hz": w / (2 * math.pi), "damping_ratio": z,
+         "tool_shape_per_sqrt_kg": {"x": u[0], "y": u[1]}}
+        for w, z, u in zip(omega.tolist(), zeta.tolist(), in_cut.T.tolist(), strict=True)]}))
+    (tmp_path / "cut.toml").write_text(
+        "[cutting]\nteeth = 3\ndiameter_mm = 16.0\nradial_immersion = 0.4\nmilling = \"up\"\n"
+        "kt_n_per_mm2 = 900.0\nkn_n_per_mm2 = 300.0\nfeed_direction_deg = 30.0\n"
+        "spindle_rpm = [6000.0, 18000.0]\nspeeds = 24\n")
+
+    def lobes_of(source):
+        p = subprocess.run([sys.executable, "-m", "rps", "lobes", "--tool-modes", source,
+                            "--cutting", "cut.toml", "--out", source + ".out", "--json"],
+                           capture_output=True, text=True, cwd=tmp_path)
+        assert p.returncode == 0, p.stderr
+        return json.loads(p.stdout)
+
+    tap, exact = lobes_of("tap.unv"), lobes_of("exact.json")
+    assert tap["source"].startswith("tap test tap.unv (node 7, 3 modes")
+    found = np.array([m["frequency_hz"] for m in tap["modes"]])
+    assert np.allclose(found, omega / (2 * math.pi), rtol=2e-3)
+    a, b = (np.array(r["critical_depth_mm"], float) for r in (tap, exact))
+    assert np.allclose(a, b, rtol=1e-4 if noise == 0 else 1e-2)

@@ -25,10 +25,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", choices=("analytical", "fem"), default="analytical",
                    help="with --scene: the model whose tool modes cut (default: analytical)")
     p.add_argument("--tool-modes", metavar="FILE", type=path_argument,
-                   help="the tool's modes instead of a scene: rps frf's frf.json, or a TOML or "
+                   help="the tool's modes instead of a scene: rps frf's frf.json, a TOML or "
                    "JSON file with modes = [{frequency_hz, damping_ratio, "
-                   "tool_shape_per_sqrt_kg = {x, y}}] in the cut's plane (x along the feed); "
-                   "default: none, the scene's model at the case")
+                   "tool_shape_per_sqrt_kg = {x, y}}] in the cut's plane (x along the feed), "
+                   "or a tap test's FRFs at the tool (UFF 58, .unv or .uff: its modes "
+                   "extracted as rps identify does and scaled from the driving points; its x, "
+                   "y, z the platform's, z along the tool); default: none, the scene's model "
+                   "at the case")
+    p.add_argument("--tool-node", metavar="N", type=int,
+                   help="with a UFF --tool-modes: the tool's node (default: the one node with "
+                   "a driving-point FRF)")
     p.add_argument("--cutting", metavar="FILE", type=path_argument,
                    help="with --tool-modes: a TOML file holding a [cutting] table (default: none; "
                    "with a scene, its own [cutting])")
@@ -74,6 +80,34 @@ def read_cutting(path: Path):
     return value
 
 
+UFF_SUFFIXES = (".unv", ".uff")
+
+
+def tap_test(args: argparse.Namespace, feed_direction: float):
+    """(tool modes in the cut's plane, what they are in words, warnings) from a UFF file of
+    FRFs at the tool (modaltest.tool_modes); InputError in one line."""
+    import numpy as np
+
+    from chatter.tool_input import from_base
+    from modaltest.tool_modes import tap_modes
+    from modaltest.uff import UffError, read_uff
+
+    shown = f"--tool-modes {args.tool_modes}"
+    try:
+        content = read_uff(args.tool_modes, shown)
+    except UffError as exc:
+        raise InputError(str(exc)) from None
+    if content.frfs is None:
+        raise InputError(f"{shown}: no FRF (dataset 58) in the file: a tap test at the tool "
+                         "gives its receptances")
+    found = tap_modes(content.frfs, shown, args.tool_node)
+    modes = from_base(2 * np.pi * found.frequency_hz, found.damping_ratio, found.shape,
+                      np.eye(3), feed_direction)
+    said = (f"node {found.node}, {len(found.frequency_hz)} modes by LSCF and LSFD, scaled "
+            "from the driving points")
+    return modes, said, [f"tap test: mode {m} left out" for m in found.dropped]
+
+
 def _with_method(cutting, method: str | None):
     from dataclasses import replace
     return cutting if method is None else replace(cutting, method=method)
@@ -101,14 +135,25 @@ def run(args: argparse.Namespace) -> int:
                              "is the pose's modes; leave --case, --height, --azimuth, --tilt "
                              "and --from-results out")
         cutting = _with_method(read_cutting(args.cutting), args.method)
-        modes = read_modes(_read_any(args.tool_modes, "--tool-modes"),
-                           str(args.tool_modes), cutting.feed_direction)
-        head = {"source": f"tool-modes file {Path(args.tool_modes).name}"}
+        name = Path(args.tool_modes).name
+        if Path(args.tool_modes).suffix.lower() in UFF_SUFFIXES:
+            modes, said, warnings = tap_test(args, cutting.feed_direction)
+            head = {"source": f"tap test {name} ({said})"}
+        else:
+            if args.tool_node is not None:
+                raise InputError(f"--tool-node with --tool-modes {name}: a node names the "
+                                 "tool in a UFF file of FRFs (.unv, .uff)")
+            modes = read_modes(_read_any(args.tool_modes, "--tool-modes"),
+                               str(args.tool_modes), cutting.feed_direction)
+            head = {"source": f"tool-modes file {name}"}
         plan_ = plan(modes, cutting)
     else:
         if args.cutting is not None:
             raise InputError("--cutting with a scene: the scene's own [cutting] table is used "
                              "(--cutting goes with --tool-modes)")
+        if args.tool_node is not None:
+            raise InputError("--tool-node with a scene: the scene's [tool] point is used "
+                             "(--tool-node goes with a UFF --tool-modes)")
         scene = load(args)
         if scene.cutting is None:
             raise InputError(f"--scene {args.scene}: no [cutting] table (docs/scenes.md "
