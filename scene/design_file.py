@@ -42,7 +42,7 @@ from .address import resolve
 from .load import Scene, SceneError, parse_scene
 from .toml_table import Table, read_toml, short
 
-OBJECTIVES = ("moving_mass", "lowest_frequency", "dynamic_stiffness")
+OBJECTIVES = ("moving_mass", "lowest_frequency", "dynamic_stiffness", "critical_depth")
 DIRECTIONS = ("x", "y", "z")
 MAX_DESIGNS = 2000  # a study's designs at most (each one workspace minimum, about a second)
 
@@ -67,6 +67,11 @@ class Constraints:
     directions: tuple[str, ...] = setting(
         DIRECTIONS, kind=tuple, item=str, min_length=1,
         doc="the tool directions (base frame x, y, z) the dynamic stiffness is taken along")
+    min_critical_depth: float = setting(
+        0.0, unit="mm", minimum=0.0, maximum=1.0,
+        doc="the least critical depth of the scene's [cutting] (its stability lobes: every "
+        "speed of its range) over a coarse map of the regular workspace must reach this "
+        "(0: no constraint)")
 
     def __post_init__(self) -> None:
         bad = [d for d in self.directions if d not in DIRECTIONS]
@@ -81,8 +86,9 @@ class Objective:
 
     minimise: str = setting("moving_mass", kind=str, choices=OBJECTIVES,
                             doc="moving_mass (legs, plate and payload), lowest_frequency "
-                            "(the least f_mode, maximised) or dynamic_stiffness (the least "
-                            "dynamic stiffness at the tool, maximised)")
+                            "(the least f_mode, maximised), dynamic_stiffness (the least "
+                            "dynamic stiffness at the tool, maximised) or critical_depth (the "
+                            "least critical depth of the scene's cut, maximised)")
 
 
 @dataclass(frozen=True)
@@ -169,12 +175,18 @@ def load_design(path: str | Path) -> DesignSpec:
                              modes=parts["constraints"].mode)
     model_t.done()
     top.done()
-    if parts["objective"].minimise == "moving_mass" and not (
-            parts["constraints"].min_frequency_hz or parts["constraints"].min_dynamic_stiffness):
-        raise SceneError(f"{where}.constraints.min_frequency_hz: missing (or "
-                         "min_dynamic_stiffness_n_per_um): the lightest machine "
-                         "without a frequency target is the smallest one the bounds allow")
     c, minimise = parts["constraints"], parts["objective"].minimise
+    if minimise == "moving_mass" and not (c.min_frequency_hz or c.min_dynamic_stiffness
+                                          or c.min_critical_depth):
+        raise SceneError(f"{where}.constraints.min_frequency_hz: missing (or "
+                         "min_dynamic_stiffness_n_per_um or min_critical_depth_mm): the "
+                         "lightest machine without a target is the smallest one the bounds "
+                         "allow")
+    if (c.min_critical_depth or minimise == "critical_depth") and "cutting" not in raw_scene:
+        asked = ("constraints.min_critical_depth_mm" if c.min_critical_depth
+                 else "objective.minimise = 'critical_depth'")
+        raise SceneError(f"{where}.{asked}: the scene {scene_ref!r} has no [cutting] table "
+                         "(the cut whose critical depth the design would take)")
     if ("directions" in raw.get("constraints", {}) and not c.min_dynamic_stiffness
             and minimise != "dynamic_stiffness"):
         raise SceneError(f"{where}.constraints.directions = {short(list(c.directions))}: "

@@ -22,6 +22,8 @@ a design is only reported with its model's error at that pose (the fidelity rule
 from __future__ import annotations
 
 import math
+import sys
+import time
 from dataclasses import replace
 from typing import Any, Callable
 
@@ -37,6 +39,7 @@ from analytical.platform import platform_mass
 from analytical.reach import level_band, max_tilts
 from common.errors import InputError, RpsError
 from common.settings import as_dict
+from results.lobe_records import StabilityLeast
 from results.outputs import Output
 from results.tool_records import LeastPose
 from runtime.cache import ResultCache
@@ -62,6 +65,8 @@ class DesignPoint(TypedDict):
     worst_pose: NotRequired[PoseAt]  # where
     min_dynamic_stiffness_n_per_m: NotRequired[float]  # least over the regular workspace and
     dynamic_worst: NotRequired[LeastPose]  # the constraint's directions; where, which way
+    min_critical_depth_mm: NotRequired[float | None]  # the cut's least over a coarse map and
+    stability_worst: NotRequired[StabilityLeast]  # the speeds (None: stable); where, how
     on_boundary: NotRequired[bool]
 
 
@@ -148,6 +153,9 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> DesignPoint:
     if needs_dynamic(spec):
         payload.update(damping=as_dict(scene.damping), tool=as_dict(scene.tool),
                        directions=list(spec.constraints.directions), grid=list(DYNAMIC_GRID))
+    if needs_stability(spec):
+        payload.update(damping=as_dict(scene.damping), tool=as_dict(scene.tool),
+                       cutting=as_dict(scene.cutting), stability_grid=list(STABILITY_GRID))
 
     def compute() -> tuple[dict, dict]:
         out: dict = {"moving_mass_kg": moving_mass(m)}
@@ -162,18 +170,21 @@ def evaluate(spec: DesignSpec, values, cache: ResultCache) -> DesignPoint:
                                "azimuth_deg": math.degrees(found.pose.azimuth),
                                "tilt_deg": math.degrees(found.pose.tilt)},
                    on_boundary=found.boundary)
-        if needs_dynamic(spec):
-            try:
+        try:
+            if needs_dynamic(spec):
                 out.update(least_dynamic(spec, scene))
-            except RpsError as exc:  # a model that cannot solve its map: refused, not fatal
-                return {**out, "refused": str(exc)}, {}
+            if needs_stability(spec) and not out.get("refused"):
+                out.update(least_stability(spec, scene))
+        except RpsError as exc:  # a model that cannot solve its map: refused, not fatal
+            return {**out, "refused": str(exc)}, {}
         return out, {}
 
     value, _, _ = cache.get_or_compute("design-point", payload, compute,
                                        required=("moving_mass_kg",),
                                        modules=("studies.design", "scene",
                                                 "studies.dynamic_stiffness",
-                                                "studies.workspace_map"))
+                                                "studies.workspace_map",
+                                                "studies.stability_map", "chatter"))
     record.update(value)  # type: ignore[typeddict-item]  # the cached fields of a DesignPoint
     return record
 
@@ -214,6 +225,45 @@ def least_dynamic(spec: DesignSpec, scene) -> DynamicOutcome:
                           dynamic_worst=worst)
 
 
+STABILITY_GRID = (2, 2, 6, 30)  # layers, rings, azimuths, speeds of a design's stability map
+
+
+def needs_stability(spec: DesignSpec) -> bool:
+    return (spec.constraints.min_critical_depth > 0.0
+            or spec.objective.minimise == "critical_depth")
+
+
+class StabilityOutcome(TypedDict, total=False):
+    """A design's least critical depth and where (None: stable at every pose and speed up to
+    the search's ceiling)."""
+    min_critical_depth_mm: float | None
+    stability_worst: StabilityLeast
+
+
+def least_stability(spec: DesignSpec, scene) -> StabilityOutcome:
+    """The least critical depth of the scene's cut over a coarse stability map of the regular
+    workspace (STABILITY_GRID: studies.stability_map, the design's search model, its speeds
+    thinned evenly over the [cutting] range), and where."""
+    from .stability_map import stability_map
+
+    layers, rings, azimuths, speeds = STABILITY_GRID
+    cutting = scene.cutting
+    if not cutting.spindle_list:
+        cutting = replace(cutting, speeds=min(speeds, cutting.speeds))
+    found = stability_map(replace(scene, analytical=spec.model, cutting=cutting), layers,
+                          rings, azimuths, say=False)
+    if not found["least"]:
+        return StabilityOutcome(min_critical_depth_mm=None)
+    return StabilityOutcome(min_critical_depth_mm=found["least"][0]["depth_mm"],
+                            stability_worst=found["least"][0])
+
+
+def depth_mm(record: DesignPoint) -> float:
+    """The design's least critical depth, mm (inf: stable everywhere)."""
+    value = record.get("min_critical_depth_mm")
+    return math.inf if value is None else value
+
+
 def meets(spec: DesignSpec, record: DesignPoint, frequency: bool = True) -> bool:
     """The design meets the band constraint and (with `frequency`) the frequency and dynamic
     stiffness targets."""
@@ -226,6 +276,8 @@ def meets(spec: DesignSpec, record: DesignPoint, frequency: bool = True) -> bool
     ok = ok and record["min_frequency_hz"] >= c.min_frequency_hz
     if c.min_dynamic_stiffness > 0.0:
         ok = ok and record["min_dynamic_stiffness_n_per_m"] >= c.min_dynamic_stiffness
+    if c.min_critical_depth > 0.0:
+        ok = ok and depth_mm(record) >= c.min_critical_depth * 1e3
     return ok
 
 
@@ -245,7 +297,12 @@ def objective(spec: DesignSpec, record: DesignPoint) -> float:
         if c.min_dynamic_stiffness:
             short += max(0.0, c.min_dynamic_stiffness
                          - record["min_dynamic_stiffness_n_per_m"]) / c.min_dynamic_stiffness
+        if c.min_critical_depth:
+            short += max(0.0, c.min_critical_depth * 1e3 - depth_mm(record)) / (
+                c.min_critical_depth * 1e3)
         return PENALTY * (1.0 + min(short, 5.0))
+    if spec.objective.minimise == "critical_depth":
+        return -min(depth_mm(record), PENALTY / 10)  # stable everywhere: the best there is
     if spec.objective.minimise == "moving_mass":
         return record["moving_mass_kg"]
     if spec.objective.minimise == "dynamic_stiffness":
@@ -311,6 +368,20 @@ def boundary_map(spec: DesignSpec, record: DesignPoint) -> BoundaryMap:
                                        for row in hz[..., -1]])
 
 
+SAY_ABOVE = 60.0  # s: a study estimated longer says so on stderr when its first design is done
+
+
+def say_estimate(spec: DesignSpec, seconds: float) -> None:
+    """The study's time from its first design (a cached design: nothing to say)."""
+    total = seconds * spec.search.designs
+    if total > SAY_ABOVE:
+        layers, rings, azimuths, speeds = STABILITY_GRID
+        print(f"design: {seconds:.1f} s a design (its stability map: up to "
+              f"{layers * rings * azimuths} poses x {speeds} speeds), about "
+              f"{total / 60:.0f} min for {spec.search.designs} designs (cached designs are "
+              "not solved again)", file=sys.stderr)
+
+
 def run_design(spec: DesignSpec, cache: ResultCache,
                step: Callable[[int, int], None] = lambda done, total: None) -> DesignStudy:
     """The study (the module doc); `step(done, budget)` after every design solved."""
@@ -331,7 +402,10 @@ def run_design(spec: DesignSpec, cache: ResultCache,
         if key not in seen:
             if len(records) >= budget:  # over budget (never adopted: worse than any design)
                 return 100 * PENALTY
+            started = time.perf_counter()
             seen[key] = evaluate(spec, values, cache)
+            if not records and needs_stability(spec):  # the first design says the whole
+                say_estimate(spec, time.perf_counter() - started)
             records.append(seen[key])
             step(len(records), budget)
         return objective(spec, seen[key])
@@ -353,7 +427,8 @@ def run_design(spec: DesignSpec, cache: ResultCache,
                      "mode": spec.constraints.mode,
                      "min_level_band_mm": spec.constraints.min_level_band * 1e3,
                      "min_dynamic_stiffness_n_per_m": spec.constraints.min_dynamic_stiffness,
-                     "directions": list(spec.constraints.directions)},
+                     "directions": list(spec.constraints.directions),
+                     "min_critical_depth_mm": spec.constraints.min_critical_depth * 1e3},
         objective=spec.objective.minimise, model=spec.model.describe(),
         designs_solved=len(records), feasible=len(feasible), optimum=optimum,
         front=pareto_front(spec, records), designs=records, fem_check=None, optimum_map=None)

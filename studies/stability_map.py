@@ -32,12 +32,12 @@ SAY_ABOVE = 10.0  # s: a longer estimate is said on stderr before the map
 def map_speeds(cutting) -> np.ndarray:
     """The speeds (rev/s) of every pose's lobes."""
     if cutting.spindle_list:
-        return np.asarray(cutting.spindle_list, float)
+        return cutting.speeds_hz()
     return np.linspace(cutting.spindle[0], cutting.spindle[1], min(MAP_SPEEDS, cutting.speeds))
 
 
 def stability_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
-                  azimuths: int = AZIMUTHS) -> StabilityMap:
+                  azimuths: int = AZIMUTHS, say: bool = True) -> StabilityMap:
     from analytical.pose_batch import pose_batch
     from analytical.tool_response import summed_count, tool_modes_chunks
     from chatter.lobes import diagram, plan
@@ -72,7 +72,7 @@ def stability_map(scene, layers: int = MAP_LAYERS, rings: int = RINGS,
                              modes.phi[k], rotations[k], cutting.feed_direction)
             if estimate is None:
                 estimate = plan(tool, sized).seconds * n
-                if estimate > SAY_ABOVE:
+                if say and estimate > SAY_ABOVE:
                     print(f"stability map: {n} poses x {len(speeds)} speeds by "
                           f"{cutting.method}, about {estimate:.0f} s", file=sys.stderr)
             d = diagram(tool, cutting, speeds, estimate=False)

@@ -219,3 +219,58 @@ def test_the_least_dynamic_stiffness_is_an_objective_and_a_constraint(tmp_path, 
     with pytest.raises(SceneError, match="directions") as info:
         load_design(write(tmp_path, DYNAMIC.replace('["x", "y"]', '["x", "w"]')))
     assert "\n" not in str(info.value)
+
+
+HEAD = ROOT / "scenes" / "3prs-head.toml"
+DEPTH = """
+name = "the deepest stable cut"
+[variables]
+"manipulator.leg_diameter_mm" = [45.0, 110.0]
+[constraints]
+min_critical_depth_mm = 1.0
+[objective]
+minimise = "critical_depth"
+[search]
+designs = 4
+"""
+
+
+def test_the_least_critical_depth_is_an_objective_and_a_constraint(tmp_path, monkeypatch):
+    """A design's least critical depth is the least of the scene's cut over its coarse
+    stability map (studies.stability_map with the design's model and speeds): thicker legs of
+    the 3-PRS head (its 30 kg spindle on them) cut deeper; the objective maximises it and the
+    constraint ranks a design short of it behind every one that meets it; a scene without
+    [cutting] is refused in one line. (The least frequency is replaced by the level band alone,
+    and the map thinned to one layer: seconds.)"""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from analytical.params import Pose
+    from analytical.reach import level_band
+    from scene.design_file import design_scene
+    from studies.stability_map import stability_map
+
+    monkeypatch.setattr(design, "workspace_minimum", lambda m, model, mode: SimpleNamespace(
+        band=level_band(m), frequency_hz=1.0, pose=Pose(level_band(m).low), boundary=False))
+    monkeypatch.setattr(design, "STABILITY_GRID", (1, 2, 3, 12))
+    path = tmp_path / "depth.toml"
+    path.write_text(f'scene = "{HEAD}"\n' + DEPTH, encoding="utf-8")
+    spec = load_design(path)
+    assert spec.constraints.min_critical_depth == pytest.approx(1e-3)
+    cache = ResultCache(tmp_path / "cache")
+    thin, thick = (design.evaluate(spec, [d], cache) for d in (50.0, 100.0))
+    for r in (thin, thick):
+        assert r["refused"] is None and r["stability_worst"]["kind"] in ("hopf", "flip")
+    assert thick["min_critical_depth_mm"] > 1.5 * thin["min_critical_depth_mm"]
+    scene = design_scene(spec, [50.0])
+    direct = stability_map(replace(scene, analytical=spec.model,
+                                   cutting=replace(scene.cutting, speeds=12)), 1, 2, 3)
+    assert thin["min_critical_depth_mm"] == direct["least"][0]["depth_mm"]
+    assert design.objective(spec, thick) < design.objective(spec, thin)
+    short = dict(thick, min_critical_depth_mm=0.99)
+    assert not design.meets(spec, short)
+    assert design.objective(spec, short) > max(design.objective(spec, r) for r in (thin, thick))
+    path.write_text(f'scene = "{PAPER}"\n' + DEPTH, encoding="utf-8")
+    with pytest.raises(SceneError, match=r"has no \[cutting\] table") as info:
+        load_design(path)
+    assert "\n" not in str(info.value)

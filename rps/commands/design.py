@@ -45,6 +45,13 @@ def _print(result: DesignStudy) -> None:
     print(f"optimum: {values}\n  moving mass {best['moving_mass_kg']:.3f} kg, least f{mode} "
           f"over the workspace {best['min_frequency_hz']:.3f} Hz at z = {p['height_mm']:.1f} "
           f"mm, azimuth {p['azimuth_deg']:.1f} deg, tilt {p['tilt_deg']:.2f} deg")
+    if "min_critical_depth_mm" in best:
+        depth, w = best["min_critical_depth_mm"], best.get("stability_worst")
+        print("  the cut is stable at every pose and speed of the coarse stability map"
+              if depth is None or w is None else
+              f"  least critical depth {depth:.3f} mm at {w['spindle_rpm']:.0f} rpm "
+              f"({w['kind']}), z = {w['height_mm']:.1f} mm, azimuth {w['azimuth_deg']:.1f} "
+              f"deg, tilt {w['tilt_deg']:.2f} deg")
     check = result["fem_check"]
     if check and check["error"]:
         print(f"  {check['error']}")
