@@ -259,13 +259,15 @@ class Monodromy:
         return out
 
     def radius(self, depth) -> np.ndarray:
-        """The spectral radius per speed (inf where the matrix overflowed)."""
-        with np.errstate(over="ignore", invalid="ignore"):
-            mats = self.matrices(depth)
-        bad = ~np.isfinite(mats).all((-2, -1))
-        if bad.any():
+        """The spectral radius per speed (inf where the matrix overflowed: a depth far beyond
+        any the search reaches from a stable start)."""
+        mats = self.matrices(depth)
+        try:
+            return np.abs(np.linalg.eigvals(mats)).max(-1)
+        except np.linalg.LinAlgError:  # a matrix with inf or nan entries
+            bad = ~np.isfinite(mats).all((-2, -1))
             mats = np.where(bad[:, None, None], 0.0, mats)
-        return np.where(bad, np.inf, np.abs(np.linalg.eigvals(mats)).max(-1))
+            return np.where(bad, np.inf, np.abs(np.linalg.eigvals(mats)).max(-1))
 
 
 def _linear_m1(w10, w01, w11):
@@ -304,8 +306,7 @@ def _log_radius(mono: Monodromy, mask, depth) -> np.ndarray:
     finite number (the eigensolver overflowed at a huge depth) counts as unstable."""
     out = np.full(mono.batch, np.nan)
     if mask.any():
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            v = np.log(_sub(mono, mask).radius(depth[mask]))
+        v = np.log(_sub(mono, mask).radius(depth[mask]))
         out[mask] = np.where(np.isnan(v) | np.isposinf(v), UNSTABLE_LOG, v)
     return out
 
