@@ -217,7 +217,7 @@ def _pose_entry(table: Table, scene: Scene) -> _PoseEntry:
     return _PoseEntry(spec, where, pose, geometry)
 
 
-def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaSettings | None,
+def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaTable | None,
           tolerance: float) -> TestPose:
     """A pose's test data read (its modes identified from FRFs) and its nodes placed."""
     spec, where = entry.spec, entry.where
@@ -230,7 +230,7 @@ def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaSettings 
 
 
 def _read_pose(entry: _PoseEntry, path: Path, typed: str, scene: Scene,
-               ema: EmaSettings | None, tolerance: float) -> TestPose:
+               ema: EmaTable | None, tolerance: float) -> TestPose:
     spec, pose, geometry = entry.spec, entry.pose, entry.geometry
     content = uff.read_uff(path, shown="")
     if content.modes is not None:
@@ -239,11 +239,13 @@ def _read_pose(entry: _PoseEntry, path: Path, typed: str, scene: Scene,
     else:
         assert content.frfs is not None  # read_uff refuses a file with neither
         axis = content.frfs.frequency_hz
-        settings = EmaSettings(
-            lower_hz=float(ema.lower_hz if ema is not None and ema.lower_hz > 0
-                           else axis[0] if axis[0] > 0 else axis[min(1, len(axis) - 1)]),
-            upper_hz=float(ema.upper_hz if ema is not None and ema.upper_hz > 0 else axis[-1]),
-            model_order=ema.model_order if ema is not None else 60)
+        lower = ema.lower if ema is not None and ema.lower > 0 else float(axis[axis > 0][0])
+        upper = ema.upper if ema is not None and ema.upper > 0 else float(axis[-1])
+        if not upper > lower:
+            raise SceneError(f"{typed}: [ema] lower_hz {lower:g} is not below the FRFs' last "
+                             f"line {upper:g} Hz")
+        settings = EmaSettings(lower_hz=float(lower), upper_hz=float(upper),
+                               model_order=ema.model_order if ema is not None else 60)
         band = (axis >= settings.lower_hz) & (axis <= settings.upper_hz)
         points = int(band.sum()) * len(content.frfs.values)
         if points > MAX_EMA_POINTS:  # LSCF's cost grows with FRFs x lines (x order^2)
@@ -378,8 +380,7 @@ def load_campaign(path: str | Path, need_keys: bool = False,
         if ema_table.upper and not ema_table.upper > ema_table.lower:
             raise SceneError(f"{where}.ema: upper_hz {ema_table.upper:g} must lie above lower_hz "
                              f"{ema_table.lower:g}")
-        ema = EmaSettings(lower_hz=ema_table.lower, upper_hz=ema_table.upper,
-                          model_order=ema_table.model_order)
+        ema = ema_table  # each pose's band from it and its FRFs' axis (0: the axis's end)
 
     pose_list = top.get("pose", None)
     if not isinstance(pose_list, list) or not pose_list:
