@@ -13,20 +13,39 @@ d(lambda_j)/d(p_k) / (2 lambda_j); one eigen solve a pose per step.
 
 What the data determine: with sigma the standard deviation of ln f_test (stated, or
 s^2 = sum r^2 / (m - n) from the m residuals and n keys at the optimum, which then carries the
-model's own error too), the keys' covariance is sigma^2 (J^T J)^+, and the 95 % interval of a
-key is exp(p_k -+ t sqrt(C_kk)) (t of Student's distribution with m - n degrees of freedom, or
-1.96 with a stated sigma). A key is identifiable when that interval lies within
-`identifiable_within_percent` of its value either side and it is not at a bound; otherwise it is
-flagged, with the key it trades off against (keys in series, e.g. two springs, correlate near
--1). The singular values of J / sigma say the same for every combination of keys; a direction
-of keys the frequencies do not move at all (a zero singular value) leaves its keys undetermined
-whatever the noise.
+model's own error too; `noise`), the keys' covariance is sigma^2 (J^T J)^+, and the 95 %
+interval of a key is exp(p_k -+ t sqrt(C_kk)) (t of Student's distribution with m - n degrees
+of freedom, or 1.96 with a stated sigma). A stated sigma the residuals contradict (their
+chi-square beyond its 99.9 % quantile: a model error, or a fit stopped in a wrong minimum) is
+replaced by s; the modes' own extraction uncertainty, when the caller gives it (modes from
+FRFs: errors fixed per mode), adds to a stated sigma and is a floor under s.
+
+A key correlated beyond CORRELATED (0.9) with another lies along a curved valley (keys in
+series, e.g. two springs, correlate near -1): its interval is its profile likelihood's instead
+(`profile`): the key held at values walked out from the estimate, the others re-fitted
+(bounded) at each, to where the sum of squares rises by (t sigma)^2 (the F(1, m - n)
+likelihood-ratio threshold with s, chi-square(1) with a stated sigma); one eigen solve a pose
+per re-fit step. A profile that finds a lower sum of squares than the fit's shows the fit
+stopped in a wrong minimum: the fit restarts from there. The profiles' time is estimated
+from the fit's time a step before they run, and they are refused beyond PROFILE_SECONDS
+(their keys then not identifiable: the slopes at the estimate alone cannot tell).
+
+A key is identifiable when its interval, at sigma's one-sided 95 % upper confidence bound
+(s sqrt((m - n) / chi-square_{m - n}(5 %)); sigma itself when stated), lies within
+`identifiable_within_percent` of its value either side, and it does not sit at a bound, and
+its profile (if it has one) closed without reaching a bound: a flag decided on an interval
+made narrow by a low draw of s would pick out the draws whose intervals are too narrow. The
+interval stated (ci95) is the 95 % one. Otherwise the key is flagged, with the key it trades
+off against. The singular values of J / sigma say the same for every combination of keys; a
+direction of keys the frequencies do not move at all (a zero singular value) leaves its keys
+undetermined whatever the noise.
 """
 from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Sequence
 
 import numpy as np
 import scipy.optimize
@@ -45,6 +64,22 @@ from .models import AnalyticalField, analytical_field
 
 STEP = 1e-4  # the central difference step of the matrices, in ln(value)
 AT_BOUND = 1e-6  # a key within this of a bound (in ln) sits at it
+# A key whose |correlation| with another exceeds this lies along a curved valley of the sum of
+# squares (two springs in series: the frequencies see about 1/k1 + 1/k2): the trade-off inflates
+# its variance more than 1 / (1 - 0.9^2) = 5.3 times, so a step of its interval moves the other
+# key by more than the other's own interval, and the slopes at the estimate no longer describe
+# the valley there; its interval is its profile's
+CORRELATED = 0.9
+GOODNESS = 0.999  # a stated noise whose residuals' chi-square exceeds this quantile is refused
+PROFILE_POINTS = 12  # re-fits of one side of one key's profile at most (walk and narrowing)
+PROFILE_REFIT_STEPS = 30  # steps of one re-fit at most
+PROFILE_TOLERANCE = 0.01  # an interval's end bracketed to this of its distance from the value
+# what a key's profile is expected to cost, for the estimate made before it: 2 sides x about
+# 5 re-fits x about 6 steps (measured: 30-110 steps a key on the tests' campaigns)
+PROFILE_EXPECTED_STEPS = 60
+PROFILE_SECONDS = 120.0  # the profiles of one identification, estimated, at most (twice: cut)
+BETTER = 0.01  # a profile point this far (of the threshold) below the fit's minimum: a wrong one
+RESTARTS = 3  # fits restarted from a profile's lower point at most
 
 
 @dataclass
@@ -131,28 +166,29 @@ class Problem:
                                   / self.campaign.poses[pose].modes.frequencies_hz[i])
                          for (pose, i), j in zip(self.fitted, js)])
 
-    def jacobian(self, x: np.ndarray) -> np.ndarray:
-        """d ln f / d ln value of every fitted mode, from eigenvalue sensitivities."""
+    def jacobian(self, x: np.ndarray, columns: Sequence[int] | None = None) -> np.ndarray:
+        """d ln f / d ln value of every fitted mode, from eigenvalue sensitivities (of the
+        keys `columns` only, in their order, when given)."""
         fields = self.fields(x)
         js, _ = self.partners(fields)
-        jac = np.zeros((len(self.fitted), len(self.addresses)))
-        moved = [[self.manipulator_at(x, k, step) for step in (STEP, -STEP)]
-                 for k in range(len(self.addresses))]
+        keys = list(range(len(self.addresses)) if columns is None else columns)
+        jac = np.zeros((len(self.fitted), len(keys)))
+        moved = [[self.manipulator_at(x, k, step) for step in (STEP, -STEP)] for k in keys]
         for pose in sorted({p for p, _ in self.fitted}):
             rows = [r for r, (p, _) in enumerate(self.fitted) if p == pose]
             a = fields[pose].analysis
             phi = a.modal.shapes[:, [js[r] for r in rows]]
             lam = (2.0 * math.pi * a.frequencies_hz[[js[r] for r in rows]]) ** 2
             tp = self.campaign.poses[pose]
-            for k in range(len(self.addresses)):
+            for c, k in enumerate(keys):
                 mats = []
-                for man in moved[k]:
+                for man in moved[c]:
                     mats.append(assemble(man, pose_geometry(man, tp.pose), self.options))
                 dk = (mats[0].stiffness - mats[1].stiffness) / (2 * STEP)
                 dm = (mats[0].mass - mats[1].mass) / (2 * STEP)
                 dlam = (np.einsum("qn,qp,pn->n", phi, dk, phi)
                         - lam * np.einsum("qn,qp,pn->n", phi, dm, phi))
-                jac[rows, k] = dlam / (2.0 * lam)
+                jac[rows, c] = dlam / (2.0 * lam)
         return jac
 
 
@@ -167,6 +203,11 @@ class Fit:
     seconds: float
     message: str
     converged: bool  # the optimiser met a tolerance (not its evaluation budget)
+    steps: int = 0  # the optimiser's steps (each: one eigen solve a pose, the keys' slopes)
+
+    @property
+    def seconds_per_step(self) -> float:
+        return self.seconds / max(self.steps, 1)
 
 
 def fit(problem: Problem, x0: np.ndarray, before: np.ndarray) -> Fit:
@@ -186,31 +227,225 @@ def fit(problem: Problem, x0: np.ndarray, before: np.ndarray) -> Fit:
     after = problem.residuals(x)
     jac = problem.jacobian(x)
     return Fit(x0, x, before, after, jac, problem.evaluations, time.perf_counter() - start,
-               str(result.message), bool(result.status > 0))
+               str(result.message), bool(result.status > 0), int(result.nfev))
 
 
-def uncertainty(fit_: Fit, campaign: Campaign) -> tuple[list[ParameterRecord], NoiseRecord,
-                                                        list[float], list[list[float]]]:
-    """The keys' values, 95 % intervals and identifiability; the noise used; the singular
-    values of J / sigma; the keys' correlation matrix."""
+@dataclass(frozen=True)
+class Noise:
+    """The standard deviation of ln f_test the intervals use, and its quantile for 95 %."""
+
+    sigma: float  # nan: none
+    quantile: float  # Student's t with m - n degrees of freedom (estimated), else normal
+    record: NoiseRecord
+    decide: float = 1.0  # sigma's one-sided 95 % upper confidence bound over sigma (estimated)
+
+    @staticmethod
+    def upper(dof: int) -> float:
+        """An estimated s's one-sided 95 % upper confidence bound over s: sqrt((m - n) /
+        chi-square_{m - n}(5 %)) (1.42 for 16 degrees of freedom, 2.7 for 3)."""
+        return math.sqrt(dof / float(scipy.stats.chi2.ppf(0.05, dof)))
+
+
+def noise(fit_: Fit, campaign: Campaign, extraction: np.ndarray | None = None) -> Noise:
+    """The noise of the fitted frequencies: stated, or from the residuals; `extraction`: the
+    fitted modes' own standard uncertainties (relative, e.g. from an identification of modes
+    from FRFs), a floor under it.
+
+    A stated noise the residuals contradict (their chi-square above its 99.9 % quantile for
+    m - n degrees of freedom) is not used: the fit then misses the data by more than the noise
+    (a model error, or a wrong minimum), and the residuals' own s is used instead. The
+    extraction's errors are fixed per mode (a fresh test of the same FRFs repeats them), so
+    they add to a stated noise in quadrature (their rms over the fitted modes) and are a floor
+    under an estimated one; a floor that binds is a known sigma (normal quantile)."""
     settings = campaign.identify
     m, n = fit_.jacobian.shape
     dof = m - n
+    ss = float(fit_.residuals_after @ fit_.residuals_after)
+    u = (math.sqrt(float(np.mean(np.log1p(extraction) ** 2)))
+         if extraction is not None and len(extraction) else 0.0)
+    floor = (f"; the modes' extraction uncertainty ({100 * math.expm1(u):.3g} % rms) "
+             "included" if u > 0.0 else "")
+    normal = float(scipy.stats.norm.ppf(0.975))
+    s = math.sqrt(ss / dof) if dof > 0 else math.nan
     if settings.frequency_noise_percent > 0.0:
-        sigma = math.log1p(settings.frequency_noise_percent / 100.0)
-        t = float(scipy.stats.norm.ppf(0.975))
-        noise = NoiseRecord(frequency_percent=settings.frequency_noise_percent, source="stated",
-                            degrees_of_freedom=dof)
-    elif dof > 0:
-        sigma = math.sqrt(float(fit_.residuals_after @ fit_.residuals_after) / dof)
-        t = float(scipy.stats.t.ppf(0.975, dof))
-        noise = NoiseRecord(frequency_percent=100.0 * math.expm1(sigma), source="residuals",
-                            degrees_of_freedom=dof)
-    else:
-        sigma, t = math.nan, math.nan
-        noise = NoiseRecord(frequency_percent=None, source="none: as many keys as paired "
-                            "frequencies, no residual to estimate it from; state "
-                            "frequency_noise_percent", degrees_of_freedom=dof)
+        sigma = math.hypot(math.log1p(settings.frequency_noise_percent / 100.0), u)
+        chi2 = ss / sigma**2
+        limit = float(scipy.stats.chi2.ppf(GOODNESS, dof)) if dof > 0 else math.inf
+        if chi2 <= limit:
+            return Noise(sigma, normal, NoiseRecord(
+                frequency_percent=100.0 * math.expm1(sigma), source="stated" + floor,
+                degrees_of_freedom=dof))
+        return Noise(s, float(scipy.stats.t.ppf(0.975, dof)), NoiseRecord(
+            frequency_percent=100.0 * math.expm1(s), source=(
+                f"residuals: the stated {settings.frequency_noise_percent:g} % does not explain "
+                f"them (chi-square {chi2:.3g} for {dof} degrees of freedom, above its "
+                f"{100 * GOODNESS:g} % quantile {limit:.3g}): a model error, or a wrong "
+                "minimum"), degrees_of_freedom=dof), Noise.upper(dof))
+    if dof > 0 and s >= u:
+        return Noise(s, float(scipy.stats.t.ppf(0.975, dof)), NoiseRecord(
+            frequency_percent=100.0 * math.expm1(s),
+            source="residuals" + (f" (above the modes' extraction uncertainty, "
+                                  f"{100 * math.expm1(u):.3g} % rms)" if u > 0.0 else ""),
+            degrees_of_freedom=dof), Noise.upper(dof))
+    if u > 0.0:
+        return Noise(u, normal, NoiseRecord(
+            frequency_percent=100.0 * math.expm1(u), source=(
+                f"the modes' extraction uncertainty ({100 * math.expm1(u):.3g} % rms)"
+                + (f", above the residuals' {100 * math.expm1(s):.3g} %" if dof > 0 else "")),
+            degrees_of_freedom=dof))
+    return Noise(math.nan, math.nan, NoiseRecord(
+        frequency_percent=None, source="none: as many keys as paired frequencies, no residual "
+        "to estimate it from; state frequency_noise_percent", degrees_of_freedom=dof))
+
+
+@dataclass(frozen=True)
+class Side:
+    """One end of a key's profile interval (ln)."""
+
+    end: float
+    at_bound: bool  # the sum of squares stays below the threshold out to the bound
+    complete: bool  # found within the profile's points, every re-fit converged
+
+
+@dataclass(frozen=True)
+class Profile:
+    low: Side  # the 95 % interval's
+    high: Side
+    decided: tuple[Side, Side]  # the interval identifiability is decided on (`Noise.decide`)
+    better: np.ndarray | None  # a point of the profile below the fit's minimum (all keys, ln)
+    steps: int  # re-fit steps (each: one eigen solve a pose, the free keys' slopes)
+
+
+class _Lower(Exception):
+    def __init__(self, x: np.ndarray):
+        self.x = x
+
+
+def profile(problem: Problem, x_hat: np.ndarray, k: int, ss_min: float,
+            rises: tuple[float, float], first: float, deadline: float) -> Profile:
+    """The profile of key k about the fit's x_hat: key k held at values walked away from its
+    estimate (first step `first` in ln, then steps from the rise seen so far, as if quadratic),
+    the other keys re-fitted (bounded, from the previous point's values) at each, until the sum
+    of squares rises by rises[0] above the fit's `ss_min` (bracketed, then the bracket narrowed
+    to PROFILE_TOLERANCE of its distance; the outer end of the bracket is the interval's end,
+    so it errs wide) or the bound is reached; then on to rises[1] (>= rises[0]) the same way.
+    A point below the fit's minimum is returned at once (the fit stopped in a wrong minimum).
+    The partners of the fitted modes are left as they were."""
+    params = problem.campaign.parameters
+    lo, hi = np.log([p.low for p in params]), np.log([p.high for p in params])
+    columns = [j for j in range(len(x_hat)) if j != k]
+    free = np.array(columns, int)
+    kept = dict(problem.previous), problem.partner_changes
+    steps = 0
+
+    def held(value: float, others: np.ndarray) -> tuple[float, np.ndarray, bool]:
+        nonlocal steps
+        x = x_hat.copy()
+        x[k] = value
+
+        def full(z: np.ndarray) -> np.ndarray:
+            y = x.copy()
+            y[free] = z
+            return y
+
+        if not len(free):
+            r = problem.residuals(x)
+            steps += 1
+            ss, y, ok = float(r @ r), x, True
+        else:
+            result = scipy.optimize.least_squares(
+                lambda z: problem.residuals(full(z)), others,
+                jac=lambda z: problem.jacobian(full(z), columns), bounds=(lo[free], hi[free]),
+                method="trf", x_scale=1.0, xtol=1e-10, ftol=1e-10, gtol=1e-10,
+                max_nfev=PROFILE_REFIT_STEPS)
+            steps += int(result.nfev)
+            ss, y, ok = 2.0 * float(result.cost), full(result.x), bool(result.status > 0)
+        if ss - ss_min < -BETTER * rises[0]:
+            raise _Lower(y)
+        return ss, y, ok
+
+    def side(direction: float, rise: float, inside: tuple[float, float, np.ndarray],
+             offset: float) -> tuple[Side, tuple[float, float, np.ndarray]]:
+        """From a point inside (offset, its rise, the others there) out to `rise`."""
+        limit = lo[k] if direction < 0 else hi[k]
+        span = abs(limit - x_hat[k])
+        outside: tuple[float, float] | None = None
+        offset, converged, closed = min(offset, span), True, False
+        for _ in range(PROFILE_POINTS):
+            if time.perf_counter() > deadline or offset <= inside[0]:
+                break
+            ss, y, ok = held(x_hat[k] + direction * offset, inside[2])
+            converged &= ok
+            if ss - ss_min >= rise:
+                outside = (offset, ss - ss_min)
+            else:
+                inside = (offset, ss - ss_min, y[free])
+            if outside is None:
+                if offset >= span:
+                    break
+                grow = 1.2 * math.sqrt(rise / inside[1]) if inside[1] > 0.0 else 4.0
+                offset = min(span, offset * min(max(grow, 1.5), 4.0))
+                continue
+            a, ra = inside[0], max(inside[1], 0.0)
+            b, rb = outside
+            if b - a <= PROFILE_TOLERANCE * b:
+                closed = True
+                break
+            # the rise is near quadratic in the offset: its square root near linear
+            guess = a + (b - a) * (math.sqrt(rise) - math.sqrt(ra)) / (
+                math.sqrt(rb) - math.sqrt(ra))
+            offset = min(max(guess, a + 0.1 * (b - a)), b - 0.1 * (b - a))
+        if outside is not None:
+            return Side(float(x_hat[k] + direction * outside[0]), False,
+                        converged and (closed or outside[0] - inside[0]
+                                       <= PROFILE_TOLERANCE * outside[0])), inside
+        reached = inside[0] >= span
+        return Side(float(limit), reached, converged and reached), inside
+
+    ends: list[list[Side]] = [[], []]
+    try:
+        for direction in (-1.0, 1.0):
+            problem.previous = dict(kept[0])
+            start = (0.0, 0.0, x_hat[free])
+            found, inside = side(direction, rises[0], start, max(first, 1e-9))
+            ends[0].append(found)
+            if rises[1] > rises[0] and not found.at_bound and found.complete:
+                step = abs(found.end - x_hat[k]) * math.sqrt(rises[1] / rises[0])
+                further, _ = side(direction, rises[1], inside, step)
+            else:
+                further = found
+            ends[1].append(further)
+    except _Lower as lower:
+        none = Side(math.nan, False, False)
+        return Profile(none, none, (none, none), lower.x, steps)
+    finally:
+        problem.previous, problem.partner_changes = kept
+    return Profile(ends[0][0], ends[0][1], (ends[1][0], ends[1][1]), None, steps)
+
+
+@dataclass(frozen=True)
+class Intervals:
+    """What the data determine of the keys."""
+
+    parameters: list[ParameterRecord]
+    noise: NoiseRecord
+    singular_values: list[float]
+    correlation: list[list[float]]
+    better: np.ndarray | None  # a point a profile found below the fit's minimum (ln), else None
+    note: str  # the profiles: which keys, their cost
+
+
+def uncertainty(fit_: Fit, campaign: Campaign, problem: Problem | None = None,
+                extraction: np.ndarray | None = None) -> Intervals:
+    """The keys' values, 95 % intervals and identifiability; the noise used; the singular
+    values of J / sigma; the keys' correlation matrix. With the `problem`, the interval of a
+    key correlated beyond CORRELATED with another is its profile's (`profile`), else (and
+    without it) the linearised one. `extraction`: the fitted modes' own standard uncertainties
+    (relative; `noise`)."""
+    settings = campaign.identify
+    m, n = fit_.jacobian.shape
+    found = noise(fit_, campaign, extraction)
+    sigma, t = found.sigma, found.quantile
     jtj = fit_.jacobian.T @ fit_.jacobian
     cov = sigma**2 * np.linalg.pinv(jtj) if math.isfinite(sigma) else np.full((n, n), np.nan)
     scale = max(sigma, 1e-300) if math.isfinite(sigma) else 1.0
@@ -223,58 +458,168 @@ def uncertainty(fit_: Fit, campaign: Campaign) -> tuple[list[ParameterRecord], N
     _, sv, vt = np.linalg.svd(fit_.jacobian, full_matrices=True)
     sv = np.concatenate([sv, np.zeros(n - len(sv))]) if len(sv) < n else sv
     null = vt[sv <= 1e-8 * max(sv.max(initial=0.0), 1e-300)]
-    records = []
     lo_all, hi_all = (np.log([p.low for p in campaign.parameters]),
                       np.log([p.high for p in campaign.parameters]))
+    within = settings.identifiable_within_percent
+
+    partners: list[tuple[float, int]] = []
+    for k in range(n):
+        row = corr[k] if np.all(np.isfinite(corr[k])) else np.zeros(n)
+        others = [(abs(float(row[j])), j) for j in range(n) if j != k]
+        partners.append(max(others) if others else (0.0, k))
+    half = t * sd
+    at_bound = (fit_.x - lo_all < AT_BOUND) | (hi_all - fit_.x < AT_BOUND)
+    # no direction of the data moves it, or its interval is wider than its whole search
+    unresolved = [bool(len(null) and np.max(np.abs(null[:, k])) > 1e-3) or bool(
+        math.isfinite(half[k]) and half[k] > hi_all[k] - lo_all[k]) for k in range(n)]
+    profiled = [k for k in range(n) if partners[k][0] > CORRELATED and problem is not None
+                and fit_.converged and math.isfinite(half[k]) and not unresolved[k]
+                and not at_bound[k]]
+    profiles: dict[int, Profile] = {}
+    note = ""
+    if profiled:
+        assert problem is not None
+        estimate = len(profiled) * PROFILE_EXPECTED_STEPS * fit_.seconds_per_step
+        if estimate > PROFILE_SECONDS:
+            note = (f"profiles of {len(profiled)} correlated keys not run: about "
+                    f"{estimate:.0f} s ({len(profiled)} x {PROFILE_EXPECTED_STEPS} re-fit steps "
+                    f"of {fit_.seconds_per_step:.2g} s), more than the {PROFILE_SECONDS:g} s "
+                    "allowed")
+        else:
+            start = time.perf_counter()
+            ss_min = float(fit_.residuals_after @ fit_.residuals_after)
+            # the likelihood ratio's threshold: F(1, m - n) s^2 = (t s)^2 estimated,
+            # chi-square(1) sigma^2 = (1.96 sigma)^2 stated; and the decision's
+            rise = (t * sigma) ** 2
+            steps = 0
+            for k in profiled:
+                found_k = profile(problem, fit_.x, k, ss_min, (rise, rise * found.decide**2),
+                                  half[k], start + 2.0 * PROFILE_SECONDS)
+                steps += found_k.steps
+                if found_k.better is not None:
+                    return Intervals([], found.record, [], [], found_k.better,
+                                     f"the profile of {campaign.parameters[k].address.name} "
+                                     "found a lower sum of squares than the fit's")
+                profiles[k] = found_k
+            note = (f"profile-likelihood intervals of {len(profiled)} keys correlated beyond "
+                    f"{CORRELATED:g} ({steps} re-fit steps, {time.perf_counter() - start:.1f} "
+                    f"s; estimated {estimate:.1f} s)")
+
+    def unsure(decided: float) -> str:
+        """Why a key within the criterion at the estimated noise is not identifiable."""
+        spread = (f"spans {100 * (decided - 1):.3g} % either side" if math.isfinite(decided)
+                  else "reaches a bound or is not found")
+        return (f"but only because the noise estimated is small: at its 95 % upper "
+                f"confidence bound ({found.decide:.3g} s, {m - n} degrees of freedom) the "
+                f"interval {spread}, looser than the {within:g} % asked")
+
+    records = []
     for k, p in enumerate(campaign.parameters):
         x = fit_.x[k]
-        half = t * sd[k]
-        at_bound = bool(x - lo_all[k] < AT_BOUND or hi_all[k] - x < AT_BOUND)
-        # no direction of the data moves it, or its interval is wider than its whole search
-        unresolved = bool(len(null) and np.max(np.abs(null[:, k])) > 1e-3) or bool(
-            math.isfinite(half) and half > hi_all[k] - lo_all[k])
-        factor = math.exp(half) if math.isfinite(half) and not unresolved else math.inf
-        within = settings.identifiable_within_percent
-        identifiable = (factor - 1.0 <= within / 100.0 and not at_bound and not unresolved
-                        and fit_.converged)
-        partner = ""
-        if n > 1 and np.all(np.isfinite(corr[k])):
-            others = [(abs(corr[k, j]), j) for j in range(n) if j != k]
-            c, j = max(others)
-            if c > 0.9:
-                partner = (f"; correlated {corr[k, j]:+.2f} with "
-                           f"{campaign.parameters[j].address.name}")
+        c, j = partners[k]
+        partner = (f"; correlated {corr[k, j]:+.2f} with {campaign.parameters[j].address.name}"
+                   if c > CORRELATED else "")
+        prof = profiles.get(k)
+        if prof is not None:  # the profile's interval
+            lower, upper = prof.low.end, prof.high.end
+            widest = max(x - lower, upper - x)
+            bound = prof.low.at_bound or prof.high.at_bound
+            complete = prof.low.complete and prof.high.complete
+            factor = math.exp(widest) if complete and not bound else math.inf
+            d_low, d_high = prof.decided
+            decided = (math.exp(max(x - d_low.end, d_high.end - x)) if d_low.complete
+                       and d_high.complete and not d_low.at_bound and not d_high.at_bound
+                       else math.inf)
+            identifiable = max(factor, decided) - 1.0 <= within / 100.0
+            how = "profile likelihood, the other keys re-fitted at each value"
+            if identifiable:
+                reason = (f"determined within {100 * math.expm1(lower - x):+.3g} % / "
+                          f"{100 * math.expm1(upper - x):+.3g} % (95 %, {how}), within the "
+                          f"{within:g} % asked" + partner)
+            elif factor - 1.0 <= within / 100.0 and complete:
+                reason = (f"determined within {100 * math.expm1(lower - x):+.3g} % / "
+                          f"{100 * math.expm1(upper - x):+.3g} % (95 %, {how}), "
+                          + unsure(decided) + partner)
+            elif not complete:
+                reason = (f"its profile ({how}) did not close within {PROFILE_POINTS} points "
+                          "a side or its time: not to be trusted" + partner)
+            elif bound:
+                reason = (f"its 95 % interval ({how}) reaches a bound of its search: the data "
+                          "cannot determine it" + partner)
+            else:
+                reason = (f"determined only within {100 * math.expm1(lower - x):+.3g} % / "
+                          f"{100 * math.expm1(upper - x):+.3g} % (95 %, {how}), looser than the "
+                          f"{within:g} % asked (identifiable_within_percent)" + partner)
+            ci = [math.exp(lower), math.exp(upper)] if complete else [p.low, p.high]
+            std = (100.0 * math.expm1(widest / t) if math.isfinite(factor) else None)
+        else:
+            factor = (math.exp(half[k]) if math.isfinite(half[k]) and not unresolved[k]
+                      else math.inf)
+            # correlated beyond CORRELATED and not profiled: its slopes cannot tell
+            refused = partners[k][0] > CORRELATED
+            decided = factor ** found.decide
+            identifiable = (decided - 1.0 <= within / 100.0 and not at_bound[k]
+                            and not unresolved[k] and not refused)
+            if unresolved[k]:
+                reason = ("the test frequencies do not depend on it (or only through a "
+                          "combination with other keys): the data cannot determine it"
+                          + partner)
+            elif at_bound[k]:
+                reason = ("at a bound of its search: the data push it beyond [low, high]"
+                          + partner)
+            elif not math.isfinite(half[k]):
+                reason = found.record["source"]
+            elif refused:
+                reason = (f"correlated beyond {CORRELATED:g} with another key and its "
+                          f"profile not run ({note or 'no profile asked'}): its slopes at "
+                          "the estimate alone cannot tell" + partner)
+            elif identifiable:
+                reason = (f"determined within {100 * (factor - 1):.3g} % either side (95 %), "
+                          f"within the {within:g} % asked" + partner)
+            elif factor - 1.0 <= within / 100.0:
+                reason = (f"determined within {100 * (factor - 1):.3g} % either side (95 %), "
+                          + unsure(decided) + partner)
+            elif factor > 2.0:
+                reason = (f"the data cannot determine it: its 95 % interval spans a factor "
+                          f"{factor:.3g} either side" + partner)
+            else:
+                reason = (f"determined only within {100 * (factor - 1):.3g} % either side "
+                          f"(95 %), looser than the {within:g} % asked "
+                          "(identifiable_within_percent)" + partner)
+            ci = ([math.exp(x - half[k]), math.exp(x + half[k])] if math.isfinite(factor)
+                  else [p.low, p.high])
+            std = 100.0 * math.expm1(sd[k]) if math.isfinite(factor) else None
         if not fit_.converged:
+            identifiable = False
             reason = (f"the fit did not converge within max_evaluations "
                       f"({settings.max_evaluations}): {fit_.message}")
-        elif unresolved:
-            reason = ("the test frequencies do not depend on it (or only through a combination "
-                      "with other keys): the data cannot determine it" + partner)
-        elif at_bound:
-            reason = "at a bound of its search: the data push it beyond [low, high]" + partner
-        elif not math.isfinite(half):
-            reason = noise["source"]
-        elif identifiable:
-            reason = (f"determined within {100 * (factor - 1):.3g} % either side (95 %), "
-                      f"within the {within:g} % asked" + partner)
-        elif factor > 2.0:
-            reason = (f"the data cannot determine it: its 95 % interval spans a factor "
-                      f"{factor:.3g} either side" + partner)
-        else:
-            reason = (f"determined only within {100 * (factor - 1):.3g} % either side (95 %), "
-                      f"looser than the {within:g} % asked (identifiable_within_percent)"
-                      + partner)
-        ci = ([math.exp(x - half), math.exp(x + half)] if math.isfinite(factor)
-              else [p.low, p.high])
         records.append(ParameterRecord(
             key=p.address.name, unit=p.address.unit, initial=p.initial, value=math.exp(x),
             ci95=ci, bounds=[p.low, p.high], identifiable=bool(identifiable),
-            at_bound=at_bound,
-            relative_std_percent=(100.0 * math.expm1(sd[k]) if math.isfinite(factor)
-                                  else None),
-            reason=reason))
+            at_bound=bool(at_bound[k]), relative_std_percent=std, reason=reason))
     corr_list = [[float(v) if math.isfinite(v) else 0.0 for v in row] for row in corr]
-    return records, noise, [float(s) for s in singular], corr_list
+    return Intervals(records, found.record, [float(s) for s in singular], corr_list, None, note)
+
+
+def settled(problem: Problem, fit_: Fit, extraction: np.ndarray | None = None
+            ) -> tuple[Fit, Intervals]:
+    """The fit and its intervals; a fit a profile shows to have stopped in a wrong minimum is
+    restarted from the profile's lower point (RESTARTS times at most)."""
+    notes = []
+    for _ in range(RESTARTS + 1):
+        found = uncertainty(fit_, problem.campaign, problem, extraction)
+        if found.better is None:
+            break
+        notes.append(found.note)
+        fit_ = fit(problem, found.better, fit_.residuals_before)
+    else:
+        found = uncertainty(fit_, problem.campaign, None, extraction)
+        found = replace(found, note=f"{RESTARTS} restarts from profiles' lower points and "
+                        "still not settled: linearised intervals")
+    if notes:
+        found = replace(found, note="; ".join(
+            [f"{n}: the fit restarted from there" for n in notes] + [found.note]))
+    return fit_, found
 
 
 def fit_table(problem: Problem, fit_: Fit, after_fields: list[AnalyticalField],

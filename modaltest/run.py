@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import time
 from pathlib import Path
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -55,10 +56,15 @@ def run_correlation(campaign: Campaign, options: ModelOptions, source: str,
                        time.perf_counter() - start)
 
 
-def run_identification(campaign: Campaign, options: ModelOptions,
-                       source: str) -> tuple[Identification, str]:
+def run_identification(campaign: Campaign, options: ModelOptions, source: str,
+                       frequency_uncertainty_percent: Mapping[str, Sequence[float]] | None = None
+                       ) -> tuple[Identification, str]:
     """The fit of the campaign's [identify] keys; the record and the identified scene's
-    text (the scene file with the identified values, every comment kept)."""
+    text (the scene file with the identified values, every comment kept).
+    `frequency_uncertainty_percent`: per pose name, the standard uncertainty of each of its test
+    modes' frequencies (in the file's order, %) that the modes' own identification states (e.g.
+    from FRFs: errors fixed per mode, which a fresh test of the same FRFs repeats); combined
+    into the noise (`identify.noise`). None: none."""
     start = time.perf_counter()
     problem = ident.Problem(campaign, options, solved_modes(campaign))
     x0 = np.log([p.start for p in campaign.parameters])
@@ -81,7 +87,10 @@ def run_identification(campaign: Campaign, options: ModelOptions,
         fit = ident.fit(problem, fit.x, _residuals_at_scene(problem))
         after = [correlate_pose(campaign, tp, f)
                  for tp, f in zip(campaign.poses, problem.fields(fit.x))]
-    records, noise, singular, corr = ident.uncertainty(fit, campaign)
+    extraction = _extraction(campaign, problem.fitted, frequency_uncertainty_percent)
+    fit, found = ident.settled(problem, fit, extraction)
+    records, noise, singular, corr = (found.parameters, found.noise, found.singular_values,
+                                      found.correlation)
     after_fields = problem.fields(fit.x)
     _, likeness = problem.partners(after_fields)
     macs = dict(zip(problem.fitted, likeness))
@@ -115,10 +124,31 @@ def run_identification(campaign: Campaign, options: ModelOptions,
             + ("" if fit.converged else " (NOT converged: the keys are not to be trusted)")
             + f"; {problem.partner_changes} changes of a fitted mode's partner"
             + (f"; {len(more)} test modes paired only near the answer, fitted from there"
-               if more else "")),
+               if more else "") + (f"; {found.note}" if found.note else "")),
         correlation_after=correlation(campaign, after, model, seconds),
         validation=validation, validation_note=validation_note)
     return record, identified
+
+
+def _extraction(campaign: Campaign, fitted: list[tuple[int, int]],
+                uncertainty: Mapping[str, Sequence[float]] | None) -> np.ndarray | None:
+    """The fitted modes' stated frequency uncertainties (fractions; 0 for a mode without one),
+    None without any."""
+    if not uncertainty:
+        return None
+    out = []
+    for pose, i in fitted:
+        tp = campaign.poses[pose]
+        values = uncertainty.get(tp.name)
+        if values is not None and len(values) != len(tp.modes.frequencies_hz):
+            raise ComputeError(f"identification: pose {tp.name}: {len(values)} frequency "
+                               f"uncertainties for {len(tp.modes.frequencies_hz)} test modes")
+        u = 0.0 if values is None else float(values[i])
+        if not (math.isfinite(u) and u >= 0.0):
+            raise ComputeError(f"identification: pose {tp.name} mode {i + 1}: frequency "
+                               f"uncertainty {u!r} %; a standard uncertainty is finite, >= 0")
+        out.append(u / 100.0)
+    return np.array(out)
 
 
 def _paired(poses: list) -> list[tuple[int, int]]:
