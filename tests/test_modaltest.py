@@ -470,24 +470,7 @@ def test_identification_on_random_machines(tmp_path_factory):
     def identified(raw: dict) -> None:
         if checked(raw) is None:  # refused up front (tests/test_fuzz_machines.py)
             return
-        folder = tmp_path_factory.mktemp("machine")
-        scene = folder / "scene.toml"
-        scene.write_text(_scene_text(raw))
-        hidden = ({f"stiffness.{k}": 0.7 * v for k, v in raw["stiffness"].items()}
-                  if "stiffness" in raw else
-                  {"material.youngs_modulus_gpa": 0.93 * raw["material"]["youngs_modulus_gpa"]})
-        points = [PoseTested(n, c["height_mm"], c.get("azimuth_deg", 0.0),
-                             c.get("tilt_deg", 0.0)) for n, c in raw["cases"].items()]
-        campaign = load_campaign(write_campaign(scene, hidden, points, folder / "c",
-                                                list(hidden),
-                                                extra="frequency_noise_percent = 1e-3\n"))
-        assert campaign.identify.frequency_noise_percent == 1e-3
-        record, _ = run_identification(campaign, campaign.analytical, "fuzz")
-        within = campaign.identify.identifiable_within_percent / 100
-        for p in record["parameters"]:
-            truth = hidden[p["key"]]
-            assert p["ci95"][0] <= truth <= p["ci95"][1], p
-            assert not p["identifiable"] or abs(p["value"] / truth - 1) <= within, p
+        _identified_within_intervals(raw, tmp_path_factory.mktemp("machine"))
 
     once = settings(max_examples=6, deadline=None, derandomize=True, database=None,
                     suppress_health_check=list(HealthCheck))
