@@ -309,7 +309,7 @@ def test_scene_addresses_are_refused_in_one_line():
 def test_a_campaign_of_frfs_gives_its_modes_through_sdypy_ema(tmp_path, monkeypatch):
     """Receptances (UFF 58) made by the model with 2 % modal damping: the modes identified
     from them (LSCF and LSFD) pair with the model's own within 0.1 % and MAC 0.99, and their
-    damping within 5 %."""
+    damping within 5 %; `[ema] lower_hz` or `upper_hz` alone bands the same modes."""
     path = write_campaign(ACTUATOR, {}, POINTS[1:2], tmp_path / "frf", [], frf_damping=0.02)
     campaign = load_campaign(path)
     tp = campaign.poses[0]
@@ -319,6 +319,16 @@ def test_a_campaign_of_frfs_gives_its_modes_through_sdypy_ema(tmp_path, monkeypa
     assert len(pose["pairs"]) == len(tp.modes.frequencies_hz) == 6
     for p in pose["pairs"]:
         assert abs(p["error_percent"]) < 0.1 and p["mac"] > 0.99, p
+    # a band limit alone: the other end is the axis's; a band above the first modes finds the
+    # modes in it as the full band does (residual terms for those below)
+    full = tp.modes.frequencies_hz
+    text = path.read_text()
+    for table, inside in ((f"lower_hz = {float(0.5 * (full[1] + full[2]))!r}", full[2:]),
+                          (f"upper_hz = {float(0.5 * (full[3] + full[4]))!r}", full[:4])):
+        path.write_text(text + f"\n[ema]\n{table}\n")
+        band = load_campaign(path).poses[0].modes.frequencies_hz
+        assert np.allclose(band, inside, rtol=2e-4), (table, band, inside)
+    path.write_text(text)
     # an identification too big to finish in reasonable time is refused before it starts
     import modaltest.campaign
     monkeypatch.setattr(modaltest.campaign, "MAX_EMA_POINTS", 1000)
