@@ -25,6 +25,8 @@ from dataclasses import MISSING, dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
+import numpy as np
+
 from analytical.kinematics import PoseError, PoseGeometry, pose_geometry
 from analytical.params import ModelOptions, Pose
 from common.settings import MAX_MODES, setting, spec_of, text_problem
@@ -35,7 +37,7 @@ from scene.load import SceneError, parse_scene
 from scene.toml_table import Table, read_toml, short
 
 from . import uff
-from .ema import EmaError, EmaSettings, identify_modes
+from .ema import EmaError, EmaSettings, extract
 from .placement import Placement, place
 
 MAX_POSES = 50  # a campaign's poses at most (each one model solve per evaluation)
@@ -144,6 +146,9 @@ class TestPose:
     modes: uff.Modes  # at the measured dofs
     nodes: uff.Nodes
     placements: list[Placement]
+    # modes from FRFs: each frequency's standard uncertainty (relative), its scatter over the
+    # stabilisation chart's stable orders (modaltest.ema); None: modes as the file gives them
+    frequency_uncertainty: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -233,6 +238,7 @@ def _read_pose(entry: _PoseEntry, path: Path, typed: str, scene: Scene,
                ema: EmaTable | None, tolerance: float) -> TestPose:
     spec, pose, geometry = entry.spec, entry.pose, entry.geometry
     content = uff.read_uff(path, shown="")
+    uncertainty = None
     if content.modes is not None:
         modes = content.modes
         source = "modes (UFF 55)"
@@ -254,15 +260,17 @@ def _read_pose(entry: _PoseEntry, path: Path, typed: str, scene: Scene,
                              f"{MAX_EMA_POINTS:,} are identified in one pose (measured 1 s "
                              "for 1.5e5 at order 60): narrow [ema] lower_hz/upper_hz or "
                              "give fewer FRFs")
-        modes = identify_modes(content.frfs, settings)
-        source = (f"FRFs (UFF 58), modes identified with sdypy-EMA in "
-                  f"{settings.lower_hz:g}-{settings.upper_hz:g} Hz, LSCF order up to "
-                  f"{settings.model_order}")
+        found = extract(content.frfs, settings)
+        modes, uncertainty = found.modes, found.frequency_scatter
+        source = (f"FRFs (UFF 58), modes identified in {settings.lower_hz:g}-"
+                  f"{settings.upper_hz:g} Hz (pLSCF up to {2 * settings.model_order} poles, "
+                  f"sdypy-EMA's LSFD): {found.describe()}")
     measured = set(int(n) for n in modes.dofs.node)
     keep = [i for i, n in enumerate(content.nodes.ids) if int(n) in measured]
     nodes = uff.Nodes(content.nodes.ids[keep], content.nodes.xyz[keep])
     placements = place(scene.manipulator, geometry, nodes.ids, nodes.xyz, tolerance, typed)
-    return TestPose(spec.name, pose, geometry, str(path), source, modes, nodes, placements)
+    return TestPose(spec.name, pose, geometry, str(path), source, modes, nodes, placements,
+                    uncertainty)
 
 
 def _varies_alone(parameter: Parameter, raw_scene: dict, scene: Scene, text: str,

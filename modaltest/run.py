@@ -64,7 +64,12 @@ def run_identification(campaign: Campaign, options: ModelOptions, source: str,
     `frequency_uncertainty_percent`: per pose name, the standard uncertainty of each of its test
     modes' frequencies (in the file's order, %) that the modes' own identification states (e.g.
     from FRFs: errors fixed per mode, which a fresh test of the same FRFs repeats); combined
-    into the noise (`identify.noise`). None: none."""
+    into the noise (`identify.noise`). None: the poses' own, where their modes come from FRFs
+    (each mode's scatter over the stabilisation chart's stable orders, `TestPose`)."""
+    if frequency_uncertainty_percent is None:
+        frequency_uncertainty_percent = {
+            tp.name: [100.0 * float(u) for u in tp.frequency_uncertainty]
+            for tp in campaign.poses if tp.frequency_uncertainty is not None} or None
     start = time.perf_counter()
     problem = ident.Problem(campaign, options, solved_modes(campaign))
     x0 = np.log([p.start for p in campaign.parameters])
