@@ -118,9 +118,11 @@ class IdentifySettings:
                                    "every pose once)")
     identifiable_within_percent: float = setting(
         10.0, minimum=0.0, exclusive_minimum=True, maximum=1000.0,
-        doc="a key is identifiable when its 95 % interval lies within this of its value either "
-        "side, % (and it does not sit at a bound of its search); otherwise it is flagged, its "
-        "value not to be trusted")
+        doc="a key is identifiable when its 95 % interval (its profile likelihood's for a key "
+        "correlated beyond 0.9 with another), taken at the noise's one-sided 95 % upper bound "
+        "when the noise is estimated, lies within this of its value either side, % (and it "
+        "does not sit at a bound of its search); otherwise it is flagged, its value not to be "
+        "trusted")
 
 
 @dataclass(frozen=True)
