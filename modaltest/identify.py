@@ -61,6 +61,8 @@ from scene.address import Address
 from .campaign import Campaign
 from .correlate import Scores, match, pair, sampled, scores
 from .models import AnalyticalField, analytical_field
+from .noise import noise
+from .profile import PROFILE_POINTS, Profile, profile
 
 STEP = 1e-4  # the central difference step of the matrices, in ln(value)
 AT_BOUND = 1e-6  # a key within this of a bound (in ln) sits at it
@@ -70,15 +72,10 @@ AT_BOUND = 1e-6  # a key within this of a bound (in ln) sits at it
 # key by more than the other's own interval, and the slopes at the estimate no longer describe
 # the valley there; its interval is its profile's
 CORRELATED = 0.9
-GOODNESS = 0.999  # a stated noise whose residuals' chi-square exceeds this quantile is refused
-PROFILE_POINTS = 12  # re-fits of one side of one key's profile at most (walk and narrowing)
-PROFILE_REFIT_STEPS = 30  # steps of one re-fit at most
-PROFILE_TOLERANCE = 0.01  # an interval's end bracketed to this of its distance from the value
 # what a key's profile is expected to cost, for the estimate made before it: 2 sides x about
 # 5 re-fits x about 6 steps (measured: 30-110 steps a key on the tests' campaigns)
 PROFILE_EXPECTED_STEPS = 60
 PROFILE_SECONDS = 120.0  # the profiles of one identification, estimated, at most (twice: cut)
-BETTER = 0.01  # a profile point this far (of the threshold) below the fit's minimum: a wrong one
 RESTARTS = 3  # fits restarted from a profile's lower point at most
 
 
@@ -228,199 +225,6 @@ def fit(problem: Problem, x0: np.ndarray, before: np.ndarray) -> Fit:
     jac = problem.jacobian(x)
     return Fit(x0, x, before, after, jac, problem.evaluations, time.perf_counter() - start,
                str(result.message), bool(result.status > 0), int(result.nfev))
-
-
-@dataclass(frozen=True)
-class Noise:
-    """The standard deviation of ln f_test the intervals use, and its quantile for 95 %."""
-
-    sigma: float  # nan: none
-    quantile: float  # Student's t with m - n degrees of freedom (estimated), else normal
-    record: NoiseRecord
-    decide: float = 1.0  # sigma's one-sided 95 % upper confidence bound over sigma (estimated)
-
-    @staticmethod
-    def upper(dof: int) -> float:
-        """An estimated s's one-sided 95 % upper confidence bound over s: sqrt((m - n) /
-        chi-square_{m - n}(5 %)) (1.42 for 16 degrees of freedom, 2.7 for 3)."""
-        return math.sqrt(dof / float(scipy.stats.chi2.ppf(0.05, dof)))
-
-
-def noise(fit_: Fit, campaign: Campaign, extraction: np.ndarray | None = None) -> Noise:
-    """The noise of the fitted frequencies: stated, or from the residuals; `extraction`: the
-    fitted modes' own standard uncertainties (relative, e.g. from an identification of modes
-    from FRFs), a floor under it.
-
-    A stated noise the residuals contradict (their chi-square above its 99.9 % quantile for
-    m - n degrees of freedom) is not used: the fit then misses the data by more than the noise
-    (a model error, or a wrong minimum), and the residuals' own s is used instead. The
-    extraction's errors are fixed per mode (a fresh test of the same FRFs repeats them), so
-    they add to a stated noise in quadrature (their rms over the fitted modes) and are a floor
-    under an estimated one; a floor that binds is a known sigma (normal quantile)."""
-    settings = campaign.identify
-    m, n = fit_.jacobian.shape
-    dof = m - n
-    ss = float(fit_.residuals_after @ fit_.residuals_after)
-    u = (math.sqrt(float(np.mean(np.log1p(extraction) ** 2)))
-         if extraction is not None and len(extraction) else 0.0)
-    floor = (f"; the modes' extraction uncertainty ({100 * math.expm1(u):.3g} % rms) "
-             "included" if u > 0.0 else "")
-    normal = float(scipy.stats.norm.ppf(0.975))
-    s = math.sqrt(ss / dof) if dof > 0 else math.nan
-    if settings.frequency_noise_percent > 0.0:
-        sigma = math.hypot(math.log1p(settings.frequency_noise_percent / 100.0), u)
-        chi2 = ss / sigma**2
-        limit = float(scipy.stats.chi2.ppf(GOODNESS, dof)) if dof > 0 else math.inf
-        if chi2 <= limit:
-            return Noise(sigma, normal, NoiseRecord(
-                frequency_percent=100.0 * math.expm1(sigma), source="stated" + floor,
-                degrees_of_freedom=dof))
-        return Noise(s, float(scipy.stats.t.ppf(0.975, dof)), NoiseRecord(
-            frequency_percent=100.0 * math.expm1(s), source=(
-                f"residuals: the stated {settings.frequency_noise_percent:g} % does not explain "
-                f"them (chi-square {chi2:.3g} for {dof} degrees of freedom, above its "
-                f"{100 * GOODNESS:g} % quantile {limit:.3g}): a model error, or a wrong "
-                "minimum"), degrees_of_freedom=dof), Noise.upper(dof))
-    if dof > 0 and s >= u:
-        return Noise(s, float(scipy.stats.t.ppf(0.975, dof)), NoiseRecord(
-            frequency_percent=100.0 * math.expm1(s),
-            source="residuals" + (f" (above the modes' extraction uncertainty, "
-                                  f"{100 * math.expm1(u):.3g} % rms)" if u > 0.0 else ""),
-            degrees_of_freedom=dof), Noise.upper(dof))
-    if u > 0.0:
-        return Noise(u, normal, NoiseRecord(
-            frequency_percent=100.0 * math.expm1(u), source=(
-                f"the modes' extraction uncertainty ({100 * math.expm1(u):.3g} % rms)"
-                + (f", above the residuals' {100 * math.expm1(s):.3g} %" if dof > 0 else "")),
-            degrees_of_freedom=dof))
-    return Noise(math.nan, math.nan, NoiseRecord(
-        frequency_percent=None, source="none: as many keys as paired frequencies, no residual "
-        "to estimate it from; state frequency_noise_percent", degrees_of_freedom=dof))
-
-
-@dataclass(frozen=True)
-class Side:
-    """One end of a key's profile interval (ln)."""
-
-    end: float
-    at_bound: bool  # the sum of squares stays below the threshold out to the bound
-    complete: bool  # found within the profile's points, every re-fit converged
-
-
-@dataclass(frozen=True)
-class Profile:
-    low: Side  # the 95 % interval's
-    high: Side
-    decided: tuple[Side, Side]  # the interval identifiability is decided on (`Noise.decide`)
-    better: np.ndarray | None  # a point of the profile below the fit's minimum (all keys, ln)
-    steps: int  # re-fit steps (each: one eigen solve a pose, the free keys' slopes)
-
-
-class _Lower(Exception):
-    def __init__(self, x: np.ndarray):
-        self.x = x
-
-
-def profile(problem: Problem, x_hat: np.ndarray, k: int, ss_min: float,
-            rises: tuple[float, float], first: float, deadline: float) -> Profile:
-    """The profile of key k about the fit's x_hat: key k held at values walked away from its
-    estimate (first step `first` in ln, then steps from the rise seen so far, as if quadratic),
-    the other keys re-fitted (bounded, from the previous point's values) at each, until the sum
-    of squares rises by rises[0] above the fit's `ss_min` (bracketed, then the bracket narrowed
-    to PROFILE_TOLERANCE of its distance; the outer end of the bracket is the interval's end,
-    so it errs wide) or the bound is reached; then on to rises[1] (>= rises[0]) the same way.
-    A point below the fit's minimum is returned at once (the fit stopped in a wrong minimum).
-    The partners of the fitted modes are left as they were."""
-    params = problem.campaign.parameters
-    lo, hi = np.log([p.low for p in params]), np.log([p.high for p in params])
-    columns = [j for j in range(len(x_hat)) if j != k]
-    free = np.array(columns, int)
-    kept = dict(problem.previous), problem.partner_changes
-    steps = 0
-
-    def held(value: float, others: np.ndarray) -> tuple[float, np.ndarray, bool]:
-        nonlocal steps
-        x = x_hat.copy()
-        x[k] = value
-
-        def full(z: np.ndarray) -> np.ndarray:
-            y = x.copy()
-            y[free] = z
-            return y
-
-        if not len(free):
-            r = problem.residuals(x)
-            steps += 1
-            ss, y, ok = float(r @ r), x, True
-        else:
-            result = scipy.optimize.least_squares(
-                lambda z: problem.residuals(full(z)), others,
-                jac=lambda z: problem.jacobian(full(z), columns), bounds=(lo[free], hi[free]),
-                method="trf", x_scale=1.0, xtol=1e-10, ftol=1e-10, gtol=1e-10,
-                max_nfev=PROFILE_REFIT_STEPS)
-            steps += int(result.nfev)
-            ss, y, ok = 2.0 * float(result.cost), full(result.x), bool(result.status > 0)
-        if ss - ss_min < -BETTER * rises[0]:
-            raise _Lower(y)
-        return ss, y, ok
-
-    def side(direction: float, rise: float, inside: tuple[float, float, np.ndarray],
-             offset: float) -> tuple[Side, tuple[float, float, np.ndarray]]:
-        """From a point inside (offset, its rise, the others there) out to `rise`."""
-        limit = lo[k] if direction < 0 else hi[k]
-        span = abs(limit - x_hat[k])
-        outside: tuple[float, float] | None = None
-        offset, converged, closed = min(offset, span), True, False
-        for _ in range(PROFILE_POINTS):
-            if time.perf_counter() > deadline or offset <= inside[0]:
-                break
-            ss, y, ok = held(x_hat[k] + direction * offset, inside[2])
-            converged &= ok
-            if ss - ss_min >= rise:
-                outside = (offset, ss - ss_min)
-            else:
-                inside = (offset, ss - ss_min, y[free])
-            if outside is None:
-                if offset >= span:
-                    break
-                grow = 1.2 * math.sqrt(rise / inside[1]) if inside[1] > 0.0 else 4.0
-                offset = min(span, offset * min(max(grow, 1.5), 4.0))
-                continue
-            a, ra = inside[0], max(inside[1], 0.0)
-            b, rb = outside
-            if b - a <= PROFILE_TOLERANCE * b:
-                closed = True
-                break
-            # the rise is near quadratic in the offset: its square root near linear
-            guess = a + (b - a) * (math.sqrt(rise) - math.sqrt(ra)) / (
-                math.sqrt(rb) - math.sqrt(ra))
-            offset = min(max(guess, a + 0.1 * (b - a)), b - 0.1 * (b - a))
-        if outside is not None:
-            return Side(float(x_hat[k] + direction * outside[0]), False,
-                        converged and (closed or outside[0] - inside[0]
-                                       <= PROFILE_TOLERANCE * outside[0])), inside
-        reached = inside[0] >= span
-        return Side(float(limit), reached, converged and reached), inside
-
-    ends: list[list[Side]] = [[], []]
-    try:
-        for direction in (-1.0, 1.0):
-            problem.previous = dict(kept[0])
-            start = (0.0, 0.0, x_hat[free])
-            found, inside = side(direction, rises[0], start, max(first, 1e-9))
-            ends[0].append(found)
-            if rises[1] > rises[0] and not found.at_bound and found.complete:
-                step = abs(found.end - x_hat[k]) * math.sqrt(rises[1] / rises[0])
-                further, _ = side(direction, rises[1], inside, step)
-            else:
-                further = found
-            ends[1].append(further)
-    except _Lower as lower:
-        none = Side(math.nan, False, False)
-        return Profile(none, none, (none, none), lower.x, steps)
-    finally:
-        problem.previous, problem.partner_changes = kept
-    return Profile(ends[0][0], ends[0][1], (ends[1][0], ends[1][1]), None, steps)
 
 
 @dataclass(frozen=True)
