@@ -35,15 +35,15 @@ class Noise:
 
 def noise(fit_: Any, campaign: Campaign, extraction: np.ndarray | None = None) -> Noise:
     """The noise of the fitted frequencies of `fit_` (an `identify.Fit`): stated, or from the
-    residuals; `extraction`: the fitted modes' own standard uncertainties (relative, e.g. from an identification of modes
-    from FRFs), a floor under it.
+    residuals; `extraction`: the fitted modes' own standard uncertainties (relative, e.g. from an
+    identification of modes from FRFs), a floor under it.
 
-    A stated noise the residuals contradict (their chi-square above its 99.9 % quantile for
-    m - n degrees of freedom) is not used: the fit then misses the data by more than the noise
-    (a model error, or a wrong minimum), and the residuals' own s is used instead. The
-    extraction's errors are fixed per mode (a fresh test of the same FRFs repeats them), so
-    they add to a stated noise in quadrature (their rms over the fitted modes) and are a floor
-    under an estimated one; a floor that binds is a known sigma (normal quantile)."""
+    A stated noise the residuals contradict (their chi-square above its 99.9 % quantile for m - n
+    degrees of freedom) is not used: the fit then misses the data by more than the noise (a model
+    error, or a wrong minimum), and the residuals' own s is used instead. The extraction's errors
+    are fixed per mode (a fresh test of the same FRFs repeats them), so they add to a stated noise
+    in quadrature (their rms over the fitted modes) and are a floor under an estimated one; a floor
+    that binds is a known sigma (normal quantile)."""
     settings = campaign.identify
     m, n = fit_.jacobian.shape
     dof = m - n

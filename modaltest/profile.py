@@ -43,14 +43,15 @@ class _Lower(Exception):
 
 def profile(problem: Any, x_hat: np.ndarray, k: int, ss_min: float,
             rises: tuple[float, float], first: float, deadline: float) -> Profile:
-    """The profile of key k of `problem` (an `identify.Problem`) about the fit's x_hat: key k
-    held at values walked away from its estimate (first step `first` in ln, then steps from the rise seen so far, as if quadratic),
-    the other keys re-fitted (bounded, from the previous point's values) at each, until the sum
-    of squares rises by rises[0] above the fit's `ss_min` (bracketed, then the bracket narrowed
-    to PROFILE_TOLERANCE of its distance; the outer end of the bracket is the interval's end,
-    so it errs wide) or the bound is reached; then on to rises[1] (>= rises[0]) the same way.
-    A point below the fit's minimum is returned at once (the fit stopped in a wrong minimum).
-    The partners of the fitted modes are left as they were."""
+    """The profile of key k of `problem` (an `identify.Problem`) about the fit's x_hat: key k held
+    at values walked away from its estimate (first step `first` in ln, then steps from the rise
+    seen so far, as if quadratic), the other keys re-fitted (bounded, from the previous point's
+    values) at each, until the sum of squares rises by rises[0] above the fit's `ss_min`
+    (bracketed, then the bracket narrowed to PROFILE_TOLERANCE of its distance; the outer end of
+    the bracket is the interval's end, so it errs wide) or the bound is reached; then on to
+    rises[1] (>= rises[0]) the same way. A point below the fit's minimum is returned at once
+    (the fit stopped in a wrong minimum). The partners of the fitted modes are left as they
+    were."""
     params = problem.campaign.parameters
     lo, hi = np.log([p.low for p in params]), np.log([p.high for p in params])
     columns = [j for j in range(len(x_hat)) if j != k]
