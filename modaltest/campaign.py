@@ -3,12 +3,13 @@ with their UFF files, how test and model modes are paired, and which scene keys 
 
 ```toml
 scene = "machine.toml"             # relative to this file
+geometry = "geometry.unv"          # optional: nodes (15/2411), coordinate systems (2420/18)
 [[pose]]
 name = "mid"
 height_mm = 600.0
 azimuth_deg = 25.0
 tilt_deg = 8.0
-data = "mid.unv"                   # UFF: nodes (15 or 2411) + modes (55) or FRFs (58)
+data = "mid.unv"                   # UFF: modes (55) or FRFs (58) (+ nodes, or the geometry's)
 [identify]                         # optional
 keys = ["stiffness.actuator_axial_n_per_um", "stiffness.base_joint_translational_n_per_um"]
 ```
@@ -37,6 +38,8 @@ from scene.load import SceneError, parse_scene
 from scene.toml_table import Table, read_toml, short
 
 from . import uff
+from .campaign_files import geometries
+from .campaign_files import relative as _relative
 from .ema import EmaError, EmaSettings, extract
 from .placement import Placement, place
 
@@ -58,6 +61,12 @@ class CampaignSettings:
     scene: str = setting(kind=str, doc="the scene file of the machine tested, relative to the "
                          "campaign file")
     name: str = setting("modal test campaign", kind=str, doc="title of the campaign")
+    geometry: str = setting("", kind=str, doc="a UFF file of the test's geometry, relative to "
+                            "the campaign file: nodes (dataset 15 or 2411) and the coordinate "
+                            "systems they use (2420 or 18; Cartesian), units from its 164 (else "
+                            "mm); every pose's data file may then hold modes or FRFs alone, its "
+                            "own nodes winning for the labels both define, and a data file "
+                            "without a 164 takes this file's units. Empty: none")
     node_tolerance: float = setting(
         0.010, unit="mm", minimum=0.0, maximum=1.0,
         doc="a test node lies on a body (the platform or a leg) when inside it or at most this "
@@ -72,9 +81,14 @@ class PoseSettings:
                         "output)")
     height: float = _pose_setting("height", "z of the platform centre o during the test")
     data: str = setting(kind=str, doc="the UFF file of this pose, relative to the campaign "
-                        "file: nodes (dataset 15 or 2411; mm in the base frame unless a 164 "
-                        "units record says otherwise) and modes (55) or FRFs (58; modes "
-                        "identified with sdypy-EMA by [ema])")
+                        "file: modes (55) or FRFs (58; modes identified with sdypy-EMA by "
+                        "[ema]) and, unless a geometry file gives them, nodes (dataset 15 or "
+                        "2411; mm unless a 164 units record says otherwise; a node's "
+                        "definition and displacement coordinate systems, 2420 or 18, turn its "
+                        "position and its direction codes into the base frame)")
+    geometry: str = setting("", kind=str, doc="this pose's geometry file (as the top-level "
+                            "geometry, which it replaces for this pose: the nodes move with the "
+                            "machine). Empty: the campaign's")
     azimuth: float = _pose_setting("azimuth", "phi, direction of the tilt axis (Eq. 1)",
                                    default=0.0)
     tilt: float = _pose_setting("tilt", "theta, tilt of the platform (Eq. 1)", default=0.0)
@@ -187,19 +201,6 @@ class Campaign:
         return parse_scene(with_values(self.raw_scene, values), self.scene_path)
 
 
-def _relative(top: Path, text: str, where: str) -> Path:
-    """The file a campaign key names, relative to the campaign's folder (links resolved where
-    they lead somewhere; a link loop is returned as it is, for its reader to refuse)."""
-    why = text_problem(text)
-    if why is not None or not text.strip():
-        raise SceneError(f"{where} = {short(text)}: {why or 'empty'}")
-    path = (top / text).absolute()  # ".." left for resolve(): after the links, as the OS does
-    try:
-        return path.resolve()
-    except (RuntimeError, OSError):  # a symbolic link loop (RuntimeError before Python 3.13)
-        return path
-
-
 @dataclass(frozen=True)
 class _PoseEntry:
     spec: PoseSettings
@@ -225,21 +226,23 @@ def _pose_entry(table: Table, scene: Scene) -> _PoseEntry:
 
 
 def _pose(entry: _PoseEntry, campaign_dir: Path, scene: Scene, ema: EmaTable | None,
-          tolerance: float) -> TestPose:
-    """A pose's test data read (its modes identified from FRFs) and its nodes placed."""
+          tolerance: float, geometry: uff.Geometry | None = None) -> TestPose:
+    """A pose's test data read (its modes identified from FRFs) and its nodes placed; the
+    nodes from its file, else from `geometry` (the campaign's or the pose's geometry file)."""
     spec, where = entry.spec, entry.where
     path = _relative(campaign_dir, spec.data, f"{where}.data")
     typed = f"{where}.data = {short(spec.data)}"  # every refusal of the file names the key
     try:
-        return _read_pose(entry, path, typed, scene, ema, tolerance)
+        return _read_pose(entry, path, typed, scene, ema, tolerance, geometry)
     except (uff.UffError, EmaError) as exc:
         raise SceneError(f"{typed}: {exc}") from None
 
 
 def _read_pose(entry: _PoseEntry, path: Path, typed: str, scene: Scene,
-               ema: EmaTable | None, tolerance: float) -> TestPose:
+               ema: EmaTable | None, tolerance: float,
+               nodes_from: uff.Geometry | None = None) -> TestPose:
     spec, pose, geometry = entry.spec, entry.pose, entry.geometry
-    content = uff.read_uff(path, shown="")
+    content = uff.read_uff(path, shown="", geometry=nodes_from)
     uncertainty = None
     if content.modes is not None:
         modes = content.modes
@@ -417,7 +420,10 @@ def load_campaign(path: str | Path, need_keys: bool = False,
     top.done()
     if before_data is not None:
         before_data(scene)
-    poses = [_pose(e, path.parent, scene, ema, settings.node_tolerance) for e in entries]
+    files = geometries([(f"{where}.geometry", settings.geometry)] + [
+        (f"{e.where}.geometry", e.spec.geometry) for e in entries], path.parent)
+    poses = [_pose(e, path.parent, scene, ema, settings.node_tolerance,
+                   files.get(e.spec.geometry or settings.geometry)) for e in entries]
     return Campaign(str(path), settings.name, str(scene_path), scene, raw_scene, tuple(poses),
                     tables["correlation"][1], identify, parameters, settings.node_tolerance,
                     analytical, "analytical" in raw)

@@ -1,30 +1,38 @@
 """Universal File Format (UFF) files read and written through pyuff (never parsed by hand):
-units (164), nodes (15, 2411), modes (55), FRFs (58). SI inside: metres, hertz, m/N.
+units (164), coordinate systems (2420, 18), nodes (15, 2411), modes (55), FRFs (58). SI inside:
+metres, hertz, m/N; directions unit vectors of the base frame.
 
-Reading (`read_uff`; any refusal is a `UffError`, one line naming the file and the problem):
-- lengths are mm and forces N unless a 164 gives the file's units (then its factors, file units
-  per SI unit); nodes (15, 2411) are in the global frame: a local system that a 2420/18 defines
-  off it is refused, and so is a label the file does not define, except 0 and 1 (the global
-  frame by the I-DEAS convention test software follows);
+Reading (`read_geometry`, `read_uff`; any refusal is a `UffError`, one line naming the file
+and the problem):
+- units: a file's 164 gives its factors (file units per SI unit); a file without one takes its
+  geometry file's, else mm and N. (151 is the header, no units; the 58's unit exponents and
+  labels are documentation, often zero: the conversion follows its data types.)
+- nodes and their systems (`uff_frames`): a geometry file (`read_geometry`: 15/2411 and
+  2420/18, nothing else needed) holds a campaign's nodes; a data file may hold its own, which
+  win for the labels both define, and may use the geometry file's systems. A node's
+  definition system places it, its displacement system turns its direction codes: code k is
+  that system's axis k in the base frame (a triaxial sensor along a leg);
 - modes: one 55 per mode, in file order; normal modes (analysis type 2) give the frequency and
   the modal viscous damping ratio, complex ones (3, 7) the eigenvalue in rad/s (f = |lambda| /
   2 pi, zeta = -Re lambda / |lambda|) and shapes made real by the best common phase rotation
   (`complex_to_real_shape`). Three translations per node (six only with zero rotations). A
   component exactly 0 in every mode is taken as NOT measured, left out of `Modes.dofs` (the dofs
-  come grouped by node, in order of appearance, x, y, z, all +). Shapes keep the file's numbers;
-- FRFs: 58s of function type 4, directions 1/2/3 = x/y/z, negative = minus (kept), rotations
-  refused; numerator displacement, velocity or acceleration, denominator force (unknown types
-  taken as these), converted to receptance in m/N (at 0 Hz a mobility or accelerance cannot be:
-  that line is dropped for every FRF); one frequency axis for all;
+  come grouped by node, in order of appearance, codes 1, 2, 3). Shapes keep the file's numbers;
+- FRFs: 58s (ASCII or binary) of function type 4, directions +-1/2/3 (negative: minus, kept),
+  rotations refused; numerator displacement, velocity or acceleration, denominator force
+  (unknown types taken as these), converted to receptance in m/N (at 0 Hz a mobility or
+  accelerance cannot be: that line is dropped for every FRF); one frequency axis for all;
 - a shape or FRF at a node no 15/2411 defines is refused, and so is any non-finite number.
 
 Writing (`write_uff`): 164 (code 5: mm and mN, coherent with kg, so receptances and mass-
-normalised shapes keep their SI numbers), 2411 nodes in mm, one 55 per mode, one binary 58 per
-FRF (receptance, with its frequencies). The round trip is as exact as pyuff allows: 2411 has 17
-digits, a coordinate returns as (x * 1000) / 1000 (within 1 ulp); 58b holds raw doubles, FRFs
-return bitwise; 55 is written '%13.5e' (no double option), frequencies, damping ratios and shapes
-return as float(f'{v:.5e}'), 6 significant digits. pyuff's 58b header counts 8 bytes a point
-where a complex record with frequencies has 24: pyuff ignores it, a strict reader may not.
+normalised shapes keep their SI numbers), 2411 nodes in mm (global), one 55 per mode, one 58
+per FRF (receptance, with its frequencies): binary by default, its header's byte count
+corrected (pyuff counts 8 bytes a point where a complex record with frequencies has 24), or
+ASCII (`binary=False`: pyuff's '%20.11e' values, 12 digits, and '%13.5e' frequencies, 6).
+The round trip is as exact as pyuff allows: 2411 has 17 digits, a coordinate returns as
+(x * 1000) / 1000 (within 1 ulp); 58b holds raw doubles, FRFs return bitwise; 55 is written
+'%13.5e' (no double option), frequencies, damping ratios and shapes return as
+float(f'{v:.5e}'), 6 significant digits.
 """
 from __future__ import annotations
 
@@ -52,9 +60,11 @@ from .measured import (
     UffError,
     complex_to_real_shape,
 )
+from .uff_frames import Geometry, frames_of, nodes_of
 
-__all__ = ["ComplexArray", "Dofs", "FloatArray", "Frfs", "IntArray", "Modes", "Nodes",
-           "UffContent", "UffError", "complex_to_real_shape", "read_uff", "write_uff"]
+__all__ = ["ComplexArray", "Dofs", "FloatArray", "Frfs", "Geometry", "IntArray", "Modes",
+           "Nodes", "UffContent", "UffError", "complex_to_real_shape", "read_geometry",
+           "read_uff", "write_sets", "write_uff"]
 
 MM_PER_M = 1000.0
 # a modal test's file per pose: some thousand FRFs of some thousand lines is tens of MB in
@@ -65,7 +75,10 @@ MAX_FILE_BYTES = 500e6
 # noise divided by w^2 on a first line near 0 Hz a few thousand. Above, the numbers are corrupt
 # (a receptance near the largest double overflows every fit that squares it).
 MAX_RECEPTANCE = 1e12  # m/N
-_WRITE_UNITS = {"type": 164, "units_code": 5, "units_description": "mm (milli-newton)",
+_DEFAULT_UNITS = (MM_PER_M, 1.0)  # a file without a 164 (nor a geometry file's): mm and N
+# the description left-justified in its 20 columns (FORMAT(I10,20A1,I10)), as test software
+# writes it; pyuff right-justifies a shorter one ('%20s')
+_WRITE_UNITS = {"type": 164, "units_code": 5, "units_description": f"{'mm (milli-newton)':<20}",
                 "temp_mode": 2, "length": 1000.0, "force": 1000.0, "temp": 1.0,
                 "temp_offset": 273.15}
 _READ = {15, 18, 55, 58, 164, 2411, 2420}
@@ -75,9 +88,30 @@ _ABSCISSA = {0, 18}  # unknown, frequency (Hz)
 _Sets = list[tuple[int, dict[str, Any]]]  # (dataset number in the file, pyuff's dict)
 
 
-def read_uff(path: str | os.PathLike[str], shown: str | None = None) -> UffContent:
+def read_geometry(path: str | os.PathLike[str], shown: str | None = None) -> Geometry:
+    """A campaign's geometry file: nodes (15, 2411) and coordinate systems (2420, 18) in SI,
+    the nodes in the base frame (module docstring); it may hold nothing else."""
+    name = os.fspath(path)
+    label = name if shown is None else shown
+    try:
+        sets = _read_sets(name)
+        units = _units(sets)
+        length = (units or _DEFAULT_UNITS)[0]
+        frames = frames_of(sets, length)
+        found = nodes_of(sets, length, frames)
+        if found is None:
+            raise UffError("no nodes (dataset 15 or 2411)")
+    except UffError as exc:
+        raise UffError(f"{label}: {exc}" if label else str(exc)) from None
+    return Geometry(name, found[0], found[1], frames, units)
+
+
+def read_uff(path: str | os.PathLike[str], shown: str | None = None,
+             geometry: Geometry | None = None) -> UffContent:
     """Nodes, modes (55) and FRFs (58) of a UFF file, in SI (module docstring for the rules).
-    A refusal starts with `shown` (default: the path; "": nothing, the caller names it)."""
+    With `geometry` (`read_geometry`'s) the file may hold no nodes: the geometry's are used,
+    and its own (if any) win for the labels both define. A refusal starts with `shown`
+    (default: the path; "": nothing, the caller names it)."""
     name = os.fspath(path)
     label = name if shown is None else shown
     try:
@@ -86,15 +120,36 @@ def read_uff(path: str | os.PathLike[str], shown: str | None = None) -> UffConte
             raise UffError(f"{size / 1e6:.0f} MB; at most {MAX_FILE_BYTES / 1e6:.0f} MB are read "
                            "(pyuff holds a whole file in memory): split it per pose or band")
         sets = _read_sets(name)
-        length, force = _units(sets)
-        nodes = _nodes(sets, length)
-        modes = _modes(sets, set(nodes.ids.tolist()))
-        frfs = _frfs(sets, set(nodes.ids.tolist()), force / length)
+        if not any(d["type"] == 55 or (d["type"] == 58 and d["func_type"] == 4) for _, d in sets):
+            raise UffError("neither modes (dataset 55) nor FRFs (dataset 58, function type 4)")
+        length, force = _units(sets) or (geometry and geometry.units) or _DEFAULT_UNITS
+        nodes = _merged(sets, length, geometry)
+        modes = _modes(sets, nodes)
+        frfs = _frfs(sets, nodes, force / length)
         if modes is None and frfs is None:
             raise UffError("neither modes (dataset 55) nor FRFs (dataset 58, function type 4)")
     except UffError as exc:
         raise UffError(f"{label}: {exc}" if label else str(exc)) from None
-    return UffContent(name, nodes, modes, frfs, 1.0 / length)
+    return UffContent(name, nodes.nodes, modes, frfs, 1.0 / length)
+
+
+def _merged(sets: _Sets, length: float, geometry: Geometry | None) -> Geometry:
+    """The file's own nodes (its systems, else the geometry file's), and the geometry file's
+    nodes it does not define."""
+    frames = dict(geometry.frames) if geometry is not None else {}
+    frames.update(frames_of(sets, length))
+    own = nodes_of(sets, length, frames)
+    if own is None:
+        if geometry is None:
+            raise UffError("no nodes (dataset 15 or 2411), and no geometry file given")
+        return geometry
+    if geometry is None:
+        return Geometry("", own[0], own[1], frames, None)
+    mine = set(own[0].ids.tolist())
+    rest = [i for i, n in enumerate(geometry.nodes.ids.tolist()) if n not in mine]
+    nodes = Nodes(np.concatenate([own[0].ids, geometry.nodes.ids[rest]]),
+                  np.concatenate([own[0].xyz, geometry.nodes.xyz[rest]]))
+    return Geometry("", nodes, np.concatenate([own[1], geometry.axes[rest]]), frames, None)
 
 
 def _read_sets(name: str) -> _Sets:
@@ -142,11 +197,12 @@ def _check_whole(name: str, uff: Any, types: list[int]) -> None:
                        "text outside the '-1' delimiter lines; none of it is read")
 
 
-def _units(sets: _Sets) -> tuple[float, float]:
-    """(file length units per metre, file force units per newton)."""
+def _units(sets: _Sets) -> tuple[float, float] | None:
+    """(file length units per metre, file force units per newton) of the file's 164; None
+    without one."""
     found = {(float(d["length"]), float(d["force"])) for _, d in sets if d["type"] == 164}
     if not found:
-        return MM_PER_M, 1.0
+        return None
     if len(found) > 1:
         raise UffError(f"{len(found)} different unit systems (dataset 164)")
     length, force = found.pop()
@@ -155,51 +211,8 @@ def _units(sets: _Sets) -> tuple[float, float]:
     return length, force
 
 
-def _nodes(sets: _Sets, length: float) -> Nodes:
-    ids: list[float] = []
-    xyz: list[tuple[float, float, float]] = []
-    frames: set[float] = set()
-    for _, d in sets:
-        if d["type"] in (15, 2411):
-            ids += list(d["node_nums"])
-            xyz += list(zip(d["x"], d["y"], d["z"]))
-            frames.update(np.concatenate([d["def_cs"], d["disp_cs"]]).tolist())
-    if not ids:
-        raise UffError("no nodes (dataset 15 or 2411)")
-    _check_frames(sets, frames - {0.0})
-    return Nodes(np.array(ids, dtype=np.float64), np.array(xyz, dtype=np.float64) / length)
-
-
-def _check_frames(sets: _Sets, used: set[float]) -> None:
-    """Refuse nodes in a local coordinate system that a 2420 or 18 defines off the global one,
-    or in one the file does not define."""
-    defined: set[float] = set()
-    for index, d in sets:
-        if d["type"] == 2420:
-            frames = [(label, kind == 0 and np.array_equal(m, np.eye(4, 3)))
-                      for label, kind, m in zip(d["CS_sys_labels"], d["CS_types"],
-                                                d["CS_matrices"])]
-        elif d["type"] == 18:  # origin, a point on +x, a point in the xz plane (z > 0)
-            frames = [(label, kind == 0 and not np.any(o) and x[0] > 0 and not np.any(x[1:])
-                       and xz[1] == 0 and xz[2] > 0) for label, kind, o, x, xz in
-                      zip(d["cs_num"], d["cs_type"], d["ref_o"], d["x_point"], d["xz_point"])]
-        else:
-            continue
-        for label, is_global in frames:
-            if label in used and not is_global:
-                raise UffError(f"dataset {index} ({d['type']}): nodes use local coordinate "
-                               f"system {label:g}, not the global frame (not supported)")
-            defined.add(label)
-    # a label no 2420/18 defines: 0 and 1 are the global frame by the I-DEAS convention
-    # (test software writes its nodes in system 1); any other is a local system of unknown
-    # orientation, and the directions read would be wrong
-    unknown = sorted(used - defined - {1.0})
-    if unknown:
-        raise UffError(f"nodes use coordinate system {unknown[0]:g}, which the file does not "
-                       "define (dataset 2420 or 18); give the nodes in the global frame")
-
-
-def _modes(sets: _Sets, known: set[int]) -> Modes | None:
+def _modes(sets: _Sets, geometry: Geometry) -> Modes | None:
+    known = geometry.position()
     order: dict[int, int] = {}  # node id -> position, by first appearance
     columns: list[dict[int, Any]] = []
     info: list[tuple[float, float, bool]] = []  # frequency, damping ratio, complex shape
@@ -219,7 +232,8 @@ def _modes(sets: _Sets, known: set[int]) -> Modes | None:
         column: dict[int, Any] = {}
         for node_id, v in zip(np.asarray(d["node_nums"]).tolist(), values):
             if node_id not in known:
-                raise UffError(f"{where}: shape at node {node_id}, which no 15/2411 defines")
+                raise UffError(f"{where}: shape at node {node_id}, which no 15/2411 defines "
+                               "(in the file or the geometry file)")
             if node_id in column:
                 raise UffError(f"{where}: node {node_id} given twice")
             column[node_id] = v
@@ -250,8 +264,8 @@ def _modes(sets: _Sets, known: set[int]) -> Modes | None:
     full = full[measured]
     shapes = np.column_stack([complex_to_real_shape(full[:, r]) if is_complex[r]
                               else full[:, r].real for r in range(len(columns))])
-    axis = np.tile(np.arange(3), len(order))[measured]
-    dofs = Dofs(np.repeat(np.array(list(order), dtype=np.int64), 3)[measured], np.eye(3)[axis])
+    codes = np.tile(np.arange(1, 4), len(order))[measured]
+    dofs = geometry.dofs(np.repeat(np.array(list(order), dtype=np.int64), 3)[measured], codes)
     return Modes(hz, zeta if np.any(zeta != 0.0) else None, dofs, shapes)
 
 
@@ -261,7 +275,8 @@ def _node_difference(column: dict[int, Any], first: dict[int, Any]) -> str:
     return (f"node {missing[0]} missing" if missing else f"node {extra[0]} added")
 
 
-def _frfs(sets: _Sets, known: set[int], factor: float) -> Frfs | None:
+def _frfs(sets: _Sets, geometry: Geometry, factor: float) -> Frfs | None:
+    known = geometry.position()
     rows: list[Any] = []
     powers: list[int] = []
     ends: list[list[int]] = []  # response node, code, reference node, code
@@ -273,7 +288,8 @@ def _frfs(sets: _Sets, known: set[int], factor: float) -> Frfs | None:
         end = [int(d[k]) for k in ("rsp_node", "rsp_dir", "ref_node", "ref_dir")]
         for what, node_id, code in (("response", end[0], end[1]), ("reference", end[2], end[3])):
             if node_id not in known:
-                raise UffError(f"{where}: {what} at node {node_id}, which no 15/2411 defines")
+                raise UffError(f"{where}: {what} at node {node_id}, which no 15/2411 defines "
+                               "(in the file or the geometry file)")
             if not 1 <= abs(code) <= 3:
                 raise UffError(f"{where}: {what} direction {code}, not a translation (+-1..3)")
         ends.append(end)
@@ -318,7 +334,7 @@ def _frfs(sets: _Sets, known: set[int], factor: float) -> Frfs | None:
                        f"{largest[i]:.3g} m/N (as displacement over force, SI); no structure "
                        f"yields {MAX_RECEPTANCE:g} m/N: corrupt numbers or a unit slip")
     e = np.array(ends, dtype=np.int64)
-    return Frfs(axis, Dofs.from_codes(e[:, 0], e[:, 1]), Dofs.from_codes(e[:, 2], e[:, 3]), values)
+    return Frfs(axis, geometry.dofs(e[:, 0], e[:, 1]), geometry.dofs(e[:, 2], e[:, 3]), values)
 
 
 def _index58(sets: _Sets, k: int) -> int:
@@ -327,9 +343,10 @@ def _index58(sets: _Sets, k: int) -> int:
 
 
 def write_uff(path: str | os.PathLike[str], nodes: Nodes, modes: Modes | None = None,
-              frfs: Frfs | None = None, description: str = "") -> None:
-    """Write nodes, modes and FRFs as 164, 2411, 55 (one per mode) and binary 58 (one per FRF),
-    lengths in mm (module docstring for the precision); the file is replaced atomically."""
+              frfs: Frfs | None = None, description: str = "", binary: bool = True) -> None:
+    """Write nodes, modes and FRFs as 164, 2411, 55 (one per mode) and 58 (one per FRF: binary,
+    or ASCII with `binary=False`), lengths in mm (module docstring for the precision); the
+    file is replaced atomically."""
     name = os.fspath(path)
     text = " ".join(description.split())[:80] or "NONE"
     try:
@@ -340,19 +357,49 @@ def write_uff(path: str | os.PathLike[str], nodes: Nodes, modes: Modes | None = 
             "type": 2411, "node_nums": nodes.ids, "def_cs": zeros, "disp_cs": zeros,
             "color": zeros, "x": mm[:, 0], "y": mm[:, 1], "z": mm[:, 2]}]
         sets += [] if modes is None else _mode_sets(modes, known, text)
-        sets += [] if frfs is None else _frf_sets(frfs, known, text)
+        sets += [] if frfs is None else _frf_sets(frfs, known, text, binary)
     except UffError as exc:
         raise UffError(f"{name}: {exc}") from None
 
     def write(tmp: str) -> None:
         try:
-            with warnings.catch_warnings():  # pyuff leaves a 58b's reopened handle to the GC
-                warnings.simplefilter("ignore", ResourceWarning)
-                pyuff.UFF(tmp).write_sets(sets, mode="add")
+            write_sets(tmp, sets)
         except Exception as exc:
             raise UffError(f"{name}: pyuff could not write it ({one_line(exc)})") from None
 
     atomic_write(name, write)
+
+
+def write_sets(path: str, sets: list[dict[str, Any]]) -> None:
+    """pyuff's records appended to `path` one by one, each binary 58's header then given the
+    byte count it holds (pyuff writes 8 a point, where a complex record with its frequencies
+    has 24: the UFF specification's field 6 of record 1, FORMAT(I6,1A1,I6,I6,I12,I12,...),
+    is the number of bytes that follow the 11 ASCII records)."""
+    if not os.path.exists(path):
+        open(path, "wb").close()
+    writer = pyuff.UFF(path)
+    for record in sets:
+        start = os.path.getsize(path)
+        with warnings.catch_warnings():  # pyuff leaves a 58b's reopened handle to the GC
+            warnings.simplefilter("ignore", ResourceWarning)
+            writer.write_sets([record], mode="add")
+        if record["type"] == 58 and record.get("binary"):
+            _count_bytes(path, start)
+
+
+def _count_bytes(path: str, start: int) -> None:
+    """Set the byte count of the binary 58 written from `start`: what lies between its 11th
+    ASCII record and its closing '    -1' line (fixed columns 32-43 of its header line)."""
+    with open(path, "r+b") as fh:
+        fh.seek(start)
+        lines = [fh.readline() for _ in range(13)]  # '-1', the header, 11 ASCII records
+        header = lines[1]
+        end = os.path.getsize(path) - len(b"    -1\n")
+        count = end - (start + sum(len(line) for line in lines))
+        if not (header[:7] == b"    58b" and 0 < count < 10**12):
+            raise UffError(f"a binary 58 record's header not where it was written ({header!r})")
+        fh.seek(start + len(lines[0]) + 31)
+        fh.write(b"%12d" % count)
 
 
 def _known(dofs: Dofs, known: set[int], what: str) -> IntArray:
@@ -383,11 +430,11 @@ def _mode_sets(modes: Modes, known: set[int], text: str) -> list[dict[str, Any]]
             for r, f in enumerate(modes.frequencies_hz)]
 
 
-def _frf_sets(frfs: Frfs, known: set[int], text: str) -> list[dict[str, Any]]:
+def _frf_sets(frfs: Frfs, known: set[int], text: str, binary: bool) -> list[dict[str, Any]]:
     rsp = _known(frfs.dofs, known, "an FRF response")
     ref = _known(frfs.reference, known, "an FRF reference")
     # pyuff's defaults: id3-id5, entity names and labels "NONE", version and load case 0
-    return [{"type": 58, "binary": 1, "id1": text, "id2": "receptance", "func_type": 4,
+    return [{"type": 58, "binary": int(binary), "id1": text, "id2": "receptance", "func_type": 4,
              "func_id": i + 1, "rsp_node": int(frfs.dofs.node[i]), "rsp_dir": int(rsp[i]),
              "ref_node": int(frfs.reference.node[i]), "ref_dir": int(ref[i]),
              "abscissa_spacing": 0, "abscissa_spec_data_type": 18,
