@@ -438,9 +438,11 @@ DECLARED = ((CampaignSettings, "top level", "The campaign's own keys."),
             (IdentifySettings, "[identify]", "Scene keys fitted to the paired frequencies of "
              "every pose together, in log space, bounded, with eigenvalue sensitivities; 95 % "
              "intervals and identifiability (modaltest/identify.py). Optional."),
-            (EmaTable, "[ema]", "Modes from FRFs with sdypy-EMA: LSCF poles read from a "
-             "stabilisation chart (a pole stable over 5 consecutive orders within 1 % in "
-             "frequency and 5 % in damping), LSFD residues (modaltest/ema.py). Optional; used "
+            (EmaTable, "[ema]", "Modes from FRFs: poly-reference LSCF poles (every "
+             "reference together) read from a stabilisation chart (a pole stable over 5 "
+             "consecutive orders within 1 % in frequency and 10 % in damping; close modes "
+             "kept apart), sdypy-EMA's LSFD residues, shapes from every reference "
+             "(modaltest/ema.py). Optional; used "
              "by poses whose file holds FRFs."),
             (ModelOptions, "[analytical]", "The analytical model correlated and fitted "
              "(optional; as a scene's [analytical], docs/scenes.md); default: the scene's."))

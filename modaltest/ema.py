@@ -13,14 +13,15 @@ then sdypy-EMA's LSFD residues (no GUI, no plot, no progress bar).
    within `frequency_tolerance` (relative) in frequency and `damping_tolerance` (relative) in
    damping of one of the previous order.
 4. The stable poles are clustered by frequency (consecutive, sorted, relative gap below
-   `frequency_tolerance`; `common.modes.clusters`), and a cluster that holds two or more poles
-   of one order is split at its largest gaps into as many (a mode has one pole an order: two
-   modes 1 % apart stay two). A cluster is one physical mode if it spans at least
-   `cluster_share` of the orders the largest one spans (a physical mode stabilises early and
-   stays; a noise pole stabilises briefly, at high orders); its pole is the member closest to
-   the cluster's median frequency and damping ratio, and the scatter of its members'
-   frequencies and damping ratios (standard deviation over the stable orders) is stated. The
-   clusters dropped are said (`Extraction.dropped`), never silently.
+   CLUSTER_SHARE_OF_TOLERANCE x `frequency_tolerance`; `common.modes.clusters`), and a cluster
+   that holds two or more poles of one order in `stable_orders` or more of its orders is split
+   at its largest gaps into as many (a mode has one pole an order: two modes 1 % apart stay
+   two). A cluster is one physical mode if it spans at least `cluster_share` of the orders the
+   longest one spans and its members scatter (robust standard deviation) within
+   `scatter_share` x `frequency_tolerance` in frequency and DAMPING_SCATTER in damping (a
+   physical mode stabilises early and stays put; a noise pole stabilises briefly or wanders);
+   its pole has the cluster's median frequency and median damping ratio, and that scatter is
+   stated. The clusters dropped are said (`Extraction.dropped`), never silently.
 5. sdypy's LSFD (with lower and upper residuals for the modes outside the band) gives the
    residues of these poles in every FRF. A mode's shape at the outputs: the residues of every
    reference combined by least squares (the first singular vector of the outputs x references
@@ -64,19 +65,19 @@ class EmaError(InputError):
 class EmaSettings:
     """The band and the automatic reading of the stabilisation chart.
 
-    Defaults: 1 % in frequency and 5 % in damping between consecutive orders are the usual
-    stabilisation-chart criteria (the damping estimate scatters more than the frequency); five
+    Defaults: 1 % in frequency and 10 % in damping between consecutive orders (the usual
+    stabilisation-chart criteria are 1 % and 5-10 %; the damping estimate scatters more than
+    the frequency, and with 1.5 % FRF noise 5 % broke the chains of real modes); five
     consecutive stable orders (four successive checks) reject the wandering noise poles yet
-    leave room, within the 60 rows of the default chart, for modes that appear only at high
-    orders; a damping ratio above 20 % is not a structural mode one reads from a chart but a
-    computational pole that models noise or out-of-band residue; a cluster spanning less than
-    40 % of the orders of the best one is a noise pole that stabilised late (on synthetic FRFs
-    with 2 % noise: physical modes span 52 of 60 orders, noise poles 5-13).
+    leave room for modes that appear only at high orders; a damping ratio above 20 % is not a
+    structural mode one reads from a chart but a computational pole that models noise or
+    out-of-band residue; `cluster_share` and `scatter_share`: module docstring, step 4.
     """
 
     lower_hz: float
     upper_hz: float
-    model_order: int = 60  # highest polynomial order / 2 of LSCF (sdypy's pol_order_high)
+    model_order: int = 60  # the chart's top holds 2 x model_order poles (pLSCF: orders up to
+    # 2 x model_order / references)
     frequency_tolerance: float = 0.01  # relative change between consecutive orders
     damping_tolerance: float = 0.1  # relative change between consecutive orders
     stable_orders: int = 5  # consecutive orders a pole must persist over
@@ -120,12 +121,13 @@ class Extraction:
     residues: np.ndarray
     frequency_scatter: np.ndarray  # relative standard deviation over the stable orders
     damping_scatter: np.ndarray  # relative standard deviation over the stable orders
-    references: int
+    references: int  # the references the poles came from together (1: a scalar denominator)
     dropped: tuple[str, ...]
 
     def describe(self) -> str:
         """One line: references, the scatter at worst, what was dropped."""
-        text = (f"{self.references} reference{'s' if self.references > 1 else ''} (pLSCF), "
+        text = (f"poles from {self.references} reference{'s' if self.references > 1 else ''}"
+                " together (pLSCF), "
                 f"{len(self.poles)} modes; over their stable orders the frequencies scatter "
                 f"{100 * self.frequency_scatter.max(initial=0):.2g} % and the damping ratios "
                 f"{100 * self.damping_scatter.max(initial=0):.2g} % at most")
@@ -156,12 +158,15 @@ def extract(frfs: uff.Frfs, settings: EmaSettings) -> Extraction:
     if np.count_nonzero(band) < 10:
         raise EmaError(f"EMA band {lower:g}-{upper:g} Hz: fewer than 10 frequency lines")
     said = f"{lower:g}-{upper:g} Hz"
+    live = np.abs(frfs.values[:, band]).max(axis=1) > 0.0  # a dead channel is left out
+    if not live.any():
+        raise EmaError(f"EMA band {said}: every FRF is zero in the band")
     refs = _reference_keys(frfs.reference)
-    grid, m = _output_grid(frfs, refs)
+    grid, m = _output_grid(frfs, refs, live)
     order = max(settings.stable_orders + 1, int(round(2 * settings.model_order / m)))
     try:
         chart = poles_by_order(f[band], frfs.values[grid][..., band] if m > 1
-                               else frfs.values[:, None, band], m, order)
+                               else frfs.values[live][:, None, band], m, order)
     except (np.linalg.LinAlgError, ValueError) as exc:
         raise ComputeError(f"pLSCF failed in {said}: {one_line(exc)}") from None
     picked, scatter_f, scatter_z, dropped = _pick(chart, settings, lower, upper)
@@ -186,7 +191,11 @@ def extract(frfs: uff.Frfs, settings: EmaSettings) -> Extraction:
     dofs = uff.Dofs(frfs.dofs.node[rows], frfs.dofs.direction[rows])
     hz = np.abs(picked) / (2.0 * np.pi)
     modes = uff.Modes(hz, -picked.real / np.abs(picked), dofs, shapes)
-    return Extraction(modes, picked, residues, scatter_f, scatter_z, len(refs), dropped)
+    left = int((~live).sum())
+    if left:
+        dropped = (f"{left} FRF{'s' if left > 1 else ''} zero in the band (a dead channel) "
+                   "left out",) + dropped
+    return Extraction(modes, picked, residues, scatter_f, scatter_z, m, dropped)
 
 
 def _reference_keys(reference: uff.Dofs) -> list[tuple]:
@@ -200,16 +209,20 @@ def _dof_keys(dofs: uff.Dofs) -> list[tuple]:
     return [(int(n), tuple(np.round(d, 9).tolist())) for n, d in zip(dofs.node, dofs.direction)]
 
 
-def _output_grid(frfs: uff.Frfs, refs: list[tuple]) -> tuple[np.ndarray, int]:
-    """(rows (outputs, m), m): the FRF rows of every response dof measured for all m
-    references; with one reference or no such dof, ([], 1) (every FRF one output)."""
+def _output_grid(frfs: uff.Frfs, refs: list[tuple], live: np.ndarray
+                 ) -> tuple[np.ndarray, int]:
+    """(rows (outputs, m), m): the FRF rows of every response dof measured (live) for all m
+    references, when they are at least 2 m (the matrix denominator's m x m from fewer would
+    invent poles) and hold at least half the live FRFs; else ([], 1): every live FRF one
+    output of a scalar denominator."""
     if len(refs) < 2:
         return np.zeros((0, 1), int), 1
     at: dict[tuple, dict[tuple, int]] = {}
     for i, (out, ref) in enumerate(zip(_dof_keys(frfs.dofs), _dof_keys(frfs.reference))):
-        at.setdefault(out, {}).setdefault(ref, i)
+        if live[i]:
+            at.setdefault(out, {}).setdefault(ref, i)
     grid = [[row[r] for r in refs] for row in at.values() if all(r in row for r in refs)]
-    if not grid:
+    if len(grid) < 2 * len(refs) or 2 * len(grid) * len(refs) < int(live.sum()):
         return np.zeros((0, 1), int), 1
     return np.array(grid, int), len(refs)
 

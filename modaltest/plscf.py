@@ -38,7 +38,8 @@ def poles_by_order(frequency_hz, frfs, references: int, max_order: int) -> list[
     dt = math.pi / w[-1]
     n = max_order
     x = np.exp(1j * np.outer(w * dt, np.arange(n + 1)))  # (lines, n + 1)
-    h = h / np.abs(h).max(axis=(1, 2), keepdims=True)  # each output weighed by its level
+    level = np.abs(h).max(axis=(1, 2), keepdims=True)  # each output weighed by its level
+    h = h / np.where(level > 0.0, level, np.inf)  # a dead output weighs nothing
     h = h / np.sqrt(np.mean(np.abs(h) ** 2))  # the scale of the numbers, not of the poles
     r = (x.conj().T @ x).real  # (n + 1, n + 1)
     size = m * (n + 1)

@@ -77,6 +77,7 @@ def tap_modes(frfs: uff.Frfs, where: str, node: int | None = None,
     hz = np.abs(poles) / (2 * math.pi)
     zeta = -poles.real / np.abs(poles)
     kept, shapes, dropped = [], [], []
+    every = np.abs(tool.dofs.direction).sum(axis=0) > 1e-9  # the directions measured at all
     for r in range(len(poles)):
         best = driving[np.argmax(product[driving, r])]
         if product[best, r] <= 0.0:
@@ -88,6 +89,12 @@ def tap_modes(frfs: uff.Frfs, where: str, node: int | None = None,
         d = tool.dofs.direction[same]
         u, *_ = np.linalg.lstsq(d, product[same, r] / scale, rcond=None)
         measured = np.abs(d).sum(axis=0) > 1e-9
+        if (every & ~measured).any():  # a direction known only from its own driving point:
+            axis = "xyz"[int(np.flatnonzero(every & ~measured)[0])]  # its sign is unknown
+            raise InputError(f"{where}: the mode at {hz[r]:.4g} Hz is scaled from the hammer "
+                             f"that drives it most, whose FRFs do not reach {axis} at node "
+                             f"{node}: its {axis} component's sign is unknown; give the cross "
+                             "FRFs (every response direction for every hammer direction)")
         kept.append(r)
         shapes.append(np.where(measured, u, 0.0))
     if not kept:

@@ -131,3 +131,27 @@ def test_what_the_stabilisation_rule_drops_is_said():
     found = ema.extract(frfs, ema.EmaSettings(50.0, 590.0))
     assert found.dropped and "clusters of poles" in found.dropped[0]
     assert "dropped as noise" in found.describe()
+
+
+def test_a_stray_frf_of_a_second_reference_or_a_dead_channel_changes_nothing():
+    """One FRF of a second hammer point beside one reference's full set (too few outputs for a
+    2 x 2 denominator: the scalar one over every FRF), and a dead channel (zero in the band:
+    left out, and said), find the modes the single reference finds."""
+    zeta, phi, frfs = campaign(2, "proportional")
+    first = np.arange(OUTPUTS)
+    alone = ema.extract(uff.Frfs(frfs.frequency_hz, _rows(frfs.dofs, first),
+                                 _rows(frfs.reference, first), frfs.values[first]),
+                        ema.EmaSettings(50.0, 590.0))
+    stray = np.append(first, OUTPUTS + 5)
+    values = frfs.values[stray].copy()
+    values[7] = 0.0  # a dead channel
+    found = ema.extract(uff.Frfs(frfs.frequency_hz, _rows(frfs.dofs, stray),
+                                 _rows(frfs.reference, stray), values),
+                        ema.EmaSettings(50.0, 590.0))
+    assert found.references == 1 and "zero in the band" in found.dropped[0]
+    assert len(found.poles) == len(alone.poles)
+    assert np.allclose(found.modes.frequencies_hz, alone.modes.frequencies_hz, rtol=1e-3)
+
+
+def _rows(dofs: uff.Dofs, rows) -> uff.Dofs:
+    return uff.Dofs(dofs.node[rows], dofs.direction[rows])

@@ -395,3 +395,24 @@ def test_a_tap_tests_frfs_give_the_lobes_of_its_modes(tmp_path, references, nois
     assert np.allclose(found, omega / (2 * math.pi), rtol=2e-3)
     a, b = (np.array(r["critical_depth_mm"], float) for r in (tap, exact))
     assert np.allclose(a, b, rtol=1e-4 if noise == 0 else 1e-2)
+
+
+def test_a_tap_test_without_cross_frfs_is_refused_in_one_line(tmp_path):
+    """Hammer along x and y with driving points only (no cross FRFs): a mode's x and y are
+    each known up to sign, their relative sign is not; refused in one line, never a mode with
+    one direction silently zeroed."""
+    from modaltest.measured import Dofs, Frfs
+    from modaltest.tool_modes import tap_modes
+
+    omega = 2 * math.pi * np.array([420.0, 610.0])
+    zeta = np.array([0.03, 0.025])
+    shape = np.array([[2.0, -1.2], [0.9, 2.2]])
+    f = np.arange(0.0, 1000.0, 0.5)
+    w = 2 * math.pi * f
+    h = [(shape[a] ** 2 / (omega**2 - w[:, None] ** 2 + 2j * zeta * omega * w[:, None])).sum(1)
+         for a in (0, 1)]
+    frfs = Frfs(f, Dofs.from_codes([7, 7], [1, 2]), Dofs.from_codes([7, 7], [1, 2]),
+                np.array(h))
+    with pytest.raises(InputError, match="give the cross FRFs") as info:
+        tap_modes(frfs, "tap.unv")
+    assert "\n" not in str(info.value)
