@@ -166,23 +166,23 @@ def lobes(modes: ToolModes, cutting: Cutting) -> dict:
         record.update({
             "intervals": [int(v) for v in d.intervals],
             "coarse_intervals": [int(v) for v in d.coarse_intervals],
-            "coarse_depth_mm": _mm(d.coarse_depth),
+            "coarse_depth_mm": mm_list(d.coarse_depth),
             "error_percent": [float(v) for v in d.error_percent],
             "max_error_percent": float(d.error_percent.max(initial=0.0)),
         })
     least, best = d.least, d.best
     record.update({
         "spindle_rpm": [float(v * 60) for v in d.speeds_hz],
-        "critical_depth_mm": _mm(d.depth),
+        "critical_depth_mm": mm_list(d.depth),
         "chatter_frequency_hz": [float(f) if math.isfinite(f) else None
                                  for f in d.frequency_hz],
         "kind": [str(k) or None for k in d.kind],
-        "zoa_depth_mm": _mm(d.zoa_depth),
-        "absolute_limit_mm": _finite_mm(d.absolute_limit),
+        "zoa_depth_mm": mm_list(d.zoa_depth),
+        "absolute_limit_mm": finite_mm(d.absolute_limit),
         "ceiling_mm": d.ceiling * 1e3,
         "least": None if least is None else least_entry(d, least),
         "best": {"spindle_rpm": float(d.speeds_hz[best] * 60),
-                 "depth_mm": _finite_mm(float(d.depth[best]))},
+                 "depth_mm": finite_mm(float(d.depth[best]))},
         "cutting": edge_values(cutting),
         "modes": [{"frequency_hz": float(w / (2 * math.pi)), "damping_ratio": float(z),
                    "shape_per_sqrt_kg": {"x": float(u[0]), "y": float(u[1])},
@@ -200,9 +200,9 @@ def least_entry(d: Diagram, k: int) -> dict:
             "chatter_frequency_hz": float(d.frequency_hz[k]), "kind": str(d.kind[k])}
 
 
-def _mm(values) -> list[float | None]:
+def mm_list(values) -> list[float | None]:
     return [float(v * 1e3) if math.isfinite(v) else None for v in np.asarray(values, float)]
 
 
-def _finite_mm(value: float) -> float | None:
-    return value * 1e3 if math.isfinite(value) else None
+def finite_mm(value: float) -> float | None:
+    return float(value) * 1e3 if math.isfinite(value) else None

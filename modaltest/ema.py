@@ -185,8 +185,9 @@ def extract(frfs: uff.Frfs, settings: EmaSettings) -> Extraction:
     residues = np.asarray(residues)
     rows = _reference_rows(frfs.reference)
     shapes = np.empty((len(rows), len(picked)))
+    columns = _reference_columns(frfs, rows, refs)
     for r in range(len(picked)):
-        real = uff.complex_to_real_shape(_combined(frfs, residues[:, r], rows, refs))
+        real = uff.complex_to_real_shape(_combined(residues[:, r], columns))
         shapes[:, r] = real / np.max(np.abs(real))
     dofs = uff.Dofs(frfs.dofs.node[rows], frfs.dofs.direction[rows])
     hz = np.abs(picked) / (2.0 * np.pi)
@@ -217,28 +218,40 @@ def _output_grid(frfs: uff.Frfs, refs: list[tuple], live: np.ndarray
     output of a scalar denominator."""
     if len(refs) < 2:
         return np.zeros((0, 1), int), 1
-    at: dict[tuple, dict[tuple, int]] = {}
-    for i, (out, ref) in enumerate(zip(_dof_keys(frfs.dofs), _dof_keys(frfs.reference))):
+    by_output: dict[tuple, dict[tuple, int]] = {}
+    for (out, ref), i in _frf_index(frfs).items():
         if live[i]:
-            at.setdefault(out, {}).setdefault(ref, i)
-    grid = [[row[r] for r in refs] for row in at.values() if all(r in row for r in refs)]
+            by_output.setdefault(out, {})[ref] = i
+    grid = [[row[r] for r in refs] for row in by_output.values() if all(r in row for r in refs)]
     if len(grid) < 2 * len(refs) or 2 * len(grid) * len(refs) < int(live.sum()):
         return np.zeros((0, 1), int), 1
     return np.array(grid, int), len(refs)
 
 
-def _combined(frfs: uff.Frfs, residue, rows: list[int], refs: list[tuple]) -> np.ndarray:
-    """A mode's complex shape at the response dofs of `rows` from every reference whose FRFs
-    reach all of them (the first singular vector of their residues), else from `rows`'."""
-    outputs = [_dof_keys(frfs.dofs)[i] for i in rows]
-    at: dict[tuple, int] = {}
-    for i, (out, ref) in enumerate(zip(_dof_keys(frfs.dofs), _dof_keys(frfs.reference))):
-        at.setdefault((out, ref), i)
+def _frf_index(frfs: uff.Frfs) -> dict[tuple[tuple, tuple], int]:
+    """(response dof, reference dof) -> the first FRF row that holds it."""
+    at: dict[tuple[tuple, tuple], int] = {}
+    for i, key in enumerate(zip(_dof_keys(frfs.dofs), _dof_keys(frfs.reference))):
+        at.setdefault(key, i)
+    return at
+
+
+def _reference_columns(frfs: uff.Frfs, rows: list[int], refs: list[tuple]) -> np.ndarray:
+    """(outputs, references) FRF rows: for the response dofs of `rows`, those of every
+    reference whose FRFs reach all of them (one column: `rows` alone)."""
+    at = _frf_index(frfs)
+    keys = _dof_keys(frfs.dofs)
+    outputs = [keys[i] for i in rows]
     columns = [[at[(o, r)] for o in outputs] for r in refs if all((o, r) in at for o in outputs)]
-    if len(columns) < 2:
-        return residue[rows]
-    matrix = np.stack([residue[c] for c in columns], axis=1)  # (outputs, references)
-    u, _, _ = np.linalg.svd(matrix, full_matrices=False)
+    return np.array(columns, int).T if len(columns) >= 2 else np.array(rows, int)[:, None]
+
+
+def _combined(residue: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """A mode's complex shape from its residues at the FRF rows `columns` (outputs x
+    references): the first singular vector (one reference: its residues)."""
+    if columns.shape[1] < 2:
+        return residue[columns[:, 0]]
+    u, _, _ = np.linalg.svd(residue[columns], full_matrices=False)
     return u[:, 0]
 
 

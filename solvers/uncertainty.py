@@ -127,13 +127,28 @@ def estimate_seconds(scene, options: ModelOptions, pose: Pose, unit, modes: int,
 def tool_modes(scene, options: ModelOptions, prepared: Prepared, count: int):
     """The tool modes (analytical.tool_response.ToolModes, a leading axis per sample; base
     frame) of prepared samples: `count` modes at the scene's tool point, one batch."""
-    return _solve(scene, options, prepared.machines, prepared.poses, count, True,
-                  shapes=True)
+    from analytical.tool_response import batch_tool_modes
+
+    poses: Any = prepared.poses  # analytical.pose_batch.PoseBatch
+    model, form, reduced = _assembled(scene, options, prepared.machines, poses)
+    return batch_tool_modes(model, form, poses.rotation, scene.tool.point,
+                            min(count, reduced.coordinates[1]))
 
 
-def _solve(scene, options, built, poses, modes: int, tool: bool, shapes: bool = False):
+def _assembled(scene, options, built, poses):
+    """(model, its standard form, the nominal machine's leg reduction) of sampled machines."""
     from analytical.batch_model import leg_reduction
-    from analytical.batch_solve import frequencies, standard_form
+    from analytical.batch_solve import standard_form
+    from analytical.sample_batch import assemble_samples
+
+    reduced = leg_reduction(scene.manipulator, options)  # the nominal machine's, every sample
+    model = assemble_samples(built, poses, options, reduced.modes)
+    return model, standard_form(model), reduced
+
+
+def _solve(scene, options, built, poses, modes: int, tool: bool):
+    from analytical.batch_model import leg_reduction
+    from analytical.batch_solve import frequencies
     from analytical.sample_batch import assemble_samples
     from analytical.tool_response import SUPERPOSED_EXTRA, batch_tool_modes
     from common.frf import (
@@ -143,14 +158,10 @@ def _solve(scene, options, built, poses, modes: int, tool: bool, shapes: bool = 
         summed_band_top,
     )
 
-    reduced = leg_reduction(scene.manipulator, options)  # the nominal machine's, every sample
-    model = assemble_samples(built, poses, options, reduced.modes)
     if not tool:
-        return frequencies(model, modes), None
-    form = standard_form(model)
-    if shapes:
-        return batch_tool_modes(model, form, poses.rotation, scene.tool.point,
-                                min(modes, reduced.coordinates[1]))
+        reduced = leg_reduction(scene.manipulator, options)
+        return frequencies(assemble_samples(built, poses, options, reduced.modes), modes), None
+    model, form, reduced = _assembled(scene, options, built, poses)
     count = min(modes + SUPERPOSED_EXTRA, reduced.coordinates[1])
     found = batch_tool_modes(model, form, poses.rotation, scene.tool.point, count)
     residual = residual_flexibility(found.static, found.omega, found.phi)

@@ -15,6 +15,7 @@ import time
 
 import numpy as np
 
+from chatter.lobes import finite_mm, mm_list
 from common.settings import as_dict
 from results import CaseLobes, LobeBand, LobeCurve, LobeSummary, Record, Section, Table
 
@@ -27,13 +28,9 @@ BAND_SPEEDS = 60  # speeds of the band (the stability map's count)
 BAND_BUDGET_SECONDS = 300.0  # a case's band in a run; beyond, refused in the record
 
 
-def _mm(values) -> list[float | None]:
-    return [float(v) * 1e3 if math.isfinite(v) else None for v in np.asarray(values, float)]
-
-
 def _curve(label: str, d) -> LobeCurve:
     return LobeCurve(
-        model=label, critical_depth_mm=_mm(d.depth),
+        model=label, critical_depth_mm=mm_list(d.depth),
         chatter_frequency_hz=[float(f) if math.isfinite(f) else None for f in d.frequency_hz],
         kind=[str(k) or None for k in d.kind],
         max_error_percent=(None if d.error_percent is None
@@ -156,14 +153,14 @@ def _band(scene, options, pose, samples: int) -> LobeBand:
 
     own = diagram(cut_modes(own_machine, tool_modes(scene, options, own_machine, count), 0),
                   cutting, speeds, estimate=False)
-    assert own.coarse_depth is not None  # semi-discretization: the coarse level's depths
-    near = own.coarse_depth if cutting.method == "sdm" else own.depth
+    sdm = own.coarse_depth is not None  # semi-discretization: draws at its coarse level
+    near = own.coarse_depth if own.coarse_depth is not None else own.depth
     found = tool_modes(scene, options, drawn, count)
     depth = np.empty((samples, len(speeds)))
     pilot = time.perf_counter()
     for k in range(samples):
         modes = cut_modes(drawn, found, k)
-        depth[k] = (depths_near(modes, cutting, speeds, near) if cutting.method == "sdm"
+        depth[k] = (depths_near(modes, cutting, speeds, near) if sdm
                     else diagram(modes, cutting, speeds, estimate=False).depth)
         if k == 0 and (time.perf_counter() - pilot) * samples > BAND_BUDGET_SECONDS:
             raise InputError(f"{samples} draws x {len(speeds)} speeds would take about "
@@ -171,7 +168,7 @@ def _band(scene, options, pose, samples: int) -> LobeBand:
                              f"{BAND_BUDGET_SECONDS:g} s allowed")
     both = np.isfinite(own.depth) & np.isfinite(near)
     level = (float(np.max(np.abs(near[both] / own.depth[both] - 1.0)) * 100)
-             if cutting.method == "sdm" and both.any() else None)
+             if sdm and both.any() else None)
     q = np.quantile(depth, (0.025, 0.5, 0.975), axis=0, method="inverted_cdf")
     least = depth.min(axis=1)
     lq = np.quantile(least, (0.025, 0.5, 0.975), method="inverted_cdf")
@@ -179,11 +176,11 @@ def _band(scene, options, pose, samples: int) -> LobeBand:
     ordered = np.concatenate([[-np.inf], np.sort(least), [np.inf]])
     return LobeBand(
         samples=samples, model=options.describe(), inputs=list(scene.uncertainty.names),
-        spindle_rpm=[float(v) * 60 for v in speeds], nominal_depth_mm=_mm(own.depth),
-        q025_depth_mm=_mm(q[0]), median_depth_mm=_mm(q[1]), q975_depth_mm=_mm(q[2]),
-        least_nominal_mm=_one_mm(own.depth.min()), least_q025_mm=_one_mm(lq[0]),
-        least_q025_interval_mm=[_one_mm(ordered[lo]), _one_mm(ordered[hi])],
-        least_median_mm=_one_mm(lq[1]), least_q975_mm=_one_mm(lq[2]),
+        spindle_rpm=[float(v) * 60 for v in speeds], nominal_depth_mm=mm_list(own.depth),
+        q025_depth_mm=mm_list(q[0]), median_depth_mm=mm_list(q[1]), q975_depth_mm=mm_list(q[2]),
+        least_nominal_mm=finite_mm(own.depth.min()), least_q025_mm=finite_mm(lq[0]),
+        least_q025_interval_mm=[finite_mm(ordered[lo]), finite_mm(ordered[hi])],
+        least_median_mm=finite_mm(lq[1]), least_q975_mm=finite_mm(lq[2]),
         level_error_percent=level, refused=None, seconds=time.perf_counter() - start)
 
 
@@ -202,10 +199,6 @@ def quantile_interval(n: int, p: float, confidence: float = 0.95) -> tuple[int, 
     while hi <= n and binom.cdf(hi - 1, n, p) < 1.0 - tail:  # P(B <= hi - 1) >= 1 - tail
         hi += 1
     return lo, hi
-
-
-def _one_mm(value: float) -> float | None:
-    return float(value) * 1e3 if math.isfinite(value) else None
 
 
 def _compute(scene, geometry, fine_options, coarse_options, runtime) -> CaseLobes:

@@ -147,6 +147,12 @@ def test_band_of_barely_uncertain_inputs_is_the_machines_own_lobes(tmp_path):
     own = np.array(band["nominal_depth_mm"], float)
     for key in ("q025_depth_mm", "median_depth_mm", "q975_depth_mm"):
         assert np.allclose(np.array(band[key], float), own, rtol=level * 1.01 + 1e-4), key
+    # by the zero-order method the draws are full diagrams (no levels): the same to 1e-4
+    zoa = replace(scene, cutting=replace(scene.cutting, method="zoa"))
+    band = lobe_band(zoa, zoa.case("level").pose, ResultCache(tmp_path / "z"), samples=8)
+    assert band["refused"] is None and band["level_error_percent"] is None
+    assert np.allclose(np.array(band["median_depth_mm"], float),
+                       np.array(band["nominal_depth_mm"], float), rtol=1e-4)
 
 
 def test_band_of_uncertain_joints_holds_the_machine_and_states_its_draws(tmp_path, monkeypatch):
