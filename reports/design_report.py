@@ -67,7 +67,7 @@ def map_figure(result: Mapping[str, Any], path: Path) -> None:
 
 def render_design_report(result: Mapping[str, Any], directory: Path) -> list[Path]:
     """design.json, front.png, map.png, design.html and design.pdf into `directory`."""
-    from weasyprint import HTML
+    from .document import render_pdf
 
     directory = Path(directory)
     (directory / "design.json").write_text(json.dumps(result), encoding="utf-8")
@@ -80,5 +80,5 @@ def render_design_report(result: Mapping[str, Any], directory: Path) -> list[Pat
     css = (TEMPLATES / "report.css").read_text(encoding="utf-8")
     html = env.get_template("design.html.j2").render(r=result, figures=figures, css=css)
     (directory / "design.html").write_text(html, encoding="utf-8")
-    HTML(string=html, base_url=str(directory)).write_pdf(str(directory / "design.pdf"))
+    render_pdf(html, directory, directory / "design.pdf")  # the report's own fonts
     return [directory / n for n in ("design.json", "design.html", "design.pdf")]
