@@ -103,3 +103,15 @@ def inside(root: str | os.PathLike, *parts: str) -> Path:
     if resolved == base or not resolved.is_relative_to(base):
         raise OutsideTree(f"{Path(*parts)}: would be written outside {Path(root)}; refused")
     return path
+
+
+def display_path(path: str | os.PathLike, base: str | os.PathLike | None = None) -> str:
+    """A path as a record or a report shows it: relative to `base` (default: the working
+    folder the run was started in) where it lies inside it, never the machine's absolute
+    path of a file the reader also has; a path outside it is shown as given."""
+    where = Path(path)
+    root = Path(base) if base is not None else Path.cwd()
+    try:
+        return where.resolve().relative_to(root.resolve()).as_posix()
+    except ValueError:
+        return str(path)

@@ -24,6 +24,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from common.modes import clusters, mac_matrix
+from common.paths import display_path
 from results.campaign_records import (
     SCHEMA,
     Correlation,
@@ -194,7 +195,7 @@ def correlate_pose(campaign: Campaign, tp: TestPose, field: ModeField) -> PoseCo
     return PoseCorrelation(
         name=tp.name, height_mm=float(tp.pose.height * 1e3),
         azimuth_deg=float(math.degrees(tp.pose.azimuth)),
-        tilt_deg=float(math.degrees(tp.pose.tilt)), source=tp.source, data=tp.data,
+        tilt_deg=float(math.degrees(tp.pose.tilt)), source=tp.source, data=display_path(tp.data),
         test_hz=[float(f) for f in test_hz],
         test_damping_ratio=None if damping is None else [float(z) for z in damping],
         model_hz=[float(f) for f in model_hz],
@@ -234,7 +235,7 @@ def pairing_record(settings: CorrelationSettings) -> PairingRecord:
 
 def correlation(campaign: Campaign, poses: list[PoseCorrelation], model: ModelRecord,
                 seconds: float) -> Correlation:
-    return Correlation(record="correlation", schema=SCHEMA, campaign=campaign.path,
-                       scene=campaign.scene_path, model=model,
+    return Correlation(record="correlation", schema=SCHEMA, campaign=display_path(campaign.path),
+                       scene=display_path(campaign.scene_path), model=model,
                        pairing=pairing_record(campaign.correlation), poses=poses,
                        summary=summary(poses), seconds=seconds)

@@ -12,6 +12,7 @@ import numpy as np
 from analytical.params import ModelOptions
 from common.atomic import write_text_atomic
 from common.errors import ComputeError
+from common.paths import display_path
 from results.campaign_records import SCHEMA, Correlation, Identification, ModelRecord
 from results.outputs import CORRELATION, IDENTIFICATION
 from scene.address import edited_text
@@ -117,7 +118,8 @@ def run_identification(campaign: Campaign, options: ModelOptions, source: str,
     validation, validation_note = validate(campaign, options, at_scene, fitted, noise)
     seconds = time.perf_counter() - start
     record = Identification(
-        record="identification", schema=SCHEMA, campaign=campaign.path, scene=campaign.scene_path,
+        record="identification", schema=SCHEMA, campaign=display_path(campaign.path),
+        scene=display_path(campaign.scene_path),
         identified_scene="identified.toml", identified_scene_check=check, model=model,
         parameters=records,
         residual_rms_percent_before=ident.rms_percent(fit.residuals_before),

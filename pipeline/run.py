@@ -28,7 +28,7 @@ import results as schema
 import studies
 from analytical.architectures import actuation, leg_length_range, of
 from analytical.kinematics import pose_geometry
-from common.paths import distinct_stems, inside
+from common.paths import display_path, distinct_stems, inside
 from common.settings import edge_values, spec_of
 from fem_reference.export import write_mode_collection
 from results.tables import write_tables
@@ -89,7 +89,7 @@ def scene_summary(scene: Scene, path: str) -> schema.SceneSummary:
     act = actuation(m)
     return schema.SceneSummary(
         name=scene.name,
-        path=path,
+        path=display_path(path),
         sha256=hashlib.sha256(Path(path).read_bytes()).hexdigest(),
         # every declared value in its edge unit, converted by its own declaration (the record's
         # keys are the scene's: checked against the schema when written)
