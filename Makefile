@@ -37,8 +37,9 @@ setup: $(STAMP)
 # README's timings block through `make readme-timings`)
 run: $(STAMP)
 	@$(PYTHON) -m pipeline.make_timing begin make
-	$(PYTHON) -m rps validate --scene $(SCENE) --out out
+	$(PYTHON) -m rps validate --scene $(SCENE) --out out --no-report
 	$(MAKE) --no-print-directory campaign
+	$(PYTHON) -m rps report --results out/results.json --out out  # the whole chain in one report
 	@$(PYTHON) -m pipeline.make_timing end make
 
 # the example test campaign (CAMPAIGN): correlation and identification into out/

@@ -15,6 +15,7 @@ from typing import Sequence
 from common.paths import inside
 from common.worker import stoppable
 from results import Record
+from results.tables import write_tables
 from runtime.outdir import staged_output
 
 from .document import context, render_html, render_pdf
@@ -76,6 +77,8 @@ def render_report(results_json_path, directory, cache_dir: Path | None = None,
         raise ReportError(f"report rendering failed ({type(exc).__name__}: "
                           f"{' '.join(str(exc).split())})") from None
     inside(target, "report.html").write_text(page, encoding="utf-8")
+    inside(target, "tables").mkdir(exist_ok=True)  # the full tables the report links, beside it
+    write_tables(results, target, records)
     try:
         render_pdf(html, target, inside(target, "report.pdf"))
     except Exception as exc:  # noqa: BLE001  (weasyprint raises anything)

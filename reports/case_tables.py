@@ -49,13 +49,20 @@ def comparison_table(results: Results, i: int, c: Cells) -> dict:
             "repeated": any(p["repeated"] for p in case["pairs"])}
 
 
-def variants_table(results: Results, i: int, c: Cells) -> dict | None:
-    """Every analytical model variant's frequency and error, FEM mode by FEM mode."""
+VARIANTS_PER_TABLE = 5  # variant column pairs a table: the page's width at 7.8 pt
+
+
+def variants_tables(results: Results, i: int, c: Cells) -> list[dict]:
+    """Every analytical model variant's frequency and error, FEM mode by FEM mode, in tables
+    of at most VARIANTS_PER_TABLE variants each (nothing past the page)."""
+    labels = list(results["cases"][i]["models"] or {})
+    return [_variants_table(results, i, c, labels[k:k + VARIANTS_PER_TABLE])
+            for k in range(0, len(labels), VARIANTS_PER_TABLE)]
+
+
+def _variants_table(results: Results, i: int, c: Cells, labels: list[str]) -> dict:
     case = results["cases"][i]
-    models = case["models"]
-    if not models:
-        return None
-    labels = list(models)
+    models = case["models"] or {}
     rows = []
     for j in _by_mode(case["pairs"]):
         mode = case["pairs"][j]["fem_mode"]

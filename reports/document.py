@@ -4,23 +4,25 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Sequence
 
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
-from results import Record, Results, Section, table_rows, verdict
+from results import Record, Results, Section, verdict
 
 from . import interactive, validation
+from .campaign_summary import campaign_summary
 from .case_tables import (
     comparison_table,
     fem_variants_table,
     refinement_table,
     repeated_limit_notes,
-    variants_table,
+    variants_tables,
 )
-from .cells import Cells, align, head, tables_in
+from .cells import Cells, align, tables_in
 from .figure_set import has_paper, main_cases
 from .figures import PAPER_SECONDS
+from .generic_tables import generic_sections
 from .real_machine import shares_table, sweep_table
 from .setup_tables import setup_tables
 from .study_tables import (
@@ -32,6 +34,7 @@ from .study_tables import (
     speed_table,
     verification_table,
 )
+from .summary import designer_lines
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
@@ -50,7 +53,7 @@ def case_context(results: Results, i: int, figs: dict, c: Cells) -> dict:
         "paper": case["paper"] is not None,
         "verdict": verdict.case_verdict(case, conventions=case["name"] in studied),
         "compare": comparison_table(results, i, c),
-        "variants": variants_table(results, i, c),
+        "variants": variants_tables(results, i, c),
         "fem_variants": fem_variants_table(results, i, c),
         "refinement": refinement_table(results, i, c),
         "repeated_limits": repeated_limit_notes(case),
@@ -85,7 +88,7 @@ def section_order(records: Sequence[Record]) -> list[tuple[str, Section | None]]
             at = next(i for i, (a, _) in enumerate(order) if a == after)
             order.insert(at + 1, (k, None))
     order += [(a, s) for a, s in declared.items() if s.template is None]
-    return order + [("other", None)]
+    return order + [("campaign", None), ("other", None)]
 
 
 def sections(paper: bool, present: dict[str, bool],
@@ -94,37 +97,11 @@ def sections(paper: bool, present: dict[str, bool],
     key `present` marks False has no data in these results and is left out."""
     own = {"summary": "Summary", "fidelity": "Fidelity: what the scene asked, what was chosen",
            "comparison": "Table I reproduction" if paper else "Analytical vs FEM",
-           "modes": "Mode shapes", "other": "Other cases"}
+           "modes": "Mode shapes", "campaign": "Test data: the campaign beside this run",
+           "other": "Other cases"}
     titles = [(a, own[a] if s is None else s.title) for a, s in section_order(records)]
     kept = [(key, title) for key, title in titles if present.get(key, True)]
     return {key: f"{n} {title}" for n, (key, title) in enumerate(kept, start=1)}
-
-
-def generic_sections(results: Results, records: Sequence[Record], c: Cells) -> dict[str, list]:
-    """The tables of every study drawn without a template of its own, by section anchor: one
-    table per declared `Table`, every cell naming its source by pointer (empty: no rows)."""
-    out: dict[str, list] = {}
-    for r in records:
-        if r.section is None or r.section.template is not None:
-            continue
-        tables = out.setdefault(r.section.anchor, [])
-        for table in r.tables:
-            rows = table_rows(r, table, results)
-            if not rows:
-                continue
-            columns = [k for k in rows[0] if k]
-            tables.append({"name": table.name, "cls": "generic", "head": [head(*columns)], "rows": [
-                [_generic_cell(c, row[""], k, row[k]) for k in columns] for row in rows]})
-    return out
-
-
-def _generic_cell(c: Cells, at: str, column: str, value) -> dict:
-    if column == "case":
-        return c.text(literal=str(value))
-    pointer = f"{at}/{column}"
-    if isinstance(value, (int, float)) and not isinstance(value, bool):
-        return c.num(pointer, digits=None)
-    return c.text(pointer)
 
 
 def context(results: Results, results_path: Path, figs: dict, records: Sequence[Record]) -> dict:
@@ -150,7 +127,9 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
               for ci, study in enumerate(studies["lowest_modes"])]
     env = results["environment"]
     generic = generic_sections(results, records, c)
-    ctx = {
+    notes = list(figs["notes"])
+    campaign = campaign_summary(results_path, results["scene"]["path"], notes)
+    ctx: dict[str, Any] = {
         "results": results, "scene": results["scene"], "env": env,
         "profile": results["profile"], "fixture_note": results["fixture_note"],
         "results_name": results_path.name,
@@ -169,8 +148,14 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
             "joint-orders": bool(joint_orders), "joint-couplings": bool(couplings),
             "hard-cases": bool(hard), "studies": bool(conventions or calibration),
             "lowest-modes": bool(lowest), "verification": bool(verification),
-            "other": bool(other)}, records),
+            "campaign": bool(campaign), "other": bool(other)}, records),
+        "campaign": campaign,
+        "designer_lines": designer_lines(results, campaign),
         "generic_sections": generic,
+        "study_figures": {anchor: [dict(f, src=_figure(f["src"])) for f in shown]
+                          for anchor, shown in figs.get("studies", {}).items()},
+        "study_charts": {f["chart"] for shown in figs.get("studies", {}).values()
+                         for f in shown if f.get("chart")},
         "cases": cases, "main_cases": main, "other_cases": other,
         "tables": setup_tables(results, c),
         "speed_table": speed_table(results, c),
@@ -193,7 +178,7 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
         "fig_ws_height": _figure(figs.get("workspace_height")),
         "ws_heights": figs.get("workspace_heights"),
         "ws_settings": ws["settings"] if ws else None,
-        "notes": [f"Warning: {w}" for w in results["scene"]["warnings"]] + figs["notes"],
+        "notes": [f"Warning: {w}" for w in results["scene"]["warnings"]] + notes,
         "has_paper": has_paper(results),
         "paper_seconds": PAPER_SECONDS if has_paper(results) else None,
         "generated": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
@@ -204,6 +189,12 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
     ctx["omitted"] = [s.absent for key, s in section_order(records)
                       if s is not None and s.absent is not None and key not in ctx["section"]
                       and key not in needless]
+    # the studies only some scenes ask for, named with what would ask for them (issue 54); the
+    # full profile runs every study a scene asks for, so one missing there was not asked
+    ctx["not_asked"] = [f"{s.title.split(':')[0].lower()} ({s.asks})"
+                        for key, s in section_order(records)
+                        if s is not None and s.asks is not None and key not in ctx["section"]
+                        and results["profile"] == "full"]
     return ctx
 
 
@@ -230,10 +221,18 @@ def render_html(ctx: dict, charts: dict | None = None, directory: Path | None = 
 
 
 def render_pdf(html: str, base: Path, target: Path) -> None:
+    """The page as a PDF, laid out with the report's own fonts (`fonts`), never the
+    machine's: the same pages on every machine."""
     import logging
 
-    from weasyprint import HTML
+    from weasyprint import CSS, HTML
+    from weasyprint.text.fonts import FontConfiguration
+
+    from .fonts import font_faces
 
     logging.getLogger("weasyprint").setLevel(logging.ERROR)
     logging.getLogger("fontTools").setLevel(logging.ERROR)
-    HTML(string=html, base_url=str(base)).write_pdf(str(target))
+    config = FontConfiguration()
+    HTML(string=html, base_url=str(base)).write_pdf(
+        str(target), stylesheets=[CSS(string=font_faces(), font_config=config)],
+        font_config=config)

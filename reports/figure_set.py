@@ -14,11 +14,14 @@ from .beam_figure import beam_mode
 from .figure_jobs import Job, Outcome, draw
 from .results import (
     base_circle_points,
+    has_paper,
     joint_points,
     leg_axis_shapes,
+    main_cases,
     platform_centre,
     platform_motion,
 )
+from .study_figure_set import study_figure_set
 
 
 class ReportError(ComputeError):
@@ -39,16 +42,6 @@ class ModePicture(TypedDict):
 class ModeFigures(TypedDict):
     pairs: list[ModePicture]
     fem_note: str | None  # why no FEM picture is drawn
-
-
-def has_paper(results: Results) -> bool:
-    """Do the results carry the paper's data (any case with its rows)?"""
-    return any(c["paper"] for c in results["cases"])
-
-
-def main_cases(results: Results) -> list[Case]:
-    """The cases with paper rows (all cases if none has them): the report's main subject."""
-    return [c for c in results["cases"] if c["paper"]] or results["cases"]
 
 
 def run_settings(results: Results) -> tuple[str, str]:
@@ -89,7 +82,8 @@ class _Plan:
 def make_figures(results: Results, results_path: Path, fig_dir: Path,
                  cache_dir: Path | None = None, workers: int = 1) -> dict:
     """Draw every figure into fig_dir (on `workers` processes, reusing the pictures of
-    `cache_dir`: `figure_jobs`); return what the template needs to show them."""
+    `cache_dir`: `figure_jobs`); return what the template needs to show them, the figures of
+    the studies drawn as their tables under "studies" (`study_figure_set`)."""
     figs: dict = {"cases": {}, "notes": []}
     plan = _Plan()
     main = main_cases(results)
@@ -160,7 +154,10 @@ def make_figures(results: Results, results_path: Path, fig_dir: Path,
             path = inside(fig_dir, f"stiffness_sweep_{file_stem(study['case'], 'case name')}.png")
             plan.add(real_machine.stiffness_sweep, path, study, path)
             figs["sweeps"][study["case"]] = path
+    figs["studies"] = study_figure_set(results, fig_dir, figs["notes"], plan)
     plan.draw(cache_dir, workers)
+    for anchor in [a for a, shown in figs["studies"].items() if not shown]:
+        del figs["studies"][anchor]  # every figure of the section failed (said in the notes)
     return figs
 
 

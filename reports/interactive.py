@@ -3,10 +3,10 @@ and the pictures left static embedded, so the page is one self-contained file th
 offline (plotly.js inlined once; no request to any network).
 
 report.pdf is rendered from the same context without any of this (the static pictures), so the
-two show the same records of results.json: every chart here has its static twin there, but
-the charts of a study drawn as its tables (no template of its own: the tool's receptance, the
-least dynamic stiffness over the map), which the page draws under that section's tables and
-report.pdf leaves out (its section there is the tables).
+two show the same records of results.json: every chart here has its static twin there (a study
+drawn as its tables too: `study_figure_set`, the chart first, then the tables), but the
+uncertainty charts of the cases other than the main ones, whose numbers report.pdf keeps in
+the tables.
 """
 from __future__ import annotations
 
@@ -27,13 +27,9 @@ from . import interactive_uncertainty as uncertainty_charts
 from .figure_set import has_paper, main_cases, reference, run_settings
 from .figures import PAPER_SECONDS
 from .interactive_modes import mode_viewer
+from .study_figure_set import chart_key
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
-
-
-def chart_key(kind: str, name: str | None = None) -> str:
-    """The key of a chart in the page's JSON block and in the template."""
-    return kind if name is None else f"{kind}:{name}"
 
 
 def _figure_json(fig) -> dict:
@@ -48,8 +44,8 @@ def build_charts(results: Results, results_path: Path, notes: list[str]) -> dict
     out: dict = {}
 
     def add(key: str, make, *args, section: str | None = None, caption: str = "") -> None:
-        """`section`: the anchor of a study drawn as its tables, under which the page draws
-        the chart with `caption` (no static twin: report.pdf shows those tables only)."""
+        """`section`: the anchor of a study drawn as its tables, where the page draws the
+        chart with `caption` (its static twin, `study_figure_set`'s, is report.pdf's)."""
         try:
             value = make(*args)
         except Exception as exc:  # noqa: BLE001  (a chart never sinks the report)

@@ -1,7 +1,7 @@
 """The interactive charts of milling stability (issue 52): each case's lobes, the analytical
 model's against the FEM's, and the least critical depth over the workspace map (polar panels
-per layer, as the dynamic-stiffness map). No static twin yet: report.pdf shows these studies
-as their tables."""
+per layer, as the dynamic-stiffness map). Their static twins in report.pdf:
+`cut_figures.case_lobes`, `study_maps.stability_map`."""
 from __future__ import annotations
 
 import plotly.graph_objects as go

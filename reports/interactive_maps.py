@@ -2,7 +2,7 @@
 frequency map of every layer, frequency against height, and the model against the FEM over the
 validated poses; the twins of `workspace_figures` and `validation.error_maps`. And the least
 dynamic stiffness at the tool over the same map (the dynamic_stiffness study), drawn the same
-way; it has no static twin (report.pdf shows that study as its table)."""
+way; its static twin is `study_maps.dynamic_stiffness_map`."""
 from __future__ import annotations
 
 from typing import TypeVar

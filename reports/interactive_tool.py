@@ -1,7 +1,7 @@
 """The interactive charts of the dynamic compliance at the tool (issue 38): the least dynamic
 stiffness over the workspace map (polar panels per layer, as the workspace map's, one button
-per direction) and each case's receptance against the solid's direct response. No static twin:
-report.pdf shows these studies as their tables."""
+per direction) and each case's receptance against the solid's direct response. Their static twins
+in report.pdf: `study_maps.dynamic_stiffness_map`, `cut_figures.tool_response`."""
 from __future__ import annotations
 
 import math
@@ -124,8 +124,8 @@ def tool_response(record: dict, case: str) -> go.Figure | None:
     """|H_xx|, |H_yy|, |H_zz| of the tool point (m/N, log) against frequency, one panel per
     direction: the analytical model's (line) and the FEM's modal sum (dashed), circles the
     solid's direct response at each of its peaks, all three at the study's check damping (one
-    Rayleigh damping; hover: the three models there and the analytical model's errors). No
-    static twin: report.pdf shows the study as its tables. None when the record has no
+    Rayleigh damping; hover: the three models there and the analytical model's errors). Its
+    static twin: `cut_figures.tool_response`. None when the record has no
     curve."""
     curves = record["curves"]
     f = curves["frequency_hz"]

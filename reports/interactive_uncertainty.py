@@ -1,7 +1,7 @@
 """The interactive charts of input uncertainty (issue 39): what drives each case's spread (the
 Sobol' indices of every input, per output) and the 95 % band of f1 and of the least dynamic
-stiffness along the workspace map's worst path. No static twin: report.pdf shows these
-studies as their tables."""
+stiffness along the workspace map's worst path. Their static twins
+in report.pdf: `study_figures.sobol_bars`, `study_figures.path_band`."""
 from __future__ import annotations
 
 import plotly.graph_objects as go

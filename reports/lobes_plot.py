@@ -24,6 +24,12 @@ def draw_lobes(record: Mapping[str, Any], path: Path, title: str = "") -> None:
 def draw_lobe_set(records: Sequence[tuple[str, Mapping[str, Any]]], path: Path,
                   title: str = "", zoa: bool = False) -> None:
     """Records (label, record) over the same speeds, each its own colour."""
+    save(lobe_figure(records, title, zoa), path)
+
+
+def lobe_figure(records: Sequence[tuple[str, Mapping[str, Any]]], title: str = "",
+                zoa: bool = False):
+    """The diagram of `draw_lobe_set`, open (for a caller that adds to it, then saves it)."""
     fig, ax = plt.subplots(figsize=(WIDTH, 2.9))
     top = 0.0
     for k, (label, rec) in enumerate(records):
@@ -54,4 +60,4 @@ def draw_lobe_set(records: Sequence[tuple[str, Mapping[str, Any]]], path: Path,
     ax.text(0.99, 0.03, "stable below the curve", transform=ax.transAxes, ha="right",
             fontsize=7, color="0.3")
     ax.legend(loc="upper left", frameon=False, ncol=2)
-    save(fig, path)
+    return fig

@@ -19,6 +19,16 @@ def load_results(path, records: Sequence[Record]) -> Results:
     return read(path, records)
 
 
+def has_paper(results: Results) -> bool:
+    """Do the results carry the paper's data (any case with its rows)?"""
+    return any(c["paper"] for c in results["cases"])
+
+
+def main_cases(results: Results) -> list[Case]:
+    """The cases with paper rows (all cases if none has them): the report's main subject."""
+    return [c for c in results["cases"] if c["paper"]] or results["cases"]
+
+
 def resolve(doc, pointer: str):
     """The value at a JSON pointer ("/cases/0/pairs/1/mac")."""
     value = doc

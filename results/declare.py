@@ -58,12 +58,15 @@ class Section:
     """Where the report shows a record: its anchor and title, and how the contents name it when
     these results do not hold it. `template`: the name of the report template's own block for
     it; None: the generic section, the study's tables as the report's tables. `absent` None:
-    not named when missing."""
+    not named when missing (a study the profile leaves out); `asks`: the scene's tables that
+    ask for a study only some scenes run, named with the study when a scene has none."""
 
     anchor: str
     title: str
     absent: str | None = None
     template: str | None = None
+    asks: str | None = None  # what in a scene asks for the study ("[cutting]"): the report
+    # names the study and what would ask for it when a scene does not
 
 
 @dataclass(frozen=True)

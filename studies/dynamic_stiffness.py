@@ -98,7 +98,8 @@ def run(ctx: Context) -> results.DynamicStiffnessMap | None:
 STUDY = Study(own(
     "dynamic_stiffness", "scene",
     section=Section("dynamic-stiffness", "Least dynamic stiffness at the tool over the "
-                    "workspace", None),
+                    "workspace", None,
+                    asks="[damping] or [tool], a rigid platform"),
     tables=(Table("least", ("direction", "stiffness_n_per_m", "frequency_hz", "mode",
                             "height_mm", "tilt_deg", "azimuth_deg"), each="least"),)),
     "scene", run)

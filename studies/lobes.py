@@ -256,7 +256,8 @@ def run(ctx: Context, cc: CaseContext) -> CaseLobes | None:
 
 STUDY = Study(Record(
     "lobes", "case", CaseLobes | None, None,
-    Section("lobes", "Stability lobes of the cut: the analytical model against the FEM", None),
+    Section("lobes", "Stability lobes of the cut: the analytical model against the FEM", None,
+            asks="[cutting]"),
     (Table("least", ("model", "least_depth_mm", "least_rpm", "kind", "chatter_frequency_hz",
                      "best_rpm", "best_depth_mm", "error_percent", "fem_error_percent"),
            each="summary"),

@@ -127,7 +127,7 @@ def run(ctx: Context) -> StabilityMap | None:
 STUDY = Study(Record(
     "stability_map", "scene", StabilityMap | None, None,
     Section("stability-map", "Stable cutting over the workspace: the least critical depth",
-            None),
+            None, asks="[cutting]"),
     (Table("least", ("depth_mm", "spindle_rpm", "chatter_frequency_hz", "kind", "height_mm",
                      "tilt_deg", "azimuth_deg"), each="least"),)),
     "scene", run)

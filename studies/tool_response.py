@@ -142,7 +142,8 @@ def run(ctx: Context, cc: CaseContext) -> results.ToolResponse | None:
 STUDY = Study(own(
     "tool_response", "case",
     section=Section("tool-response", "Dynamic compliance at the tool: both models against "
-                    "the solid's direct frequency response", None),
+                    "the solid's direct frequency response", None,
+                    asks="[damping] or [tool], a rigid platform"),
     tables=(Table("peak_frequencies", ("direction", "fem_mode", "fem_direct_hz",
                                        "fem_frequency_error_percent", "analytical_hz",
                                        "frequency_error_percent"), each="peaks"),

@@ -138,7 +138,7 @@ def run(ctx: Context, cc: CaseContext) -> results.UncertaintyCase | None:
 STUDY = Study(own(
     "uncertainty", "case",
     section=Section("uncertainty", "Input uncertainty: spread, Sobol' indices, V&V 20",
-                    None),
+                    None, asks="[uncertainty]"),
     tables=(Table("validation", ("fem_mode", "analytical_mode", "e_percent", "u_num_percent",
                                  "u_input_percent", "u_val_percent", "verdict"),
                   each="validation"),

@@ -98,7 +98,8 @@ def run(ctx: Context) -> results.UncertaintyPath | None:
 
 STUDY = Study(own(
     "uncertainty_path", "scene",
-    section=Section("uncertainty-path", "Input uncertainty over the workspace", None),
+    section=Section("uncertainty-path", "Input uncertainty over the workspace", None,
+                    asks="[uncertainty]"),
     tables=(Table("path", ("layer", "height_mm", "tilt_deg", "azimuth_deg", "f1_nominal_hz",
                            "f1_q025_hz", "f1_median_hz", "f1_q975_hz", "least_nominal_n_per_m",
                            "least_q025_n_per_m", "least_q975_n_per_m"), each="poses"),)),

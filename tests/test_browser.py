@@ -3,6 +3,7 @@ Debian's chromedriver): the report of the fixture results (conftest's fixture_re
 opened from disk.
 
 - every chart renders (plotly's SVG root in every chart), at least 8 of them;
+- a study's section opens on its picture, and its static pictures load;
 - the page logs no console error and requests nothing from any network;
 - hovering a known workspace pose shows the frequency results.json stores for it;
 - the mode viewer switches modes and moves (its vertices differ between two instants), and
@@ -80,6 +81,28 @@ def test_every_chart_renders(page):
     for chart in charts:
         assert chart.find_elements("css selector", "svg.main-svg"), \
             chart.get_attribute("data-chart")
+
+
+def test_every_study_section_opens_on_its_picture(page):
+    """Each study drawn as its tables (issue 54) opens on a picture before its first table:
+    its chart rendered, or its static figure loaded (a decoded image, not a broken one)."""
+    driver = page["driver"]
+    found = driver.execute_script("""
+        const out = {};
+        for (const id of ["uncertainty", "uncertainty-path"]) {
+            const section = document.getElementById(id);
+            if (!section) { out[id] = "missing"; continue; }
+            const first = section.querySelector("figure, table");
+            const chart = first && first.querySelector(".plotly-chart svg.main-svg");
+            const image = first && first.querySelector("img");
+            out[id] = first === null || first.tagName !== "FIGURE" ? "table first"
+                : chart ? "chart" : image && image.complete && image.naturalWidth > 100
+                ? "image" : "broken";
+            const images = [...section.querySelectorAll("figure img")];
+            if (images.some(i => !(i.complete && i.naturalWidth > 100))) out[id] = "broken";
+        }
+        return out;""")
+    assert found == {"uncertainty": "chart", "uncertainty-path": "chart"}, found
 
 
 def test_no_console_error_and_no_network_request(page):

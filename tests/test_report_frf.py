@@ -133,7 +133,8 @@ def test_both_charts_are_drawn_in_their_sections(fixture_raw, tmp_path, monkeypa
     name = results["cases"][0]["name"]
     stiffness = _section(page, "dynamic-stiffness")
     assert 'data-chart="dynamic_stiffness"' in stiffness
-    assert stiffness.index("<table") < stiffness.index('data-chart="dynamic_stiffness"')
+    # a picture first, then the table (reports/README.md, "Every section")
+    assert stiffness.index('data-chart="dynamic_stiffness"') < stiffness.index("<table")
     assert "1 / max |H_dd|" in stiffness and "N/m" in stiffness
     tool = _section(page, "tool-response")
     assert f'data-chart="tool_response:{name}"' in tool

@@ -4,10 +4,12 @@ model that meets the scene's tolerance against that FEM, and every number the ph
 the scene's golden in tests/baselines/results/ (`make update-baselines` rewrites them).
 The paper's scene in `make test` (its run is the suite's shared fixture); the other shipped
 scenes, a minute each, in `make scenes` (pytest -m scenes), which .ci/run runs after the suite
-(`make test` stays within its ten minutes on a loaded 2-core machine)."""
+(`make test` stays within its ten minutes on a loaded 2-core machine). Each scene's report is
+rendered too, and no word of its PDF may run past the page (reports/README.md)."""
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -52,6 +54,14 @@ def test_scene_validates_at_ci_size(path, tmp_path, request):
     golden = json.loads((RESULTS_GOLDENS / f"{path.stem}.json").read_text(encoding="utf-8"))
     moved = differences(golden, json.loads(json.dumps(digest(results))))
     assert not moved, f"{path.stem}: the run's numbers moved:\n" + "\n".join(moved[:20])
+    # its report as a reader gets it: nothing off the page (tests/test_report_pages.py)
+    if shutil.which("pdftotext"):
+        from reports.build import build_report
+        from studies import RECORDS
+        from tests.test_report_pages import words_past_the_page
+
+        _, pdf = build_report(out / "results.json", tmp_path / "report", records=RECORDS)
+        assert words_past_the_page(pdf) == [], path.stem
 
 
 def test_a_moved_number_is_named():

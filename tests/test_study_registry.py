@@ -96,7 +96,14 @@ def test_a_study_registered_at_run_time_has_its_record_table_and_section(
     page = (out / "report.html").read_text(encoding="utf-8")
     assert '<section id="slenderness">' in page and "Leg slenderness</h2>" in page
     assert 'href="#slenderness"' in page  # in the contents, numbered with the others
-    assert 'data-src="/studies/leg_slenderness/19/slenderness"' in page  # every row, drawn
+    # a long table: the first MAX_ROWS rows drawn, in words, the CSV of all of them linked
+    from reports.generic_tables import MAX_ROWS
+
+    last = MAX_ROWS - 1
+    assert f'data-src="/studies/leg_slenderness/{last}/slenderness"' in page
+    assert f'data-src="/studies/leg_slenderness/{last + 1}/slenderness"' not in page
+    assert '<a href="tables/studies/leg_slenderness-legs.csv">' in page
+    assert "longest leg (mm)</th>" in page and "height z (mm)</th>" in page
 
 
 def test_a_study_returning_a_wrong_record_is_refused_when_it_returns():
