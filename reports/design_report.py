@@ -11,6 +11,7 @@ import numpy as np
 from jinja2 import Environment, FileSystemLoader, select_autoescape
 
 from .figures import WIDTH, plt, save
+from .table_words import words
 
 TEMPLATES = Path(__file__).resolve().parent / "templates"
 
@@ -77,6 +78,7 @@ def render_design_report(result: Mapping[str, Any], directory: Path) -> list[Pat
         map_figure(result, directory / "map.png")
         figures["map"] = "map.png"
     env = Environment(loader=FileSystemLoader(TEMPLATES), autoescape=select_autoescape())
+    env.filters["words"] = lambda key: words(key.rsplit(".", 1)[-1])  # a scene key in words
     css = (TEMPLATES / "report.css").read_text(encoding="utf-8")
     html = env.get_template("design.html.j2").render(r=result, figures=figures, css=css)
     (directory / "design.html").write_text(html, encoding="utf-8")

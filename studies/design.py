@@ -38,6 +38,7 @@ from analytical.params import Manipulator, Pose
 from analytical.platform import platform_mass
 from analytical.reach import level_band, max_tilts
 from common.errors import InputError, RpsError
+from common.paths import display_path
 from common.settings import as_dict
 from results.lobe_records import StabilityLeast
 from results.outputs import Output
@@ -421,7 +422,7 @@ def run_design(spec: DesignSpec, cache: ResultCache,
     feasible = [r for r in records if meets(spec, r)]
     optimum = min(feasible, key=lambda r: objective(spec, r)) if feasible else None
     out = DesignStudy(
-        name=spec.name, scene=spec.scene_path,
+        name=spec.name, scene=display_path(spec.scene_path),
         variables=[{"name": v.name, "low": v.low, "high": v.high} for v in spec.variables],
         constraints={"min_frequency_hz": spec.constraints.min_frequency_hz,
                      "mode": spec.constraints.mode,

@@ -143,6 +143,12 @@ def test_the_design_report_shows_the_front_and_the_optimum(small_study, tmp_path
     assert f"{best['moving_mass_kg']:.3f} kg" in html
     assert f"{best['min_frequency_hz']:.3f} Hz" in html
     assert f"{result['fem_check']['error_percent']:+.3f} %" in html
+    import shutil
+
+    if shutil.which("pdftotext"):  # its pages in the report's fonts, nothing past them
+        from tests.test_report_pages import words_past_the_page
+
+        assert words_past_the_page(tmp_path / "design.pdf") == []
 
 
 @pytest.mark.parametrize("where, message", [
