@@ -214,3 +214,30 @@ def test_a_table_declared_for_the_report_has_a_caption_in_words():
         for t in r.tables:
             assert (r.key, t.name) in CAPTIONS, (r.key, t.name)
     assert Table  # the declaration the captions name
+
+
+def test_no_number_is_printed_beyond_its_stated_error(fixture_report):
+    """Every value shown beside its stated error (the fixture's Sobol' indices, V&V 20 errors,
+    the spread's mean and quantiles) carries no digit finer than that error's second
+    significant figure (an index none past its third decimal)."""
+    from reports.generic_tables import ERROR_OF, SHARES, SHARE_DECIMALS
+    from reports.results import resolve
+
+    results = json.loads((Path(__file__).resolve().parent / "fixtures" /
+                          "report_results.json").read_text())
+    html = fixture_report.html.read_text(encoding="utf-8")
+    checked = 0
+    for pointer, text in re.findall(r'<td class="num" data-src="([^"]+)">([^<]*)</td>', html):
+        at, _, column = pointer.rpartition("/")
+        if column not in ERROR_OF:
+            continue
+        error = resolve(results, f"{at}/{ERROR_OF[column]}")
+        if not error:
+            continue
+        shown = text.removeprefix("< ").replace("\u2212", "-")
+        decimals = len(shown.split(".")[1]) if "." in shown else 0
+        allowed = error_decimals(error)
+        assert decimals <= (min(allowed, SHARE_DECIMALS) if column in SHARES else allowed), \
+            (pointer, text, error)
+        checked += 1
+    assert checked >= 20  # the check ran on the report's numbers, not on none
