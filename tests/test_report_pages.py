@@ -220,7 +220,7 @@ def test_no_number_is_printed_beyond_its_stated_error(fixture_report):
     """Every value shown beside its stated error (the fixture's Sobol' indices, V&V 20 errors,
     the spread's mean and quantiles) carries no digit finer than that error's second
     significant figure (an index none past its third decimal)."""
-    from reports.generic_tables import ERROR_OF, SHARES, SHARE_DECIMALS
+    from reports.generic_tables import ERROR_OF, SHARE_DECIMALS, SHARES
     from reports.results import resolve
 
     results = json.loads((Path(__file__).resolve().parent / "fixtures" /
