@@ -38,8 +38,9 @@ setup: $(STAMP)
 run: $(STAMP)
 	@$(PYTHON) -m pipeline.make_timing begin make
 	$(PYTHON) -m rps validate --scene $(SCENE) --out out --no-report
-	$(MAKE) --no-print-directory campaign
-	$(PYTHON) -m rps report --results out/results.json --out out  # the whole chain in one report
+	@# the whole chain in one report, written even when the campaign fails (make then fails)
+	@status=0; $(MAKE) --no-print-directory campaign || status=$$?; \
+	  $(PYTHON) -m rps report --results out/results.json --out out && exit $$status
 	@$(PYTHON) -m pipeline.make_timing end make
 
 # the example test campaign (CAMPAIGN): correlation and identification into out/

@@ -109,9 +109,9 @@ def display_path(path: str | os.PathLike, base: str | os.PathLike | None = None)
     """A path as a record or a report shows it: relative to `base` (default: the working
     folder the run was started in) where it lies inside it, never the machine's absolute
     path of a file the reader also has; a path outside it is shown as given."""
-    where = Path(path)
-    root = Path(base) if base is not None else Path.cwd()
+    where = Path(os.path.abspath(path))  # as named: a link is not followed to its target
+    root = Path(os.path.abspath(base if base is not None else Path.cwd()))
     try:
-        return where.resolve().relative_to(root.resolve()).as_posix()
+        return where.relative_to(root).as_posix()
     except ValueError:
         return str(path)

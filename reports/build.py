@@ -9,6 +9,7 @@ as `data-src` (tests check them).
 from __future__ import annotations
 
 import os
+import shutil
 from pathlib import Path
 from typing import Sequence
 
@@ -77,7 +78,9 @@ def render_report(results_json_path, directory, cache_dir: Path | None = None,
         raise ReportError(f"report rendering failed ({type(exc).__name__}: "
                           f"{' '.join(str(exc).split())})") from None
     inside(target, "report.html").write_text(page, encoding="utf-8")
-    inside(target, "tables").mkdir(exist_ok=True)  # the full tables the report links, beside it
+    tables = inside(target, "tables")  # the full tables the report links, beside it: these
+    shutil.rmtree(tables, ignore_errors=True)  # results' only, never an earlier run's
+    tables.mkdir()
     write_tables(results, target, records)
     try:
         render_pdf(html, target, inside(target, "report.pdf"))

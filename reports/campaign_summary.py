@@ -5,6 +5,7 @@ their declared types, results.campaign_records), says what they found and links 
 A record that does not read is said as a note, never fatal: the run's own report stands."""
 from __future__ import annotations
 
+import hashlib
 import json
 from pathlib import Path
 from typing import Any
@@ -30,7 +31,19 @@ def _read(path: Path, kind: Any, notes: list[str]) -> dict | None:
     return data
 
 
-def campaign_summary(results_path: Path, scene_path: str, notes: list[str]) -> dict | None:
+def _same_scene(campaign_scene: str, scene_path: str, scene_sha256: str) -> bool:
+    """Whether the campaign's scene is the run's: by the file's digest where the campaign's
+    scene file can be read from here (the record names it relative to the run's folder),
+    else by its file name."""
+    try:
+        digest = hashlib.sha256(Path(campaign_scene).read_bytes()).hexdigest()
+    except OSError:
+        return Path(campaign_scene).name == Path(scene_path).name
+    return digest == scene_sha256
+
+
+def campaign_summary(results_path: Path, scene_path: str, scene_sha256: str,
+                     notes: list[str]) -> dict | None:
     """The campaign's correlation (and identification, when there) beside `results_path`:
     what the report's section and summary say; None when the run has none beside it."""
     folder = Path(results_path).parent
@@ -43,7 +56,7 @@ def campaign_summary(results_path: Path, scene_path: str, notes: list[str]) -> d
                      f"{identification['campaign']}, the correlation of "
                      f"{correlation['campaign']}: only the correlation is shown.")
         identification = None
-    same = Path(correlation["scene"]).name == Path(scene_path).name
+    same = _same_scene(correlation["scene"], scene_path, scene_sha256)
     s = correlation["summary"]
     after = None
     if identification is not None and identification.get("correlation_after"):

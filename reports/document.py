@@ -22,7 +22,7 @@ from .case_tables import (
 from .cells import Cells, align, tables_in
 from .figure_set import has_paper, main_cases
 from .figures import PAPER_SECONDS
-from .generic_tables import generic_sections
+from .generic_tables import generic_sections, ran, refusals
 from .real_machine import shares_table, sweep_table
 from .setup_tables import setup_tables
 from .study_tables import (
@@ -128,7 +128,8 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
     env = results["environment"]
     generic = generic_sections(results, records, c)
     notes = list(figs["notes"])
-    campaign = campaign_summary(results_path, results["scene"]["path"], notes)
+    campaign = campaign_summary(results_path, results["scene"]["path"],
+                                results["scene"]["sha256"], notes)
     ctx: dict[str, Any] = {
         "results": results, "scene": results["scene"], "env": env,
         "profile": results["profile"], "fixture_note": results["fixture_note"],
@@ -141,7 +142,8 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
         "worst_pose_table": validation.worst_pose_table(results, c),
         "validation": results["studies"]["workspace_validation"],
         "fig_validation": _figure(figs.get("validation_map")),
-        "section": sections(has_paper(results), {**{a: bool(g) for a, g in generic.items()},
+        "section": sections(has_paper(results), {
+            **{a: bool(g) or ran(results, records, a) for a, g in generic.items()},
             "convergence": any(x["fig_element"] or x["refinement"] for x in main),
             "speed": bool(figs.get("speed")), "workspace": bool(figs.get("workspace_polar")),
             "validation": bool(results["studies"]["workspace_validation"]),
@@ -152,6 +154,9 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
         "campaign": campaign,
         "designer_lines": designer_lines(results, campaign),
         "generic_sections": generic,
+        "generic_refusals": refusals(results, records),
+        "section_nothing": {r.section.anchor: r.section.nothing for r in records
+                            if r.section is not None and r.section.nothing},
         "study_figures": {anchor: [dict(f, src=_figure(f["src"])) for f in shown]
                           for anchor, shown in figs.get("studies", {}).items()},
         "study_charts": {f["chart"] for shown in figs.get("studies", {}).values()
@@ -193,8 +198,8 @@ def context(results: Results, results_path: Path, figs: dict, records: Sequence[
     # full profile runs every study a scene asks for, so one missing there was not asked
     ctx["not_asked"] = [f"{s.title.split(':')[0].lower()} ({s.asks})"
                         for key, s in section_order(records)
-                        if s is not None and s.asks is not None and key not in ctx["section"]
-                        and results["profile"] == "full"]
+                        if s is not None and s.asks is not None
+                        and not ran(results, records, key) and results["profile"] == "full"]
     return ctx
 
 

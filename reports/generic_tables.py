@@ -49,8 +49,9 @@ def _number(c: Cells, pointer: str, value: float, error: Any, share: bool) -> di
     if share:  # an index: to its error's digits, never past the third decimal
         digits = min(error_decimals(error), SHARE_DECIMALS) if usable else SHARE_DECIMALS
         bound = max(error if usable else 0.0, 0.5 * 10.0 ** -digits)
-        if abs(value) < bound:
-            return cell(f"< {decimal(max(bound, 10.0 ** -digits), digits)}", "num", pointer)
+        if abs(value) < bound:  # the bound rounded up: never a printed bound below the value
+            shown = math.ceil(bound * 10.0 ** digits - 1e-9) / 10.0 ** digits
+            return cell(f"< {decimal(max(shown, 10.0 ** -digits), digits)}", "num", pointer)
         return cell(decimal(value, digits), "num", pointer)
     if usable:  # to the error's two figures (and never past the value's sixth)
         return cell(decimal(value, min(error_decimals(error), significant(value, 6))), "num",
@@ -77,9 +78,10 @@ def _cell(c: Cells, row: dict, column: str) -> dict:
             error = value
         share = column in SHARES or column in {ERROR_OF[k] for k in SHARES}
         return _number(c, pointer, value, error, share)
-    if isinstance(value, list) and all(isinstance(v, (int, float)) for v in value):
-        return cell(" – ".join(decimal(v, 2 if abs(v) < 1e3 else 0) for v in value), "num",
-                    pointer)
+    if isinstance(value, list) and value and all(
+            v is None or isinstance(v, (int, float)) and not isinstance(v, bool) for v in value):
+        return cell(" – ".join("open" if v is None else decimal(v, 2 if abs(v) < 1e3 else 0)
+                               for v in value), "num", pointer)  # None: no bound that side
     if column == "verdict":
         return cell(verdict_words(str(value)), "text", pointer)
     return c.text(pointer)
@@ -154,10 +156,27 @@ def generic_table(record: Record, name: str, rows: list[dict], c: Cells) -> dict
             "notes": notes, "more": more, "csv": csv}
 
 
+def values(results: Results, record: Record) -> list:
+    """The record's values these results hold: the study's (scope "scene") or each case's;
+    none where the study did not run."""
+    if record.scope == "scene":
+        found = [results["studies"].get(record.key)]  # type: ignore[attr-defined]
+    else:
+        found = [case.get(record.key) for case in results["cases"]]  # type: ignore[attr-defined]
+    return [v for v in found if v not in (None, [])]
+
+
+def ran(results: Results, records: Sequence[Record], anchor: str) -> bool:
+    """Whether a study shown under `anchor` ran (its record holds a value, rows or not)."""
+    return any(values(results, r) for r in records
+               if r.section is not None and r.section.anchor == anchor)
+
+
 def generic_sections(results: Results, records: Sequence[Record], c: Cells
                      ) -> dict[str, list]:
     """The tables of every study drawn without a template of its own, by section anchor
-    (`generic_table`; a table with no rows is left out)."""
+    (`generic_table`; a table with no rows is left out), and a study's refusal said where
+    its record holds one (a record's `refused`: why it was not computed)."""
     out: dict[str, list] = {}
     for r in records:
         if r.section is None or r.section.template is not None:
@@ -167,4 +186,17 @@ def generic_sections(results: Results, records: Sequence[Record], c: Cells
             rows = [dict(row) for row in table_rows(r, table, results)]
             if rows:
                 tables.append(generic_table(r, table.name, rows, c))
+    return out
+
+
+def refusals(results: Results, records: Sequence[Record]) -> dict[str, list[str]]:
+    """Per section anchor, why a study that ran did not compute (its record's `refused`)."""
+    out: dict[str, list[str]] = {}
+    for r in records:
+        if r.section is None or r.section.template is not None:
+            continue
+        for value in values(results, r):
+            why = value.get("refused") if isinstance(value, dict) else None
+            if why:
+                out.setdefault(r.section.anchor, []).append(f"Not computed: {why}")
     return out

@@ -154,7 +154,7 @@ def stiffness_caption(ds: Mapping[str, Any]) -> str:
             "radius = tilt θ (deg); star: the least over the map. The analytical model "
             f"({ds['analytical']}, {ds['modes_summed']} modes summed, {ds['lines']} lines), "
             f"damping {ds['damping']}; a blank cell: a pose not reached, or where the tool "
-            "does not move along the direction. The tables give every layer.")
+            "does not move along the direction. Every layer: report.html's chart.")
 
 
 # ---- the least critical depth -----------------------------------------------------------
@@ -207,8 +207,8 @@ def stability_caption(sm: Mapping[str, Any]) -> str:
     held = sum(_held(grid) for grid in sm["least_depth_mm"])
     heights = ", ".join(f"{sm['heights_mm'][iz]:.0f}" for iz in layers)
     which = (f"at the heights z = {heights} mm" if len(layers) == held else
-             f"at {len(layers)} of the {held} heights with a depth, z = {heights} mm (the "
-             "tables give every layer)")
+             f"at {len(layers)} of the {held} heights with a depth, z = {heights} mm (every "
+             "layer: report.html's chart)")
     least = ""
     if sm["least"]:
         row = sm["least"][0]

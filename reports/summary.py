@@ -73,6 +73,9 @@ def least_depth(results: Results) -> str | None:
     """The least critical depth of the scene's cut over the workspace map."""
     sm = _studies(results).get("stability_map")
     rows = [r for r in _listed((sm or {}).get("least")) if r.get("depth_mm") is not None]
+    if sm and not rows:
+        return ("The scene's cut is stable at every pose of the workspace map and every speed, "
+                "up to the search's ceiling.")
     if not rows:
         return None
     r = min(rows, key=lambda q: q["depth_mm"])

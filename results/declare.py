@@ -67,6 +67,7 @@ class Section:
     template: str | None = None
     asks: str | None = None  # what in a scene asks for the study ("[cutting]"): the report
     # names the study and what would ask for it when a scene does not
+    nothing: str | None = None  # what a study that ran with no row to show found
 
 
 @dataclass(frozen=True)

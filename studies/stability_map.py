@@ -127,7 +127,8 @@ def run(ctx: Context) -> StabilityMap | None:
 STUDY = Study(Record(
     "stability_map", "scene", StabilityMap | None, None,
     Section("stability-map", "Stable cutting over the workspace: the least critical depth",
-            None, asks="[cutting]"),
+            None, asks="[cutting]", nothing="the cut is stable at every pose of the map and "
+            "every speed, up to the search's ceiling"),
     (Table("least", ("depth_mm", "spindle_rpm", "chatter_frequency_hz", "kind", "height_mm",
                      "tilt_deg", "azimuth_deg"), each="least"),)),
     "scene", run)

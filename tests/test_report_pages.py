@@ -12,6 +12,7 @@ scene's (tests/test_scenes.py calls `words_past_the_page`):
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 import shutil
@@ -31,16 +32,18 @@ FIELD = re.compile(r"^[a-z0-9]+(_[a-z0-9]+)+$")
 
 
 def words_past_the_page(pdf: Path) -> list[tuple[int, str]]:
-    """(page, word) of every word whose right edge passes the page's content box."""
+    """(page, word) of every word past the right edge of the page's content box (the text's
+    width, a cut table's side), or past the page's left edge."""
     out = subprocess.run(["pdftotext", "-bbox", str(pdf), "-"], capture_output=True,
                          text=True, check=True).stdout
     past = []
     pages = re.findall(r'<page width="([\d.]+)" height="[\d.]+">(.*?)</page>', out, re.S)
     for number, (width, body) in enumerate(pages, start=1):
         edge = float(width) - A4_MARGIN_PT + 1.0
-        for x_max, word in re.findall(r'<word xMin="[\d.-]+" yMin="[\d.-]+" xMax="([\d.-]+)" '
-                                      r'yMax="[\d.-]+">(.*?)</word>', body):
-            if float(x_max) > edge:
+        for x_min, x_max, word in re.findall(r'<word xMin="([\d.-]+)" yMin="[\d.-]+" '
+                                             r'xMax="([\d.-]+)" yMax="[\d.-]+">(.*?)</word>',
+                                             body):
+            if float(x_max) > edge or float(x_min) < 0.0:
                 past.append((number, unescape(word)))
     return past
 
@@ -170,8 +173,10 @@ def test_a_study_section_shows_a_picture_before_its_tables(fixture_report):
 
 def test_the_full_tables_are_beside_the_report(fixture_report):
     html = fixture_report.html.read_text(encoding="utf-8")
-    for href in re.findall(r'href="(tables/studies/[^"]+\.csv)"', html):
-        assert href.startswith("tables/studies/")  # relative to the report, never absolute
+    links = re.findall(r'href="([^"#]+\.csv)"', html)
+    assert len(links) >= 3  # the uncertainty tables cut to their rows a reader compares
+    for href in links:  # relative to the report, and there
+        assert not Path(href).is_absolute() and (fixture_report.out / href).is_file(), href
 
 
 def test_paths_are_relative_to_the_run(tmp_path, monkeypatch):
@@ -184,7 +189,7 @@ def test_paths_are_relative_to_the_run(tmp_path, monkeypatch):
     assert display_path("/elsewhere/b.toml") == "/elsewhere/b.toml"
 
 
-def test_the_campaign_beside_the_run_is_summarised(tmp_path):
+def test_the_campaign_beside_the_run_is_summarised(tmp_path, monkeypatch):
     """A correlation and identification beside results.json: the summary says what they
     found and the report has their section, linking their pages by relative paths."""
     from reports.campaign_summary import campaign_summary
@@ -195,7 +200,11 @@ def test_the_campaign_beside_the_run_is_summarised(tmp_path):
         (tmp_path / name).mkdir()
         shutil.copy(data / f"{name}.json", tmp_path / name / f"{name}.json")
     notes: list[str] = []
-    summary = campaign_summary(tmp_path / "results.json", "scenes/actuator-legs.toml", notes)
+    scene = Path(__file__).resolve().parents[1] / "scenes" / "actuator-legs.toml"
+    digest = hashlib.sha256(scene.read_bytes()).hexdigest()
+    monkeypatch.chdir(scene.parents[1])  # the records name the scene from the run's folder
+    summary = campaign_summary(tmp_path / "results.json", "scenes/actuator-legs.toml", digest,
+                               notes)
     assert notes == [] and summary is not None
     assert summary["same_machine"]
     assert summary["correlation_page"] == "correlation/correlation.html"
@@ -241,3 +250,23 @@ def test_no_number_is_printed_beyond_its_stated_error(fixture_report):
             (pointer, text, error)
         checked += 1
     assert checked >= 20  # the check ran on the report's numbers, not on none
+
+
+def test_an_interval_open_on_one_side_and_a_bound_rounded_up():
+    """A quantile's interval with no draw below it prints its open side in words; a '< error'
+    bound is rounded up, so the printed bound is never below the value."""
+    from reports.cells import Cells
+
+    record = next(r for r in RECORDS if r.key == "lobes")
+    rows = [{"": "/cases/0/lobes/band/0", "case": "c", "model": "analytical", "samples": 256,
+             "least_nominal_mm": 2.0, "least_q025_mm": 0.41,
+             "least_q025_interval_mm": [None, 0.4567], "least_median_mm": 1.9,
+             "least_q975_mm": 2.5, "level_error_percent": 0.1, "refused": None}]
+    results = {"cases": [{"lobes": {"band": [{k: v for k, v in rows[0].items()
+                                              if k not in ("", "case")}]}}]}
+    shown = _by_header(generic_table(record, "band", rows, Cells(results)))[0]
+    assert shown["its 95 % interval (mm)"] == "open – 0.46"
+    sobol = _rows([(0.0044, 0.00449, 0.0232, 0.0234)])
+    cells = _by_header(generic_table(_sobol_record(), "sobol", sobol, Cells(_results(sobol))))
+    assert cells[0]["first-order index"] == "< 0.005"  # 0.0044 below 0.00449: never "< 0.004"
+    assert cells[0]["total index"] == "< 0.024"
