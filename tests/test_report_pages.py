@@ -270,3 +270,22 @@ def test_an_interval_open_on_one_side_and_a_bound_rounded_up():
     cells = _by_header(generic_table(_sobol_record(), "sobol", sobol, Cells(_results(sobol))))
     assert cells[0]["first-order index"] == "< 0.005"  # 0.0044 below 0.00449: never "< 0.004"
     assert cells[0]["total index"] == "< 0.024"
+
+
+def test_a_study_that_ran_without_rows_keeps_its_section():
+    """Every pose stable (no least depth) or a refused path: the study ran, so its section
+    stays (saying what it found, or why it did not compute), never 'not asked'."""
+    from reports.cells import Cells
+    from reports.generic_tables import generic_sections, ran, refusals
+
+    results = {"studies": {"stability_map": {"least": []}, "uncertainty_path": {
+        "refused": "a draw leaves the workspace", "poses": []}}, "cases": []}
+    for key, value in {r.key: None for r in RECORDS}.items():
+        results["studies"].setdefault(key, value)
+    assert ran(results, RECORDS, "stability-map") and ran(results, RECORDS, "uncertainty-path")
+    assert not ran(results, RECORDS, "dynamic-stiffness")
+    assert generic_sections(results, RECORDS, Cells(results))["stability-map"] == []
+    assert refusals(results, RECORDS) == {
+        "uncertainty-path": ["Not computed: a draw leaves the workspace"]}
+    section = next(r.section for r in RECORDS if r.key == "stability_map")
+    assert section is not None and "stable at every pose" in (section.nothing or "")
