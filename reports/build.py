@@ -44,11 +44,17 @@ def build_report(results_json_path, out_dir, cache_dir: Path | None = None,
     `records`: the registry of study records (`studies.RECORDS`), handed in by the caller.
     """
     out = Path(out_dir)
-    load_results(results_json_path, records)  # refused before out_dir is locked
+    results = load_results(results_json_path, records)  # refused before out_dir is locked
     with staged_output(out, keep=lambda name: name not in REPORT_ENTRIES
                        and not name.startswith(LEGACY_TEMPORARIES)) as stage:
         stoppable(render_report, results_json_path, stage, cache_dir,  # Ctrl-C / SIGTERM
                   workers or os.cpu_count() or 1, records=records)  # stop it at once
+        # the full tables the report links, beside it: these results' only, never those of
+        # the run the folder held before (a run's own report has them from the run itself)
+        tables = inside(stage, "tables")
+        shutil.rmtree(tables, ignore_errors=True)
+        tables.mkdir()
+        write_tables(results, stage, records)
     return out / "report.html", out / "report.pdf"
 
 
@@ -78,10 +84,6 @@ def render_report(results_json_path, directory, cache_dir: Path | None = None,
         raise ReportError(f"report rendering failed ({type(exc).__name__}: "
                           f"{' '.join(str(exc).split())})") from None
     inside(target, "report.html").write_text(page, encoding="utf-8")
-    tables = inside(target, "tables")  # the full tables the report links, beside it: these
-    shutil.rmtree(tables, ignore_errors=True)  # results' only, never an earlier run's
-    tables.mkdir()
-    write_tables(results, target, records)
     try:
         render_pdf(html, target, inside(target, "report.pdf"))
     except Exception as exc:  # noqa: BLE001  (weasyprint raises anything)

@@ -7,8 +7,8 @@ The rules (reports/README.md, "Every section"), held by tests/test_report_pages.
 - a number is printed to the digits its stated error supports (`ERROR_OF`: the column holding
   a column's error): the error to two significant figures, the value to the same decimal; an
   index that its error exceeds prints as "< error" (`SHARES`), never as sampling noise;
-- a text every row shares is said once above the table, not in every row (the case's or the
-  model's name in a one-case table, a V&V 20 verdict's meaning: `VERDICTS`);
+- a column no row holds is left out; a text every row shares is said once under the table,
+  not in every row (the case, the model, a V&V 20 verdict's meaning: `VERDICTS`);
 - a table longer than MAX_ROWS shows the MAX_ROWS rows a reader compares (`RANK`: the largest
   or smallest of a column; else the first ones) and links the CSV that holds them all
   (out/tables/studies/, written by every run: `results.tables`).
@@ -38,6 +38,7 @@ RANK: dict[tuple[str, str], tuple[str, ...]] = {
     ("uncertainty", "validation"): ("e_percent", "largest ratio", "u_val_percent"),
     ("uncertainty_path", "path"): ("f1_q025_hz", "smallest"),
 }
+
 
 def error_decimals(error: float) -> int:
     """Decimals that show an error to two significant figures."""
@@ -125,8 +126,8 @@ def _alike(rows: list[dict], cases: list[str]) -> bool:
 
 def generic_table(record: Record, name: str, rows: list[dict], c: Cells) -> dict:
     """One declared table as the report shows it (module rules)."""
-    columns = [k for k in rows[0] if k]
-    said = []
+    columns = [k for k in rows[0] if k and any(r[k] is not None for r in rows)]  # a column
+    said = []  # no row holds (the least stiffness of a scene that asks no dynamics) is left out
     cases = list(dict.fromkeys(r["case"] for r in rows)) if "case" in columns else []
     if len(cases) > 1 and _alike(rows, cases):  # every case the same rows: shown once
         rows = [r for r in rows if r["case"] == cases[0]]

@@ -8,6 +8,7 @@ import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
 from .interactive_charts import FEM_COLOUR, LAYOUT, SETTING_COLOURS, significant
+from .study_figures import input_label
 
 BAND_COLOUR = "rgba(31, 119, 180, 0.18)"
 
@@ -21,6 +22,9 @@ def sobol_bars(record: dict, case: str) -> go.Figure | None:
         return None
     outputs = list(dict.fromkeys(r["output"] for r in rows))
     keys = list(dict.fromkeys(r["key"] for r in rows))
+    units = {i["key"]: i["unit"] for i in record["inputs"]}
+    labels = {key: input_label(key, units.get(key, "")) for key in keys}  # in words, as the
+    # static twin's legend
     fig = go.Figure()
     for k, key in enumerate(keys):
         mine = {r["output"]: r for r in rows if r["key"] == key}
@@ -29,15 +33,17 @@ def sobol_bars(record: dict, case: str) -> go.Figure | None:
             x=outputs, y=[significant(mine[o]["total"]) if o in mine else None for o in outputs],
             error_y=dict(type="data", array=[significant(mine[o]["total_error"] or 0.0)
                                              if o in mine else 0.0 for o in outputs]),
-            name=key, legendgroup=key, marker_color=colour, offsetgroup=str(k),
-            hovertemplate=f"{key}<br>%{{x}}: total index %{{y:.3f}}<extra>{case}</extra>"))
+            name=labels[key], legendgroup=key, marker_color=colour, offsetgroup=str(k),
+            hovertemplate=f"{labels[key]}<br>%{{x}}: total index %{{y:.3f}}<extra>{case}</extra>"))
         fig.add_trace(go.Scatter(
             x=outputs, y=[significant(mine[o]["first"]) if o in mine else None
                           for o in outputs],
             mode="markers", marker=dict(symbol="diamond", size=8, color="white",
                                         line=dict(color=colour, width=2)),
-            name=f"{key}, first order", legendgroup=key, showlegend=False, offsetgroup=str(k),
-            hovertemplate=f"{key}<br>%{{x}}: first-order index %{{y:.3f}}<extra>{case}</extra>"))
+            name=f"{labels[key]}, first order", legendgroup=key, showlegend=False,
+            offsetgroup=str(k),
+            hovertemplate=f"{labels[key]}<br>%{{x}}: first-order index %{{y:.3f}}"
+                          f"<extra>{case}</extra>"))
     fig.update_layout(**LAYOUT, barmode="group", scattermode="group", height=380,
                       yaxis=dict(title="Sobol' index (share of the variance)",
                                  range=[0, 1.05]),

@@ -20,6 +20,7 @@ from matplotlib.ticker import (
 )
 
 from .figures import WIDTH, plt, save
+from .workspace_figures import cell_edges
 
 DIRECTIONS = ("x", "y", "z")
 LEAST_COLOUR = "#d62728"  # the least pose's star: outside viridis
@@ -36,22 +37,6 @@ def _held(grid) -> bool:
     return any(v is not None for ring in grid for v in ring)
 
 
-def _edges(azimuths_deg: Sequence[float], tilts_deg: Sequence[float]
-           ) -> tuple[np.ndarray, np.ndarray]:
-    """Cell edges of a layer: in azimuth (rad, the closed circle) and in tilt (deg, the level
-    pose a disc about the centre), as workspace_figures.workspace_polar draws them."""
-    phi = np.radians(np.asarray(azimuths_deg, float))
-    dphi = (phi[1] - phi[0]) if len(phi) > 1 else 2 * np.pi
-    phi_edges = np.concatenate([phi - dphi / 2, [phi[-1] + dphi / 2]])
-    tilts = np.asarray(tilts_deg, float)
-    if len(tilts) > 1:
-        t_edges = np.concatenate([[0.0], (tilts[:-1] + tilts[1:]) / 2,
-                                  [tilts[-1] + (tilts[-1] - tilts[-2]) / 2]])
-    else:
-        t_edges = np.array([0.0, 1.0])
-    return phi_edges, t_edges
-
-
 def _polar(fig, n: int, count: int) -> PolarAxes:
     ax = cast(PolarAxes, fig.add_subplot(1, count, n + 1, projection="polar"))
     ax.tick_params(labelsize=5.5, pad=-2)
@@ -63,7 +48,7 @@ def _polar(fig, n: int, count: int) -> PolarAxes:
 
 
 def _mesh(ax: PolarAxes, record: Mapping[str, Any], iz: int, values, norm):
-    phi_edges, t_edges = _edges(record["azimuths_deg"], record["tilts_deg"][iz])
+    phi_edges, t_edges = cell_edges(record["azimuths_deg"], record["tilts_deg"][iz])
     P, T = np.meshgrid(phi_edges, t_edges)
     mesh = ax.pcolormesh(P, T, values, cmap="viridis", norm=norm, shading="flat")
     ax.set_ylim(0, t_edges[-1])

@@ -57,13 +57,18 @@ def _listed(value) -> list:
     return [] if value is None else value if isinstance(value, list) else [value]
 
 
+def _least(results: Results, study: str, value: str) -> tuple[Any, Mapping[str, Any] | None]:
+    """A map study's record and its row of least `value` (None: no row holds one)."""
+    record = _studies(results).get(study)
+    rows = [r for r in _listed((record or {}).get("least")) if r.get(value) is not None]
+    return record, min(rows, key=lambda q: q[value]) if rows else None
+
+
 def least_stiffness(results: Results) -> str | None:
     """The least dynamic stiffness at the tool over the map, along its weakest direction."""
-    ds = _studies(results).get("dynamic_stiffness")
-    rows = [r for r in _listed((ds or {}).get("least")) if r.get("stiffness_n_per_m")]
-    if not rows:
+    _, r = _least(results, "dynamic_stiffness", "stiffness_n_per_m")
+    if r is None:
         return None
-    r = min(rows, key=lambda q: q["stiffness_n_per_m"])
     return (f"Least dynamic stiffness at the tool: {_grouped(r['stiffness_n_per_m'])} N/m along "
             f"{r['direction']}, at {r['frequency_hz']:.1f} Hz, "
             f"{_where(r['height_mm'], r['tilt_deg'], r['azimuth_deg'])}.")
@@ -71,14 +76,11 @@ def least_stiffness(results: Results) -> str | None:
 
 def least_depth(results: Results) -> str | None:
     """The least critical depth of the scene's cut over the workspace map."""
-    sm = _studies(results).get("stability_map")
-    rows = [r for r in _listed((sm or {}).get("least")) if r.get("depth_mm") is not None]
-    if sm and not rows:
-        return ("The scene's cut is stable at every pose of the workspace map and every speed, "
-                "up to the search's ceiling.")
-    if not rows:
-        return None
-    r = min(rows, key=lambda q: q["depth_mm"])
+    record, r = _least(results, "stability_map", "depth_mm")
+    if r is None:
+        return None if record is None else (
+            "The scene's cut is stable at every pose of the workspace map and every speed, up "
+            "to the search's ceiling.")
     return (f"Least critical depth of the scene's cut over the workspace: {r['depth_mm']:.2f} mm "
             f"at {r['spindle_rpm']:.0f} rpm (chatter at {r['chatter_frequency_hz']:.0f} Hz), "
             f"{_where(r['height_mm'], r['tilt_deg'], r['azimuth_deg'])}.")

@@ -28,6 +28,19 @@ def _layer_array(ws: Workspace, iz: int, mode: int) -> np.ndarray:
                       for az in ring] for ring in ws["frequencies_hz"][iz]], float)
 
 
+def cell_edges(azimuths_deg, tilts_deg) -> tuple[np.ndarray, np.ndarray]:
+    """A layer's cell edges for a polar map: in azimuth (rad, the closed circle) and in tilt
+    (deg, the level pose a disc about the centre, the outer ring as wide as its neighbour)."""
+    phi = np.radians(np.asarray(azimuths_deg, float))
+    dphi = (phi[1] - phi[0]) if len(phi) > 1 else 2 * math.pi
+    phi_edges = np.concatenate([phi - dphi / 2, [phi[-1] + dphi / 2]])
+    tilts = np.asarray(tilts_deg, float)
+    if len(tilts) < 2:
+        return phi_edges, np.array([0.0, 1.0])
+    return phi_edges, np.concatenate([[0.0], (tilts[:-1] + tilts[1:]) / 2,
+                                      [tilts[-1] + (tilts[-1] - tilts[-2]) / 2]])
+
+
 def workspace_polar(ws: Workspace, path: Path, layers: int = 3, modes: int = 3) -> list[float]:
     """f1..f3 on polar maps (angle: azimuth phi, radius: tilt theta) at a few heights.
 
@@ -38,20 +51,13 @@ def workspace_polar(ws: Workspace, path: Path, layers: int = 3, modes: int = 3) 
         raise InputError("workspace map has no reachable layer")
     pick = sorted({valid[round(i * (len(valid) - 1) / max(layers - 1, 1))]
                    for i in range(min(layers, len(valid)))})
-    phi = np.radians(np.asarray(ws["azimuths_deg"], float))
-    # cell edges in azimuth (closed circle) and tilt
-    dphi = (phi[1] - phi[0]) if len(phi) > 1 else 2 * math.pi
-    phi_edges = np.concatenate([phi - dphi / 2, [phi[-1] + dphi / 2]])
     fig = plt.figure(figsize=(WIDTH, 1.5 * modes + 0.2))
     for k in range(modes):
         for c, iz in enumerate(pick):
             values = _layer_array(ws, iz, k)
             ax = cast(PolarAxes, fig.add_subplot(modes, len(pick), k * len(pick) + c + 1,
                                                  projection="polar"))  # a polar projection's
-            tilts = np.asarray(ws["tilts_deg"][iz], float)
-            dt = (tilts[1] - tilts[0]) if len(tilts) > 1 else 1.0
-            t_edges = np.concatenate([[0.0], (tilts[:-1] + tilts[1:]) / 2,
-                                      [tilts[-1] + dt / 2]]) if len(tilts) > 1 else [0, dt]
+            phi_edges, t_edges = cell_edges(ws["azimuths_deg"], ws["tilts_deg"][iz])
             P, T = np.meshgrid(phi_edges, t_edges)
             lo, hi = np.nanmin(values), np.nanmax(values)
             if hi - lo < 1e-6 * max(abs(hi), 1.0):
